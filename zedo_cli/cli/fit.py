@@ -1,0 +1,95 @@
+"""`zedo fit-prior`: train a diffusion pose prior from 3D poses."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
+from ..errors import ConfigError
+from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_overrides, write_fitted_prior
+from ..training import TrainProgress
+from .common import check_output_path, err_console, error_boundary, progress_bar
+
+
+def load_training_poses(poses: Optional[Path], syrip_dir: Optional[Path], split: str, skeleton: Optional[str]) -> PoseSet:
+    if (poses is None) == (syrip_dir is None):
+        raise ConfigError("give either a 3D pose file (POSES) or --syrip-dir, not both or neither")
+    if syrip_dir is not None:
+        if skeleton not in (None, "syrip12"):
+            raise ConfigError(f"SyRIP poses are in the syrip12 joint set, not {skeleton!r}")
+        return load_syrip_3d(syrip_dir, split)
+    assert poses is not None
+    return load_npz_poses(poses, skeleton)
+
+
+@error_boundary
+def fit_prior_command(
+    poses: Annotated[Optional[Path], typer.Argument(help="3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")] = None,
+    out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors).")] = Path("prior.safetensors"),
+    syrip_dir: Annotated[Optional[Path], typer.Option(help="Train on the SyRIP data folder instead of POSES.")] = None,
+    split: Annotated[str, typer.Option(help="SyRIP split: train (600), test (100) or all (700).")] = "train",
+    skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it (h36m17, syrip12, ...).")] = None,
+    recipe: Annotated[Optional[Path], typer.Option(help="TOML recipe (see weights_spec/); options below override it.")] = None,
+    epochs: Annotated[Optional[int], typer.Option(help="Passes over the data (recipe: 8000).")] = None,
+    batch_size: Annotated[Optional[int], typer.Option(help="Poses per step (recipe: 5000).")] = None,
+    lr: Annotated[Optional[float], typer.Option(help="Adam learning rate after warm-up (2e-4).")] = None,
+    warmup_steps: Annotated[Optional[int], typer.Option(help="Linear warm-up steps (5000).")] = None,
+    seed: Annotated[Optional[int], typer.Option(help="Seed of initial weights, shuffling and noise (0).")] = None,
+    weights: Annotated[Optional[str], typer.Option(help="Which weights to save: raw (last step, as the reference) or ema.")] = None,
+    dtype: Annotated[Optional[str], typer.Option(help="Stored precision: float16 (half the size) or float32.")] = None,
+    license_text: Annotated[Optional[str], typer.Option("--license", help="Terms of the training data, stored in the file (SyRIP's are filled in).")] = None,
+    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    ema_out: Annotated[Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Train a score-matching diffusion prior over 3D poses and write it as a weights file.
+
+    Examples:
+
+      zedo fit-prior --syrip-dir ../shared/data/syrip --split train --recipe weights_spec/syrip12-scratch.toml --out my.safetensors
+
+      zedo fit-prior poses.npz --skeleton h36m17 --epochs 2000 --out adult.safetensors
+    """
+    check_output_path(out, overwrite)
+    if ema_out is not None:
+        check_output_path(ema_out, overwrite)
+    base = load_recipe(recipe) if recipe is not None else Recipe()
+    chosen = with_overrides(base, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
+    if weights is not None or dtype is not None:
+        from dataclasses import replace
+
+        from ..recipes import OutputConfig
+
+        chosen = replace(chosen, output=OutputConfig(weights or chosen.output.weights, dtype or chosen.output.dtype))
+    data = load_training_poses(poses, syrip_dir, split, skeleton)
+    if license_text is None:
+        license_text = SYRIP_LICENSE if syrip_dir is not None else "as the terms of the training data"
+    err_console.print(
+        f"training a {data.skeleton.name} prior on {len(data.names)} poses from {data.source}: "
+        f"{chosen.training.epochs} epochs, batch {chosen.training.batch_size}, seed {chosen.training.seed}, {device}"
+    )
+    with progress_bar(quiet) as bar:
+        task = bar.add_task("fit-prior", total=chosen.training.epochs, status="")
+
+        def on_epoch(p: TrainProgress) -> None:
+            bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
+
+        fit = fit_prior(data, chosen, device=device, callback=on_epoch)
+    extra = {"recipe": str(recipe) if recipe else None, "device": device}
+    sha = write_fitted_prior(out, fit, data, chosen, license_text=license_text, extra_training=extra)
+    if ema_out is not None:
+        from dataclasses import replace
+
+        from ..recipes import OutputConfig
+
+        ema_recipe = replace(chosen, output=OutputConfig("ema", chosen.output.dtype))
+        write_fitted_prior(ema_out, fit, data, ema_recipe, license_text=license_text, extra_training=extra)
+        err_console.print(f"wrote {ema_out} (EMA weights)")
+    err_console.print(
+        f"wrote {out} ({chosen.output.weights} weights, {chosen.output.dtype}, sha256 {sha[:12]}); "
+        f"{fit.result.steps} steps in {fit.result.seconds:.0f} s, final loss {fit.result.final_loss:.3f}"
+    )

@@ -1,0 +1,192 @@
+"""Priors as safetensors files with self-describing metadata; strict loading; bundled priors.
+
+File contract (format version 1), also stated in weights_spec/README.md:
+- tensors `model.<parameter name>` (float16 or float32) for every entry of the score network's
+  state dict, and `template` (J, 3) float32: the pose used to initialise lifting (metres,
+  root-relative);
+- metadata (all strings): `format` = "zedo.prior", `format_version` = "1", `skeleton`,
+  `joints` (JSON list), `model_config`, `sde_config`, `training`, `data` (JSON objects),
+  `license`, `zedo_version`, `created`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import dataclass
+from datetime import datetime, timezone
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import torch
+from safetensors import SafetensorError
+from safetensors.torch import load_file, save_file
+
+from . import __version__
+from .errors import WeightsError
+from .model import PriorConfig, ScoreNet
+from .sde import SubVPSDE
+from .skeleton import Skeleton, get_skeleton
+
+FORMAT = "zedo.prior"
+FORMAT_VERSION = "1"
+MODEL_PREFIX = "model."
+
+# Priors shipped inside the package: name -> file in zedo_cli/weights/.
+BUNDLED_PRIORS: dict[str, str] = {"syrip12-scratch": "syrip12-scratch.safetensors"}
+DEFAULT_PRIOR = "syrip12-scratch"
+
+
+@dataclass
+class Prior:
+    """A loaded prior: the network (eval mode, float32), its SDE, skeleton and template."""
+
+    model: ScoreNet
+    sde: SubVPSDE
+    skeleton: Skeleton
+    template: torch.Tensor  # (J, 3) metres, root-relative
+    metadata: dict[str, Any]
+    sha256: str
+    path: str
+
+    @property
+    def label(self) -> str:
+        return f"{Path(self.path).name} (sha256 {self.sha256[:12]})"
+
+
+def file_sha256(path: str | Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+def save_prior(
+    path: str | Path,
+    state: dict[str, torch.Tensor],
+    cfg: PriorConfig,
+    sde: SubVPSDE,
+    skeleton: Skeleton,
+    template: torch.Tensor,
+    *,
+    training: dict[str, Any],
+    data: dict[str, Any],
+    license_text: str,
+    dtype: torch.dtype = torch.float16,
+) -> str:
+    """Write a prior atomically (temporary file then rename) and return its sha256."""
+    if template.shape != (skeleton.num_joints, 3):
+        raise WeightsError(f"template must have shape ({skeleton.num_joints}, 3)")
+    tensors = {MODEL_PREFIX + k: v.detach().to("cpu", dtype).contiguous() for k, v in state.items()}
+    tensors["template"] = template.detach().to("cpu", torch.float32).contiguous()
+    metadata = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "skeleton": skeleton.name,
+        "joints": json.dumps(list(skeleton.joints)),
+        "model_config": json.dumps(cfg.to_dict()),
+        "sde_config": json.dumps(sde.to_dict()),
+        "training": json.dumps(training),
+        "data": json.dumps(data),
+        "license": license_text,
+        "zedo_version": __version__,
+        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+    }
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".safetensors", dir=path.parent or ".")
+    os.close(fd)
+    try:
+        save_file(tensors, tmp, metadata=metadata)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return file_sha256(path)
+
+
+def _json_field(meta: dict[str, str], key: str, path: Path) -> Any:
+    if key not in meta:
+        raise WeightsError(f"{path}: metadata field {key!r} is missing")
+    try:
+        return json.loads(meta[key])
+    except json.JSONDecodeError:
+        raise WeightsError(f"{path}: metadata field {key!r} is not valid JSON") from None
+
+
+def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "cpu") -> Prior:
+    """Load a prior strictly: format and version, skeleton, configs and every tensor must match.
+
+    `skeleton`, when given, is the joint set the caller needs; a prior of another is an error.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise WeightsError(f"{path}: weights file not found")
+    try:
+        from safetensors import safe_open
+
+        with safe_open(str(path), framework="pt") as fh:
+            meta = fh.metadata() or {}
+        tensors = load_file(str(path))
+    except (SafetensorError, OSError, ValueError) as exc:
+        raise WeightsError(f"{path}: not a readable safetensors file ({exc})") from None
+    if meta.get("format") != FORMAT:
+        raise WeightsError(f"{path}: metadata 'format' is {meta.get('format')!r}, not {FORMAT!r}")
+    if meta.get("format_version") != FORMAT_VERSION:
+        raise WeightsError(
+            f"{path}: format_version {meta.get('format_version')!r} is not supported "
+            f"(this zedo reads version {FORMAT_VERSION})"
+        )
+    skel = get_skeleton(meta.get("skeleton", ""))
+    if skeleton is not None and skel.name != skeleton:
+        raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
+    if _json_field(meta, "joints", path) != list(skel.joints):
+        raise WeightsError(f"{path}: metadata 'joints' do not match skeleton {skel.name}")
+    try:
+        cfg = PriorConfig(**_json_field(meta, "model_config", path))
+        sde_cfg = dict(_json_field(meta, "sde_config", path))
+        if sde_cfg.pop("type", None) != "subvp":
+            raise WeightsError(f"{path}: only subVP SDE priors are supported")
+        sde = SubVPSDE(**sde_cfg)
+    except TypeError as exc:
+        raise WeightsError(f"{path}: metadata config has unknown fields ({exc})") from None
+    if cfg.num_joints != skel.num_joints:
+        raise WeightsError(f"{path}: model has {cfg.num_joints} joints, skeleton {skel.num_joints}")
+    model = ScoreNet(cfg)
+    state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
+    try:
+        model.load_state_dict(state, strict=True)
+    except RuntimeError as exc:
+        first = str(exc).splitlines()[0]
+        raise WeightsError(f"{path}: tensors do not match the model ({first})") from None
+    template = tensors.get("template")
+    if template is None or tuple(template.shape) != (skel.num_joints, 3):
+        raise WeightsError(f"{path}: tensor 'template' missing or not of shape ({skel.num_joints}, 3)")
+    extra = set(tensors) - {MODEL_PREFIX + k for k in state} - {"template"}
+    if extra:
+        raise WeightsError(f"{path}: unexpected tensors {sorted(extra)[:3]}")
+    model.to(device).eval()
+    metadata = {k: (json.loads(v) if k in ("model_config", "sde_config", "training", "data") else v)
+                for k, v in meta.items()}  # fmt: skip
+    return Prior(model, sde, skel, template.float().to(device), metadata, file_sha256(path), str(path))
+
+
+def bundled_prior_path(name: str = DEFAULT_PRIOR) -> Path:
+    if name not in BUNDLED_PRIORS:
+        raise WeightsError(f"unknown bundled prior {name!r}; bundled: {', '.join(BUNDLED_PRIORS)}")
+    path = Path(str(resources.files("zedo_cli") / "weights" / BUNDLED_PRIORS[name]))
+    if not path.is_file():
+        raise WeightsError(f"bundled prior {name!r} is not installed ({path} missing)")
+    return path
+
+
+def resolve_prior_path(spec: str | None) -> Path:
+    """A bundled prior's name (None = the default) or a path to a weights file."""
+    if spec is None:
+        return bundled_prior_path(DEFAULT_PRIOR)
+    if spec in BUNDLED_PRIORS:
+        return bundled_prior_path(spec)
+    return Path(spec)
