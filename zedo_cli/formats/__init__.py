@@ -1,0 +1,8 @@
+"""2D keypoint input formats: the `Keypoints2D` record and the readers that produce it."""
+
+from __future__ import annotations
+
+from .keypoints import Keypoints2D
+from .readers import INPUT_FORMATS, detect_format, read_keypoints
+
+__all__ = ["INPUT_FORMATS", "Keypoints2D", "detect_format", "read_keypoints"]
