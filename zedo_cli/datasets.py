@@ -110,18 +110,26 @@ def load_npz_poses(path: str | Path, skeleton: str | None = None) -> PoseSet:
         raise DataError(f"{path}: file not found")
     try:
         data = np.load(path, allow_pickle=False)
-        files = set(data.files)
     except (OSError, ValueError, zipfile.BadZipFile) as exc:
         raise DataError(f"{path}: not a readable npz file ({exc})") from exc
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise DataError(f"{path}: not an npz archive (save poses with numpy.savez(path, poses=..., joint_names=...))")
+    files = set(data.files)
     if "poses" not in files:
         raise DataError(f"{path}: no 'poses' array (found: {', '.join(sorted(files)) or 'none'})")
-    poses = np.asarray(data["poses"], dtype=np.float64)
+    try:
+        poses = np.asarray(data["poses"], dtype=np.float64)
+        names = [str(n) for n in data["names"]] if "names" in files else None
+    except (ValueError, TypeError) as exc:
+        raise DataError(f"{path}: unreadable 'poses' or 'names' ({exc})") from None
     if poses.ndim != 3 or poses.shape[-1] != 3 or poses.shape[0] == 0:
         raise DataError(f"{path}: 'poses' must have shape (N>0, J, 3), got {poses.shape}")
     if not np.isfinite(poses).all():
         raise DataError(f"{path}: 'poses' contains NaN or infinite values")
+    if names is not None and len(names) != len(poses):
+        raise DataError(f"{path}: 'names' has {len(names)} entries for {len(poses)} poses")
     skel = _npz_skeleton(path, data, skeleton, poses.shape[1])
-    names = [str(n) for n in data["names"]] if "names" in files else [str(i) for i in range(len(poses))]
+    names = names if names is not None else [str(i) for i in range(len(poses))]
     return PoseSet(center_on_root(poses, skel), skel, names, str(path))
 
 
@@ -131,7 +139,10 @@ def _npz_skeleton(path: Path, data: np.lib.npyio.NpzFile, name: str | None, join
     if name is not None:
         skel = get_skeleton(name)
     elif "joint_names" in data.files:
-        joint_names = tuple(str(j) for j in data["joint_names"])
+        try:
+            joint_names = tuple(str(j) for j in data["joint_names"])
+        except ValueError as exc:
+            raise DataError(f"{path}: unreadable 'joint_names' ({exc})") from None
         matches = [s for s in SKELETONS.values() if s.joints == joint_names]
         if not matches:
             raise DataError(f"{path}: 'joint_names' match no known skeleton; pass --skeleton")
@@ -143,3 +154,14 @@ def _npz_skeleton(path: Path, data: np.lib.npyio.NpzFile, name: str | None, join
             f"{path}: 'poses' has {joints} joints but skeleton {skel.name} has {skel.num_joints}"
         )
     return skel
+
+
+def syrip_original_names(real700_path: str | Path) -> dict[str, str]:
+    """image id (as str) -> true SyRIP name, from `keypoints2d_gt_real700.json`, which renumbers
+    its images test0..test699 and keeps the true name in `original_file_name`."""
+    path = _require(Path(real700_path))
+    try:
+        images = json.loads(path.read_text())["images"]
+        return {str(img["id"]): str(img["original_file_name"]) for img in images}
+    except (json.JSONDecodeError, KeyError, TypeError) as exc:
+        raise DataError(f"{path}: expected images[] with id and original_file_name ({exc})") from None

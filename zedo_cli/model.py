@@ -25,6 +25,22 @@ class PriorConfig:
     dropout: float = 0.25  # the reference hard-codes 0.25 (its config's 0.1 is ignored)
     time_scale: float = 999.0  # the network sees 999 * t
 
+    def __post_init__(self) -> None:
+        from .errors import ConfigError
+
+        for name in ("num_joints", "hidden", "embed", "num_blocks", "groups"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+                raise ConfigError(f"model {name} must be a positive integer, got {value!r}")
+        if self.hidden % self.groups:
+            raise ConfigError(f"model hidden ({self.hidden}) must be divisible by groups ({self.groups})")
+        if self.embed % 2 or self.embed < 4:
+            raise ConfigError(f"model embed must be an even number >= 4, got {self.embed}")
+        if not isinstance(self.dropout, (int, float)) or not 0 <= self.dropout < 1:
+            raise ConfigError(f"model dropout must be in [0, 1), got {self.dropout!r}")
+        if not isinstance(self.time_scale, (int, float)) or not self.time_scale > 0:
+            raise ConfigError(f"model time_scale must be > 0, got {self.time_scale!r}")
+
     def to_dict(self) -> dict[str, float | int]:
         return asdict(self)
 

@@ -69,6 +69,8 @@ def load_recipe(path: str | Path) -> Recipe:
         doc = tomllib.loads(path.read_text())
     except FileNotFoundError:
         raise ConfigError(f"{path}: recipe file not found") from None
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read the recipe ({exc.strerror})") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{path}: not valid TOML ({exc})") from None
     known = {"model", "sde", "training", "output", "data"}  # [data] documents, CLI chooses
@@ -76,8 +78,10 @@ def load_recipe(path: str | Path) -> Recipe:
     if unknown:
         raise ConfigError(f"{path}: unknown tables {sorted(unknown)}; allowed: {sorted(known)}")
     try:
+        model = _checked(doc.get("model", {}), PriorConfig, f"{path} [model]")
+        PriorConfig(num_joints=1, **model)  # validate the values now, not at training time
         return Recipe(
-            model=_checked(doc.get("model", {}), PriorConfig, f"{path} [model]"),
+            model=model,
             sde=SubVPSDE(**_checked(doc.get("sde", {}), SubVPSDE, f"{path} [sde]")),
             training=TrainConfig(**_checked(doc.get("training", {}), TrainConfig, f"{path} [training]")),
             output=OutputConfig(**_checked(doc.get("output", {}), OutputConfig, f"{path} [output]")),

@@ -30,6 +30,19 @@ class TrainConfig:
     seed: int = 0
 
     def __post_init__(self) -> None:
+        for name in ("epochs", "batch_size", "warmup_steps", "seed"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool):
+                raise ConfigError(f"training {name} must be an integer, got {value!r}")
+        for name in ("lr", "grad_clip", "ema_decay", "t_min"):
+            if not isinstance(getattr(self, name), (int, float)):
+                raise ConfigError(f"training {name} must be a number, got {getattr(self, name)!r}")
+        if not 0 <= self.ema_decay < 1:
+            raise ConfigError(f"EMA decay must be in [0, 1), got {self.ema_decay}")
+        if not 0 < self.t_min < 1:
+            raise ConfigError(f"t_min must be in (0, 1), got {self.t_min}")
+        if self.grad_clip < 0:
+            raise ConfigError(f"gradient clipping norm must be >= 0 (0 = off), got {self.grad_clip}")
         if self.epochs < 1:
             raise ConfigError(f"epochs must be >= 1, got {self.epochs}")
         if self.batch_size < 1:

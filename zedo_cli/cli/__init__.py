@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import typer
 
+from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
+from .lift import lift_command
 
 app = typer.Typer(
     name="zedo",
@@ -24,7 +26,10 @@ def _root() -> None:
     """Lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i)."""
 
 
+app.command("lift", no_args_is_help=True)(lift_command)
 app.command("fit-prior", no_args_is_help=True)(fit_prior_command)
+app.command("evaluate", no_args_is_help=True)(evaluate_command)
+app.command("benchmark", no_args_is_help=True)(benchmark_command)
 
 
 def main() -> None:

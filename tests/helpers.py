@@ -1,0 +1,40 @@
+"""Generated test data: infant-sized syrip12 poses and their exact projections."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from zedo_cli.camera import project
+from zedo_cli.skeleton import center_on_root, get_skeleton
+
+SYRIP_DIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "syrip"
+SKELETON = get_skeleton("syrip12")
+# An infant-sized syrip12 pose (metres): hips, knees, ankles, shoulders, elbows, wrists.
+BASE_POSE = np.array([
+    [-0.05, 0.0, 0.0], [-0.05, 0.1, 0.0], [-0.05, 0.2, 0.0],
+    [0.05, 0.0, 0.0], [0.05, 0.1, 0.0], [0.05, 0.2, 0.0],
+    [0.06, -0.2, 0.0], [0.14, -0.2, 0.0], [0.2, -0.2, 0.0],
+    [-0.06, -0.2, 0.0], [-0.14, -0.2, 0.0], [-0.2, -0.2, 0.0],
+])  # fmt: skip
+K_TEST = np.array([[1000.0, 0.0, 320.0], [0.0, 1000.0, 240.0], [0.0, 0.0, 1.0]])
+
+
+def synthetic_poses(n: int, seed: int) -> np.ndarray:
+    """Root-relative poses `(n, 12, 3)`: BASE_POSE with 1 cm joint noise, turned about the
+    vertical axis by up to +-0.6 rad, so depth is informative and learnable."""
+    rng = np.random.default_rng(seed)
+    pts = BASE_POSE[None] + rng.normal(0.0, 0.01, (n, 12, 3))
+    ang = rng.uniform(-0.6, 0.6, n)
+    c, s = np.cos(ang), np.sin(ang)
+    rot = np.zeros((n, 3, 3))
+    rot[:, 0, 0], rot[:, 0, 2], rot[:, 1, 1], rot[:, 2, 0], rot[:, 2, 2] = c, s, 1.0, -s, c
+    return center_on_root(pts @ rot.transpose(0, 2, 1), SKELETON)
+
+
+def project_poses(poses: np.ndarray, depth: float = 1.0) -> np.ndarray:
+    """Pixels `(n, 12, 2)` of root-relative poses placed `depth` metres in front of K_TEST."""
+    cam = poses + np.array([0.0, 0.0, depth])
+    return project(torch.tensor(cam), torch.tensor(K_TEST)).numpy()

@@ -1,0 +1,109 @@
+"""The paper's SyRIP benchmark: lift Test100 from ground-truth and from FiDIP-detected 2D,
+score MPJPE / PA-MPJPE on the 12 limb joints (both sides centred on the hip midpoint).
+
+Protocol (../shared/data/syrip/README.md): pseudo intrinsics f = 2000 px at the image centre;
+detections are the FiDIP results for the real700 images, matched to Test100 through the
+`original_file_name` of `keypoints2d_gt_real700.json`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .camera import resolve_intrinsics
+from .datasets import SYRIP_FIDIP, SYRIP_REAL700, SYRIP_TEST100, PoseSet, load_syrip_3d, syrip_original_names
+from .errors import DataError
+from .formats import Keypoints2D, read_keypoints
+from .lifting import LiftConfig, LiftProgress, LiftResult, lift
+from .metrics import pa_per_joint_error_mm, per_joint_error_mm
+from .skeleton import center_on_root
+from .weights import Prior
+
+# Published SyRIP Test100 figures (mm, 12 limb joints) to print beside ours.
+PAPER_FIGURES = {
+    "gt": {"ZeDO-i paper, best (augmented)": 43.6, "ZeDO-i paper, from scratch": 54.0,
+           "reference code, from scratch (measured by the issue)": 50.9},
+    "detected": {"ZeDO-i paper, best": 47.7, "reference code, from scratch (measured by the issue)": 54.7},
+}  # fmt: skip
+
+
+@dataclass
+class Score:
+    """Errors of one lifted set against its ground truth."""
+
+    input_2d: str  # "gt" or "detected"
+    count: int
+    mpjpe_mm: float
+    pa_mpjpe_mm: float
+    per_joint_mm: dict[str, float]
+    seconds: float  # lifting wall time
+    poses_per_second: float
+
+
+def score_poses(pred: np.ndarray, target: np.ndarray, joints: tuple[str, ...]) -> tuple[float, float, dict[str, float]]:
+    """MPJPE, PA-MPJPE (mm) and per-joint MPJPE of root-relative `pred`, `target (N, J, 3)`."""
+    err = per_joint_error_mm(pred, target)
+    pa = pa_per_joint_error_mm(pred, target)
+    return float(err.mean()), float(pa.mean()), {j: float(e) for j, e in zip(joints, err.mean(0), strict=True)}
+
+
+def _match(kp: Keypoints2D, names: list[str], truth: PoseSet, what: str) -> tuple[Keypoints2D, np.ndarray]:
+    """Instances of `kp` for the ground-truth images (one per image: the highest score) and
+    the ground truth in the same order."""
+    best: dict[str, int] = {}
+    for i, name in enumerate(names):
+        if name in best and (kp.scores[i] or 0.0) <= (kp.scores[best[name]] or 0.0):
+            continue
+        best[name] = i
+    missing = [n for n in truth.names if n not in best]
+    if missing:
+        raise DataError(f"{what}: no 2D keypoints for {len(missing)} test images, e.g. {missing[:3]}")
+    chosen = [best[n] for n in truth.names]
+    return kp.subset(chosen), truth.poses
+
+
+def load_benchmark_inputs(syrip_dir: Path) -> tuple[PoseSet, dict[str, Keypoints2D]]:
+    """Test100 ground truth and its two 2D inputs, in the ground truth's order."""
+    truth = load_syrip_3d(syrip_dir, "test")
+    gt2d = read_keypoints(syrip_dir / SYRIP_TEST100)
+    gt_kp, _ = _match(gt2d, [str(n) for n in gt2d.file_names], truth, str(syrip_dir / SYRIP_TEST100))
+    det = read_keypoints(syrip_dir / SYRIP_FIDIP, images=syrip_dir / SYRIP_REAL700)
+    names = syrip_original_names(syrip_dir / SYRIP_REAL700)
+    det_names = [names.get(str(i), "") for i in det.image_ids]
+    det_kp, _ = _match(det, det_names, truth, str(syrip_dir / SYRIP_FIDIP))
+    det_kp.file_names = list(truth.names)
+    return truth, {"gt": gt_kp, "detected": det_kp}
+
+
+def run_syrip_benchmark(
+    syrip_dir: str | Path,
+    prior: Prior,
+    config: LiftConfig,
+    *,
+    inputs: tuple[str, ...] = ("gt", "detected"),
+    device: str = "cpu",
+    callback: Callable[[str, LiftProgress], None] | None = None,
+) -> tuple[list[Score], dict[str, LiftResult]]:
+    """Lift Test100 from each 2D input and score it against the weak 3D ground truth."""
+    syrip_dir = Path(syrip_dir)
+    if prior.skeleton.name != "syrip12":
+        raise DataError(f"the SyRIP benchmark needs a syrip12 prior, not {prior.skeleton.name}")
+    truth, kps = load_benchmark_inputs(syrip_dir)
+    scores, results = [], {}
+    for key in inputs:
+        kp = kps[key].to_skeleton(prior.skeleton)
+        mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
+        start = time.perf_counter()
+        res = lift(kp.xy, kp.confidence, mats, prior, config, device=device,
+                   callback=None if callback is None else (lambda p, k=key: callback(k, p)))  # fmt: skip
+        seconds = time.perf_counter() - start
+        pred = center_on_root(res.poses_camera, prior.skeleton)
+        mpjpe, pa, per_joint = score_poses(pred, truth.poses, prior.skeleton.joints)
+        scores.append(Score(key, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds))
+        results[key] = res
+    return scores, results

@@ -1,0 +1,113 @@
+"""`zedo evaluate` (score a result file) and `zedo benchmark` (the paper's SyRIP table)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from ..benchmark import PAPER_FIGURES, Score, run_syrip_benchmark, score_poses
+from ..datasets import load_npz_poses, load_syrip_3d
+from ..errors import ConfigError
+from ..evaluation import PROTOCOLS, align_to_truth, read_result_file
+from ..lifting import PRESETS, LiftProgress, get_preset
+from ..weights import load_prior, resolve_prior_path
+from .common import err_console, error_boundary, progress_bar
+
+
+@error_boundary
+def evaluate_command(
+    result: Annotated[Path, typer.Argument(help="A zedo result file (from zedo lift).")],
+    syrip_dir: Annotated[Optional[Path], typer.Option(help="Score against the SyRIP 3D ground truth in this folder.")] = None,
+    split: Annotated[str, typer.Option(help="SyRIP split holding the images: test, train or all.")] = "test",
+    gt: Annotated[Optional[Path], typer.Option(help="Or: ground truth npz ('poses' (N,J,3) m, 'joint_names', 'names' = file names or image ids).")] = None,
+    protocol: Annotated[str, typer.Option(help=f"Joint set scored, both sides centred on its root: {', '.join(PROTOCOLS)}.")] = "syrip12",
+    as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
+) -> None:
+    """Score lifted poses against 3D ground truth: MPJPE and PA-MPJPE in mm.
+
+    PA-MPJPE aligns each prediction by similarity Procrustes (no reflections). Both sides are
+    converted to the protocol's joints and centred on its root; they are joined on the image
+    file name (else the image id). Scores are overall and per joint.
+
+    Example: zedo evaluate test100.zedo.json --syrip-dir ../shared/data/syrip --split test
+    """
+    if (syrip_dir is None) == (gt is None):
+        raise ConfigError("give the ground truth as either --syrip-dir or --gt")
+    truth = load_syrip_3d(syrip_dir, split) if syrip_dir is not None else load_npz_poses(gt)  # type: ignore[arg-type]
+    pred = read_result_file(result)
+    p, t, skel = align_to_truth(pred, truth, protocol)
+    mpjpe, pa, per_joint = score_poses(p, t, skel.joints)
+    doc = {"protocol": protocol, "count": len(p), "unmatched_predictions": len(pred.keys) - len(p),
+           "mpjpe_mm": round(mpjpe, 2), "pa_mpjpe_mm": round(pa, 2),
+           "per_joint_mpjpe_mm": {k: round(v, 2) for k, v in per_joint.items()}}  # fmt: skip
+    if as_json:
+        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        return
+    table = Table(title=f"{result} vs {truth.source}, protocol {protocol}, {len(p)} poses")
+    table.add_column("joint")
+    table.add_column("MPJPE (mm)", justify="right")
+    for joint, err in per_joint.items():
+        table.add_row(joint, f"{err:.1f}")
+    table.add_row("[b]mean[/b]", f"[b]{mpjpe:.1f}[/b]")
+    table.add_row("PA-MPJPE", f"{pa:.1f}")
+    Console().print(table)
+
+
+def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
+    table = Table(title="SyRIP Test100, 12 limb joints, hip-midpoint centred (mm)")
+    for col in ("prior / preset", "2D input", "MPJPE", "PA-MPJPE", "poses", "lift s", "poses/s"):
+        table.add_column(col, justify="left" if col in ("prior / preset", "2D input") else "right")
+    for label, s in rows:
+        table.add_row(label, s.input_2d, f"{s.mpjpe_mm:.1f}", f"{s.pa_mpjpe_mm:.1f}", str(s.count),
+                      f"{s.seconds:.1f}", f"{s.poses_per_second:.1f}")  # fmt: skip
+    for key, figures in PAPER_FIGURES.items():
+        for label, value in figures.items():
+            table.add_row(f"[dim]{label}[/dim]", key, f"[dim]{value:.1f}[/dim]", "", "", "", "")
+    return table
+
+
+@error_boundary
+def benchmark_command(
+    syrip_dir: Annotated[Path, typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip).")],
+    prior_spec: Annotated[Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file.")] = None,
+    preset: Annotated[list[str], typer.Option(help=f"Lifting preset(s) to run, repeatable: {', '.join(PRESETS)}.")] = ["faithful"],  # noqa: B006
+    inputs: Annotated[str, typer.Option(help="2D inputs: gt, detected or gt,detected.")] = "gt,detected",
+    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Run the paper's SyRIP Test100 benchmark and print it beside the paper's figures.
+
+    Lifts Test100 from ground-truth 2D and from FiDIP detections (pseudo camera f = 2000 px),
+    scores MPJPE / PA-MPJPE on the 12 limb joints, and reports lifting time and poses per second.
+
+    Example: zedo benchmark --syrip-dir ../shared/data/syrip
+    """
+    chosen = tuple(i.strip() for i in inputs.split(","))
+    if not chosen or any(i not in ("gt", "detected") for i in chosen):
+        raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
+    prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
+    rows: list[tuple[str, Score]] = []
+    for name in preset:
+        cfg = get_preset(name)
+        with progress_bar(quiet) as bar:
+            tasks = {k: bar.add_task(f"{name} {k}", total=1, status="") for k in chosen}
+
+            def on_step(key: str, p: LiftProgress) -> None:
+                bar.update(tasks[key], completed=p.done, total=p.total)
+
+            scores, _ = run_syrip_benchmark(syrip_dir, prior, cfg, inputs=chosen, device=device, callback=on_step)
+        rows += [(f"{Path(prior.path).name} / {name}", s) for s in scores]
+    if as_json:
+        out = [{"prior": prior.path, "prior_sha256": prior.sha256, "preset": label.split(" / ")[-1], **vars(s)}
+               for label, s in rows]  # fmt: skip
+        sys.stdout.write(json.dumps(out, indent=1) + "\n")
+        return
+    Console().print(_benchmark_table(rows))
+    err_console.print(f"prior {prior.label}; device {device}", markup=False)
