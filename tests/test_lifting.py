@@ -6,14 +6,13 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from helpers import K_TEST, SKELETON, project_poses, synthetic_poses
 
 from zedo_cli.errors import ConfigError
 from zedo_cli.lifting import LiftConfig, get_preset, lift
 from zedo_cli.metrics import mpjpe_mm
 from zedo_cli.skeleton import center_on_root
 from zedo_cli.weights import Prior
-
-from helpers import K_TEST, SKELETON, project_poses, synthetic_poses
 
 FAST = LiftConfig(steps=200, init_steps=200)
 

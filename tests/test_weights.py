@@ -55,7 +55,9 @@ def test_loading_for_another_skeleton_is_an_error(tiny_prior_path: Path) -> None
         ({"add": "surprise"}, "unexpected tensors"),
     ],
 )
-def test_strict_loading_rejects_altered_files(tiny_prior_path: Path, tmp_path: Path, change: dict, message: str) -> None:
+def test_strict_loading_rejects_altered_files(
+    tiny_prior_path: Path, tmp_path: Path, change: dict, message: str
+) -> None:
     bad = _rewrite(tiny_prior_path, tmp_path / "bad.safetensors", **change)
     with pytest.raises(WeightsError, match=message):
         load_prior(bad)

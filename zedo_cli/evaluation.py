@@ -55,6 +55,10 @@ def read_result_file(path: str | Path) -> PredictedPoses:
     return PredictedPoses(np.array(poses), skel, keys)
 
 
+def _all_observed(poses: np.ndarray, src: Skeleton, dst: Skeleton) -> tuple[np.ndarray, np.ndarray]:
+    return convert_points(poses, np.ones(poses.shape[:2]), src, dst)
+
+
 def align_to_truth(pred: PredictedPoses, truth: PoseSet, protocol: str) -> tuple[np.ndarray, np.ndarray, Skeleton]:
     """Prediction and truth of the images both have, in the protocol's joint set, root-centred."""
     if protocol not in PROTOCOLS:
@@ -65,8 +69,8 @@ def align_to_truth(pred: PredictedPoses, truth: PoseSet, protocol: str) -> tuple
     if not common:
         raise InputFormatError("no prediction matches a ground-truth pose by file name or image id")
     p_idx, t_idx = zip(*common, strict=True)
-    p, p_conf = convert_points(pred.poses[list(p_idx)], np.ones((len(p_idx), pred.skeleton.num_joints)), pred.skeleton, dst)
-    t, t_conf = convert_points(truth.poses[list(t_idx)], np.ones((len(t_idx), truth.skeleton.num_joints)), truth.skeleton, dst)
+    p, p_conf = _all_observed(pred.poses[list(p_idx)], pred.skeleton, dst)
+    t, t_conf = _all_observed(truth.poses[list(t_idx)], truth.skeleton, dst)
     if not (p_conf.all() and t_conf.all()):
         raise ConfigError(f"protocol {protocol} needs joints that {pred.skeleton.name} or {truth.skeleton.name} lack")
     return center_on_root(p, dst), center_on_root(t, dst), dst

@@ -99,7 +99,7 @@ def benchmark_command(
         with progress_bar(quiet) as bar:
             tasks = {k: bar.add_task(f"{name} {k}", total=1, status="") for k in chosen}
 
-            def on_step(key: str, p: LiftProgress) -> None:
+            def on_step(key: str, p: LiftProgress, tasks: dict = tasks) -> None:
                 bar.update(tasks[key], completed=p.done, total=p.total)
 
             scores, _ = run_syrip_benchmark(syrip_dir, prior, cfg, inputs=chosen, device=device, callback=on_step)

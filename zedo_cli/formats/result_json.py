@@ -11,7 +11,7 @@ import math
 import os
 import sys
 import tempfile
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -92,7 +92,7 @@ def build_result_document(
     return {
         "schema": SCHEMA,
         "zedo_version": __version__,
-        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "created": datetime.now(UTC).isoformat(timespec="seconds"),
         "skeleton": _skeleton_doc(kp.skeleton),
         "units": "m",
         "coordinate_frame": "camera",
