@@ -141,6 +141,12 @@ def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrin
     return glob, per_image
 
 
+def check_focal(focal: float | None) -> None:
+    """A focal length given on the command line must be a finite positive number of pixels."""
+    if focal is not None and not (np.isfinite(focal) and focal > 0):
+        raise IntrinsicsError(f"--focal must be a positive number of pixels, got {focal}")
+
+
 def resolve_intrinsics(
     image_sizes: np.ndarray,
     image_ids: list[int | str],
@@ -157,8 +163,7 @@ def resolve_intrinsics(
     (f = 2000 px at the image centre). A centre needs the image size: an instance without
     one and without a principal point is an error.
     """
-    if focal is not None and not (np.isfinite(focal) and focal > 0):
-        raise IntrinsicsError(f"--focal must be a positive number of pixels, got {focal}")
+    check_focal(focal)
     glob, per_image = read_intrinsics_file(intrinsics_file) if intrinsics_file else (None, {})
     mats, sources = [], []
     for i, (size, image_id, name) in enumerate(zip(image_sizes, image_ids, file_names, strict=True)):

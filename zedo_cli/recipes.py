@@ -96,6 +96,13 @@ def with_overrides(recipe: Recipe, **training: Any) -> Recipe:
     return replace(recipe, training=replace(recipe.training, **changes)) if changes else recipe
 
 
+def with_output(recipe: Recipe, *, weights: str | None = None, dtype: str | None = None) -> Recipe:
+    """The recipe with the given (non-None) output choices replaced."""
+    if weights is None and dtype is None:
+        return recipe
+    return replace(recipe, output=OutputConfig(weights or recipe.output.weights, dtype or recipe.output.dtype))
+
+
 @dataclass
 class FitResult:
     result: TrainResult

@@ -9,7 +9,7 @@ import typer
 
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
-from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_overrides, write_fitted_prior
+from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_output, with_overrides, write_fitted_prior
 from ..training import TrainProgress
 from .common import check_output_path, err_console, error_boundary, progress_bar
 
@@ -59,12 +59,7 @@ def fit_prior_command(
         check_output_path(ema_out, overwrite)
     base = load_recipe(recipe) if recipe is not None else Recipe()
     chosen = with_overrides(base, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
-    if weights is not None or dtype is not None:
-        from dataclasses import replace
-
-        from ..recipes import OutputConfig
-
-        chosen = replace(chosen, output=OutputConfig(weights or chosen.output.weights, dtype or chosen.output.dtype))
+    chosen = with_output(chosen, weights=weights, dtype=dtype)
     data = load_training_poses(poses, syrip_dir, split, skeleton)
     if license_text is None:
         license_text = SYRIP_LICENSE if syrip_dir is not None else "as the terms of the training data"
@@ -82,11 +77,7 @@ def fit_prior_command(
     extra = {"recipe": str(recipe) if recipe else None, "device": device}
     sha = write_fitted_prior(out, fit, data, chosen, license_text=license_text, extra_training=extra)
     if ema_out is not None:
-        from dataclasses import replace
-
-        from ..recipes import OutputConfig
-
-        ema_recipe = replace(chosen, output=OutputConfig("ema", chosen.output.dtype))
+        ema_recipe = with_output(chosen, weights="ema")
         write_fitted_prior(ema_out, fit, data, ema_recipe, license_text=license_text, extra_training=extra)
         err_console.print(f"wrote {ema_out} (EMA weights)")
     err_console.print(

@@ -9,8 +9,8 @@ import numpy as np
 import typer
 
 from .. import __version__
-from ..camera import resolve_intrinsics
-from ..errors import ConfigError, InputFormatError, IntrinsicsError
+from ..camera import check_focal, resolve_intrinsics
+from ..errors import ConfigError, InputFormatError
 from ..formats import INPUT_FORMATS, Keypoints2D, read_keypoints
 from ..formats.result_json import build_result_document, write_json
 from ..lifting import PRESETS, LiftConfig, LiftProgress, LiftResult, get_preset, lift, observed_mask
@@ -87,8 +87,7 @@ def lift_command(
 
       zedo lift kp.json --intrinsics K.json --min-confidence 0.3 -o kp3d.json
     """
-    if focal is not None and not focal > 0:
-        raise IntrinsicsError(f"--focal must be a positive number of pixels, got {focal}")
+    check_focal(focal)  # before the prior is loaded: a usage error should fail fast
     if not 0.0 <= min_confidence <= 1.0:
         raise ConfigError(f"--min-confidence must be in [0, 1], got {min_confidence}")
     out_path = out if out == "-" else Path(out) if out else default_output_path(keypoints)
