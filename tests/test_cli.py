@@ -54,7 +54,7 @@ def test_lift_writes_the_documented_json(tiny_prior_path: Path, tmp_path: Path) 
     doc = json.loads((tmp_path / "kp.zedo.json").read_text())
     assert doc["schema"] == "zedo.pose3d/1" and doc["units"] == "m" and doc["coordinate_frame"] == "camera"
     assert doc["skeleton"]["name"] == "syrip12" and len(doc["skeleton"]["joints"]) == 12
-    assert doc["params"]["preset"] == "faithful" and doc["params"]["steps"] == 30
+    assert doc["params"]["preset"] == "fast" and doc["params"]["steps"] == 30  # the default preset
     assert len(doc["params"]["prior"]["sha256"]) == 64
     frame = doc["frames"][0]
     assert frame["image_id"] == 10 and frame["file_name"] == "img0.jpg"

@@ -88,3 +88,56 @@ def test_faithful_preset_has_the_reference_numbers() -> None:
 def test_wrong_joint_count_is_an_error(tiny_prior: Prior) -> None:
     with pytest.raises(ConfigError):
         lift(np.zeros((1, 17, 2)), np.ones((1, 17)), K_TEST[None], tiny_prior, FAST)
+
+
+def test_fast_preset_spreads_the_same_total_step_over_fewer_steps() -> None:
+    fast, faithful = get_preset("fast"), get_preset("faithful")
+    assert (fast.steps, fast.init_steps, fast.release_fraction) == (50, 100, 0.15)
+    assert fast.delta == pytest.approx(1 / 50) and faithful.delta == pytest.approx(1e-3)
+    assert fast.steps * fast.delta == pytest.approx(faithful.steps * faithful.delta)
+    assert replace(fast, steps=25).delta == pytest.approx(1 / 25)  # --steps keeps the total
+    assert get_preset("fast-bf16") == replace(fast, preset="fast-bf16", bf16=True)
+    assert fast.to_dict()["delta"] == pytest.approx(0.02)
+
+
+@pytest.mark.parametrize(
+    "bad", [{"step_delta": 0.0}, {"release_fraction": 1.5}, {"chunk_size": 0}, {"steps": 0}, {"t_end": 0.0}]
+)
+def test_invalid_settings_are_refused(bad: dict[str, float]) -> None:
+    with pytest.raises(ConfigError):
+        LiftConfig(**bad)
+
+
+def test_fast_preset_matches_faithful(tiny_prior: Prior) -> None:
+    poses, xy, conf, k = _inputs(20)
+    fast = mpjpe_mm(lift(xy, conf, k, tiny_prior, get_preset("fast")).poses_root_relative, poses)
+    faithful = mpjpe_mm(lift(xy, conf, k, tiny_prior, get_preset("faithful")).poses_root_relative, poses)
+    assert abs(fast - faithful) < 2.0, (fast, faithful)
+
+
+def test_bf16_network_changes_little(tiny_prior: Prior) -> None:
+    poses, xy, conf, k = _inputs(6)
+    cfg = replace(FAST, steps=40, init_steps=50)
+    full = lift(xy, conf, k, tiny_prior, cfg)
+    half = lift(xy, conf, k, tiny_prior, replace(cfg, bf16=True))
+    assert np.isfinite(half.poses_camera).all()
+    assert mpjpe_mm(half.poses_root_relative, full.poses_root_relative) < 5.0
+
+
+def test_progress_reaches_the_total_in_order(tiny_prior: Prior) -> None:
+    _, xy, conf, k = _inputs(5)
+    seen = []
+    lift(xy, conf, k, tiny_prior, replace(FAST, steps=37, init_steps=3, chunk_size=2), callback=seen.append)
+    done = [p.done for p in seen]
+    assert done == sorted(done) and done[-1] == seen[-1].total == 3 * (37 + 3)
+
+
+def test_throughput_counts_every_pose(tiny_prior: Prior) -> None:
+    from zedo_cli.benchmark import measure_throughput
+    from zedo_cli.formats import Keypoints2D
+
+    _, xy, conf, _ = _inputs(7)
+    kp = Keypoints2D(xy, conf, SKELETON, list(range(7)), [None] * 7, np.tile([640.0, 480.0], (7, 1)),
+                     [None] * 7, "mem", "test")  # fmt: skip
+    rate = measure_throughput({"a": kp, "b": kp.subset([0, 1])}, tiny_prior, replace(FAST, steps=5, init_steps=2))
+    assert rate.count == 9 and rate.seconds > 0 and rate.poses_per_second == pytest.approx(9 / rate.seconds)
