@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 from helpers import SYRIP_DIR
 
-from zedo_cli.benchmark import load_benchmark_inputs, run_syrip_benchmark
+from zedo_cli.benchmark import load_benchmark_inputs, load_throughput_inputs, run_syrip_benchmark
 from zedo_cli.lifting import get_preset
 from zedo_cli.weights import bundled_prior_path, load_prior
 
@@ -22,6 +22,25 @@ def test_benchmark_inputs_match_the_protocol() -> None:
     for kp in inputs.values():
         assert len(kp) == 100 and kp.skeleton.name == "coco17"
         assert list(kp.file_names) == truth.names
+
+
+@needs_syrip
+def test_throughput_inputs_are_every_real_image_once_per_2d_source() -> None:
+    inputs = load_throughput_inputs(SYRIP_DIR)
+    assert sorted(inputs) == ["detected", "gt"]
+    for kp in inputs.values():
+        assert len(kp) == 700 and len(set(kp.image_ids)) == 700
+
+
+@pytest.mark.slow
+@needs_syrip
+def test_fast_preset_is_as_accurate_as_faithful() -> None:
+    """The issue's bar: fast within 1 mm of faithful on Test100 (both 2D inputs)."""
+    prior = load_prior(bundled_prior_path(), skeleton="syrip12")
+    fast, _ = run_syrip_benchmark(SYRIP_DIR, prior, get_preset("fast"))
+    faithful, _ = run_syrip_benchmark(SYRIP_DIR, prior, get_preset("faithful"))
+    for a, b in zip(fast, faithful, strict=True):
+        assert a.input_2d == b.input_2d and a.mpjpe_mm <= b.mpjpe_mm + 1.0
 
 
 @pytest.mark.slow

@@ -80,6 +80,53 @@ def load_benchmark_inputs(syrip_dir: Path) -> tuple[PoseSet, dict[str, Keypoints
     return truth, {"gt": gt_kp, "detected": det_kp}
 
 
+def _best_per_image(kp: Keypoints2D) -> Keypoints2D:
+    """One instance per image id: the highest-scoring one."""
+    best: dict[object, int] = {}
+    for i, image in enumerate(kp.image_ids):
+        if image not in best or (kp.scores[i] or 0.0) > (kp.scores[best[image]] or 0.0):
+            best[image] = i
+    return kp.subset(sorted(best.values()))
+
+
+def load_throughput_inputs(syrip_dir: str | Path) -> dict[str, Keypoints2D]:
+    """All 700 real SyRIP images with ground-truth 2D and with FiDIP-detected 2D (one
+    instance per image each): 1400 poses, enough that start-up does not dominate the rate."""
+    syrip_dir = Path(syrip_dir)
+    gt = _best_per_image(read_keypoints(syrip_dir / SYRIP_REAL700))
+    det = _best_per_image(read_keypoints(syrip_dir / SYRIP_FIDIP, images=syrip_dir / SYRIP_REAL700))
+    return {"gt": gt, "detected": det}
+
+
+@dataclass
+class Throughput:
+    """Lifting rate over one batch (all inputs lifted in one call, as `zedo lift` would)."""
+
+    count: int
+    seconds: float
+    poses_per_second: float
+
+
+def measure_throughput(
+    inputs: dict[str, Keypoints2D],
+    prior: Prior,
+    config: LiftConfig,
+    *,
+    device: str = "cpu",
+    callback: Callable[[LiftProgress], None] | None = None,
+) -> Throughput:
+    """Poses per second of `lift` on all `inputs` together (model loading and file reading
+    excluded; the rotation fit, the prior loop and the copies back to numpy included)."""
+    kps = [kp.to_skeleton(prior.skeleton) for kp in inputs.values()]
+    mats = [resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)[0] for kp in kps]
+    xy = np.concatenate([kp.xy for kp in kps])
+    conf = np.concatenate([kp.confidence for kp in kps])
+    start = time.perf_counter()
+    lift(xy, conf, np.concatenate(mats), prior, config, device=device, callback=callback)
+    seconds = time.perf_counter() - start
+    return Throughput(len(xy), seconds, len(xy) / seconds)
+
+
 def run_syrip_benchmark(
     syrip_dir: str | Path,
     prior: Prior,

@@ -11,7 +11,15 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from ..benchmark import PAPER_FIGURES, Score, run_syrip_benchmark, score_poses
+from ..benchmark import (
+    PAPER_FIGURES,
+    Score,
+    Throughput,
+    load_throughput_inputs,
+    measure_throughput,
+    run_syrip_benchmark,
+    score_poses,
+)
 from ..datasets import load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..evaluation import PROTOCOLS, align_to_truth, read_result_file
@@ -72,42 +80,87 @@ def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
     return table
 
 
+def _throughput_table(rates: dict[str, Throughput], device: str) -> Table:
+    base_name, base = next(iter(rates.items()))
+    table = Table(title=f"Throughput: all 700 real SyRIP images, ground-truth and detected 2D, one batch, {device}")
+    for col in ("preset", "poses", "lift s", "poses/s", f"x {base_name}"):
+        table.add_column(col, justify="left" if col == "preset" else "right")
+    for name, r in rates.items():
+        table.add_row(name, str(r.count), f"{r.seconds:.1f}", f"{r.poses_per_second:.1f}",
+                      f"{r.poses_per_second / base.poses_per_second:.1f}")  # fmt: skip
+    return table
+
+
+def _accuracy_deltas(rows: list[tuple[str, Score]], base: str) -> dict[str, dict[str, float]]:
+    """MPJPE of every preset minus the first preset's, per 2D input (mm)."""
+    by_preset: dict[str, dict[str, float]] = {}
+    for label, s in rows:
+        by_preset.setdefault(label.split(" / ")[-1], {})[s.input_2d] = s.mpjpe_mm
+    return {p: {k: v - by_preset[base][k] for k, v in errs.items()} for p, errs in by_preset.items() if p != base}
+
+
 @error_boundary
 def benchmark_command(
     syrip_dir: Annotated[Path, typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip).")],
     prior_spec: Annotated[Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file.")] = None,
-    preset: Annotated[list[str], typer.Option(help=f"Lifting preset(s) to run, repeatable: {', '.join(PRESETS)}.")] = ["faithful"],  # noqa: B006
+    preset: Annotated[list[str], typer.Option(help=f"Lifting preset(s) to run, repeatable; the first is the baseline of the ratios: {', '.join(PRESETS)}.")] = ["faithful", "fast"],  # noqa: B006
     inputs: Annotated[str, typer.Option(help="2D inputs: gt, detected or gt,detected.")] = "gt,detected",
+    throughput: Annotated[bool, typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch.")] = True,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
-    """Run the paper's SyRIP Test100 benchmark and print it beside the paper's figures.
+    """Run the paper's SyRIP Test100 benchmark for one or more presets, side by side.
 
-    Lifts Test100 from ground-truth 2D and from FiDIP detections (pseudo camera f = 2000 px),
-    scores MPJPE / PA-MPJPE on the 12 limb joints, and reports lifting time and poses per second.
+    For each preset: lifts Test100 from ground-truth 2D and from FiDIP detections (pseudo
+    camera f = 2000 px) and scores MPJPE / PA-MPJPE on the 12 limb joints; then (unless
+    --no-throughput) lifts all 700 real images from both 2D inputs, 1400 poses in one batch,
+    and reports poses per second and the ratio to the first preset.
 
-    Example: zedo benchmark --syrip-dir ../shared/data/syrip
+    Examples:
+
+      zedo benchmark --syrip-dir ../shared/data/syrip                      # faithful vs fast
+
+      zedo benchmark --syrip-dir ../shared/data/syrip --preset fast --no-throughput
     """
     chosen = tuple(i.strip() for i in inputs.split(","))
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
+    configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
     prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
     rows: list[tuple[str, Score]] = []
-    for name in preset:
-        cfg = get_preset(name)
+    rates: dict[str, Throughput] = {}
+    speed_inputs = load_throughput_inputs(syrip_dir) if throughput else {}
+    for name, cfg in configs.items():
         with progress_bar(quiet) as bar:
-            tasks = {k: bar.add_task(f"{name} {k}", total=1, status="") for k in chosen}
+            tasks = {k: bar.add_task(f"{name} {k}", total=1, status="") for k in (*chosen, "throughput")}
 
             def on_step(key: str, p: LiftProgress, tasks: dict = tasks) -> None:
                 bar.update(tasks[key], completed=p.done, total=p.total)
 
             scores, _ = run_syrip_benchmark(syrip_dir, prior, cfg, inputs=chosen, device=device, callback=on_step)
+            if throughput:
+                rates[name] = measure_throughput(speed_inputs, prior, cfg, device=device,
+                                                 callback=lambda p: on_step("throughput", p))  # fmt: skip
         rows += [(f"{Path(prior.path).name} / {name}", s) for s in scores]
+    base = next(iter(configs))
+    deltas = _accuracy_deltas(rows, base)
     if as_json:
-        out = [{"prior": prior.path, "prior_sha256": prior.sha256, "preset": label.split(" / ")[-1], **vars(s)}
-               for label, s in rows]  # fmt: skip
-        sys.stdout.write(json.dumps(out, indent=1) + "\n")
+        doc = {
+            "prior": prior.path, "prior_sha256": prior.sha256, "device": device,
+            "accuracy": [{"preset": label.split(" / ")[-1], **vars(s)} for label, s in rows],
+            "throughput": {n: {**vars(r), f"ratio_to_{base}": r.poses_per_second / rates[base].poses_per_second}
+                           for n, r in rates.items()},
+            f"mpjpe_minus_{base}_mm": deltas,
+        }  # fmt: skip
+        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
         return
-    Console().print(_benchmark_table(rows))
+    console = Console()
+    console.print(_benchmark_table(rows))
+    if rates:
+        console.print(_throughput_table(rates, device))
+    for name, d in deltas.items():
+        ratio = f"{rates[name].poses_per_second / rates[base].poses_per_second:.1f}x the poses/s, " if rates else ""
+        console.print(f"{name} vs {base}: {ratio}MPJPE " + ", ".join(f"{v:+.1f} mm ({k})" for k, v in d.items()),
+                      markup=False)  # fmt: skip
     err_console.print(f"prior {prior.label}; device {device}", markup=False)
