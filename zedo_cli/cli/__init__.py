@@ -7,6 +7,7 @@ import typer
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
 from .lift import lift_command
+from .minirgbd import benchmark_minirgbd_command
 
 app = typer.Typer(
     name="zedo",
@@ -30,6 +31,7 @@ app.command("lift", no_args_is_help=True)(lift_command)
 app.command("fit-prior", no_args_is_help=True)(fit_prior_command)
 app.command("evaluate", no_args_is_help=True)(evaluate_command)
 app.command("benchmark", no_args_is_help=True)(benchmark_command)
+app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)
 
 
 def main() -> None:

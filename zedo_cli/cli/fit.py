@@ -9,14 +9,22 @@ import typer
 
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
+from ..minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_output, with_overrides, write_fitted_prior
 from ..training import TrainProgress
 from .common import check_output_path, err_console, error_boundary, progress_bar
 
 
-def load_training_poses(poses: Optional[Path], syrip_dir: Optional[Path], split: str, skeleton: Optional[str]) -> PoseSet:
-    if (poses is None) == (syrip_dir is None):
-        raise ConfigError("give either a 3D pose file (POSES) or --syrip-dir, not both or neither")
+def load_training_poses(
+    poses: Optional[Path], syrip_dir: Optional[Path], split: str, skeleton: Optional[str],
+    *, minirgbd_dir: Optional[Path] = None, minirgbd_split: str = "paper", mapping: str = "reference",
+) -> PoseSet:  # fmt: skip
+    if sum(src is not None for src in (poses, syrip_dir, minirgbd_dir)) != 1:
+        raise ConfigError("give either a 3D pose file (POSES), --syrip-dir or --minirgbd-dir: exactly one")
+    if minirgbd_dir is not None:
+        if skeleton not in (None, "h36m17"):
+            raise ConfigError(f"MINI-RGBD poses are mapped to the h36m17 joint set, not {skeleton!r}")
+        return load_minirgbd_3d(minirgbd_dir, minirgbd_split, split, mapping=mapping)
     if syrip_dir is not None:
         if skeleton not in (None, "syrip12"):
             raise ConfigError(f"SyRIP poses are in the syrip12 joint set, not {skeleton!r}")
@@ -30,7 +38,10 @@ def fit_prior_command(
     poses: Annotated[Optional[Path], typer.Argument(help="3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")] = None,
     out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors).")] = Path("prior.safetensors"),
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Train on the SyRIP data folder instead of POSES.")] = None,
-    split: Annotated[str, typer.Option(help="SyRIP split: train (600), test (100) or all (700).")] = "train",
+    split: Annotated[str, typer.Option(help="Side of the split: train, test or all (SyRIP: 600, 100, 700 poses; MINI-RGBD: see --minirgbd-split).")] = "train",
+    minirgbd_dir: Annotated[Optional[Path], typer.Option(help="Train on a local MINI-RGBD folder (holding 01 .. 12), mapped to h36m17.")] = None,
+    minirgbd_split: Annotated[str, typer.Option(help="MINI-RGBD sequences: paper (train 01-09, test 10-12) or reference (train 01-10, test 11-12).")] = "paper",
+    mapping: Annotated[str, typer.Option(help="MINI-RGBD SMIL -> h36m17 joints: reference (toes as ankles, collars as shoulders, as the authors) or anatomical.")] = "reference",
     skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it (h36m17, syrip12, ...).")] = None,
     recipe: Annotated[Optional[Path], typer.Option(help="TOML recipe (see weights_spec/); options below override it.")] = None,
     epochs: Annotated[Optional[int], typer.Option(help="Passes over the data (recipe: 8000).")] = None,
@@ -53,6 +64,8 @@ def fit_prior_command(
       zedo fit-prior --syrip-dir ../shared/data/syrip --split train --recipe weights_spec/syrip12-scratch.toml --out my.safetensors
 
       zedo fit-prior poses.npz --skeleton h36m17 --epochs 2000 --out adult.safetensors
+
+      zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
     """
     check_output_path(out, overwrite)
     if ema_out is not None:
@@ -60,9 +73,11 @@ def fit_prior_command(
     base = load_recipe(recipe) if recipe is not None else Recipe()
     chosen = with_overrides(base, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     chosen = with_output(chosen, weights=weights, dtype=dtype)
-    data = load_training_poses(poses, syrip_dir, split, skeleton)
+    data = load_training_poses(poses, syrip_dir, split, skeleton, minirgbd_dir=minirgbd_dir,
+                               minirgbd_split=minirgbd_split, mapping=mapping)  # fmt: skip
     if license_text is None:
         license_text = SYRIP_LICENSE if syrip_dir is not None else "as the terms of the training data"
+        license_text = MINIRGBD_LICENSE if minirgbd_dir is not None else license_text
     err_console.print(
         f"training a {data.skeleton.name} prior on {len(data.names)} poses from {data.source}: "
         f"{chosen.training.epochs} epochs, batch {chosen.training.batch_size}, seed {chosen.training.seed}, {device}"
