@@ -109,13 +109,11 @@ def test_coco_annotations_values_order_missing_and_sizes(tmp_path: Path) -> None
     kp = read_keypoints(write(tmp_path, coco_annotations()))
     assert isinstance(kp, Keypoints2D) and len(kp) == 2
     assert kp.format == "coco-annotations" and kp.skeleton.name == "coco17"
-    assert (
-        kp.xy.dtype == np.float64 and kp.confidence.dtype == np.float64 and kp.image_sizes.dtype == np.float64
-    )
+    assert kp.xy.dtype == np.float64 and kp.confidence.dtype == np.float64 and kp.image_sizes.dtype == np.float64
     assert kp.xy.shape == (2, 17, 2) and kp.confidence.shape == (2, 17)
     # ordered by image position in images[] (7 first), not by annotation order
     assert kp.image_ids == [7, 3]
-    assert kp.file_names == ["b.jpg", "a.jpg"]  # original_file_name is not substituted
+    assert kp.file_names == ["orig_b.jpg", "a.jpg"]  # original_file_name (SyRIP's true name) wins
     np.testing.assert_array_equal(kp.image_sizes, [[640, 480], [1280, 720]])
     assert kp.scores == [0.9, None]
     # v = 0: NaN and confidence 0 (the placeholder -45 is never a position)
@@ -142,9 +140,7 @@ def test_coco_annotations_float_visibility_is_a_confidence(tmp_path: Path) -> No
         ([f"joint{j}" for j in range(17)], "coco17"),
     ],
 )
-def test_coco_annotations_skeleton_from_category_names(
-    tmp_path: Path, names: list[str], skeleton: str
-) -> None:
+def test_coco_annotations_skeleton_from_category_names(tmp_path: Path, names: list[str], skeleton: str) -> None:
     doc = coco_annotations()
     doc["categories"][0]["keypoints"] = names
     assert read_keypoints(write(tmp_path, doc)).skeleton.name == skeleton
@@ -197,7 +193,7 @@ def test_detect_format() -> None:
         ({"a": 1, "b": 2, "c": 3}, "top-level JSON object has keys a, b, c"),
         ({"images": [], "annotations": []}, "keys images, annotations"),
         ([1, 2], "first element is a number"),
-        ([{"keypoints": [[1, 2]], "keypoint_scores": [1]}], "nested keypoints"),
+        ([{"keypoints": [[1, 2]], "scores": [1]}], "nested keypoints"),
         ("text", "top-level JSON value is a string"),
     ],
 )
@@ -325,7 +321,7 @@ ERROR_CASES: list[tuple[str, Callable[[], Any], Mutation, tuple[str, ...]]] = [
     ("bad-zedo-confidence", zedo_2d, _set(("instances", 0, "keypoints", 0), [1, 2, 1.5]),
      ("instances[0].keypoints[0][2]", "confidence in [0, 1]")),
     ("bad-schema", zedo_2d, _set(("schema",), "other/2"), ("schema", "zedo.keypoints2d/1")),
-    ("unknown-skeleton", zedo_2d, _set(("skeleton",), "body25"), ("skeleton", "unknown skeleton 'body25'")),
+    ("unknown-skeleton", zedo_2d, _set(("skeleton",), "body24"), ("skeleton", "unknown skeleton 'body24'")),
     ("unknown-names", coco_annotations, _set(("categories", 0, "keypoints"), ["a"] * 14),
      ("categories[0].keypoints", "unsupported joint count 14")),
     ("annotations-not-list", coco_annotations, _set(("annotations",), {}),
@@ -334,9 +330,7 @@ ERROR_CASES: list[tuple[str, Callable[[], Any], Mutation, tuple[str, ...]]] = [
 ]  # fmt: skip
 
 
-@pytest.mark.parametrize(
-    ("build", "mutate", "parts"), [c[1:] for c in ERROR_CASES], ids=[c[0] for c in ERROR_CASES]
-)
+@pytest.mark.parametrize(("build", "mutate", "parts"), [c[1:] for c in ERROR_CASES], ids=[c[0] for c in ERROR_CASES])
 def test_malformed_input_names_file_and_field(
     tmp_path: Path, build: Callable[[], Any], mutate: Mutation, parts: tuple[str, ...]
 ) -> None:
@@ -457,9 +451,7 @@ def test_syrip_files() -> None:
     assert len(gt) == 100 and gt.skeleton.name == "coco17" and gt.format == "coco-annotations"
     assert (gt.confidence == 0).sum() <= 13
     assert np.isfinite(gt.image_sizes).all() and all(name is not None for name in gt.file_names)
-    dt = read_keypoints(
-        SYRIP / "keypoints2d_fidip_real700.json", images=SYRIP / "keypoints2d_gt_real700.json"
-    )
+    dt = read_keypoints(SYRIP / "keypoints2d_fidip_real700.json", images=SYRIP / "keypoints2d_gt_real700.json")
     assert len(dt) == 700 and dt.format == "coco-results" and dt.skeleton.name == "coco17"
     assert np.isfinite(dt.image_sizes).all() and all(name is not None for name in dt.file_names)
     assert dt.confidence.max() <= 1.0

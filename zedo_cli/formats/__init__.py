@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 from .keypoints import Keypoints2D
-from .readers import INPUT_FORMATS, detect_format, read_keypoints
+from .readers import INPUT_FORMATS, detect_format, read_keypoints, read_keypoints_text, read_parsed
+from .source import input_sha256
 
-__all__ = ["INPUT_FORMATS", "Keypoints2D", "detect_format", "read_keypoints"]
+__all__ = [
+    "INPUT_FORMATS", "Keypoints2D", "detect_format", "input_sha256", "read_keypoints", "read_keypoints_text",
+    "read_parsed",
+]  # fmt: skip

@@ -25,7 +25,10 @@ class Keypoints2D:
     image_sizes: np.ndarray  # (N, 2) float64 width, height in pixels; NaN = unknown
     scores: list[float | None]  # (N,) detection score of the instance when given
     path: str  # the file it was read from ("-" for stdin)
-    format: str  # e.g. "coco-annotations", "coco-results", "zedo-2d"
+    format: str  # e.g. "coco-annotations", "coco-results", "zedo-2d", "openpose"
+    # (N,) 0-based frame index of each instance where the input has frames (OpenPose file names,
+    # MMPose frame_id, zedo JSONL), None where it has none; a default so positional callers work.
+    frame_indices: list[int | None] | None = None
 
     def __len__(self) -> int:
         return int(self.xy.shape[0])
@@ -36,6 +39,7 @@ class Keypoints2D:
             self.xy[idx], self.confidence[idx], self.skeleton,
             [self.image_ids[i] for i in idx], [self.file_names[i] for i in idx],
             self.image_sizes[idx], [self.scores[i] for i in idx], self.path, self.format,
+            None if self.frame_indices is None else [self.frame_indices[i] for i in idx],
         )  # fmt: skip
 
     def to_skeleton(self, dst: Skeleton) -> Keypoints2D:
@@ -45,5 +49,5 @@ class Keypoints2D:
         xy, conf = convert_points(self.xy, self.confidence, self.skeleton, dst)
         return Keypoints2D(
             xy, conf, dst, self.image_ids, self.file_names, self.image_sizes, self.scores,
-            self.path, self.format,
+            self.path, self.format, self.frame_indices,
         )  # fmt: skip

@@ -1,0 +1,195 @@
+"""COCO keypoint annotation files and COCO keypoint results lists (FORMATS.md 3.1, 3.2).
+
+- ``coco-annotations``: ``{images, annotations, categories}``, e.g. SyRIP ground truth.
+  Visibility v = 0 is a missing joint, v = 1 (labelled but occluded) gets confidence 0.5, v = 2
+  gets 1.0; a float v in (0, 1) is taken as a confidence. An image's ``original_file_name``, when
+  present, is its file name: SyRIP's real700 file renumbers its images test0.. and keeps the
+  true name there, and the true name is what joins to other files.
+- ``coco-results``: ``[{image_id, keypoints: [x, y, c] * 17, score}]`` from a detector (FiDIP,
+  HRNet). c is a confidence clipped to [0, 1]; c == 0 is a missing joint.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from ..skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
+from .keypoints import Keypoints2D
+from .validate import (
+    NAN_SIZE,
+    ImageId,
+    Row,
+    as_dict,
+    as_list,
+    build,
+    detector_confidence,
+    error,
+    flat_triplets,
+    image_id,
+    joints,
+    kind,
+    optional_score,
+    optional_str,
+    pixels,
+    required,
+)
+
+OCCLUDED_CONFIDENCE = 0.5  # confidence of a COCO v = 1 joint (labelled but not visible)
+
+
+@dataclass(frozen=True)
+class Image:
+    """One entry of a COCO ``images`` list."""
+
+    position: int
+    size: tuple[float, float]  # width, height in pixels; NaN = unknown
+    file_name: str | None  # original_file_name when given, else file_name
+    names: tuple[str, ...]  # every name the entry goes by, for joining on a string image id
+
+
+def parse_images(doc: dict[str, Any], path: str) -> dict[ImageId, Image]:
+    """COCO ``images[]`` by id. Width/height are optional (unknown = NaN) but must be valid if given."""
+    images = as_list(required(doc, "images", path, ""), path, "images")
+    index: dict[ImageId, Image] = {}
+    for i, entry in enumerate(images):
+        where = f"images[{i}]"
+        entry = as_dict(entry, path, where)
+        key = image_id(required(entry, "id", path, where), path, f"{where}.id")
+        if key in index:
+            raise error(path, f"{where}.id", f"duplicate image id {key!r} (also images[{index[key].position}])")
+        width, height = (
+            math.nan if entry.get(k) is None else pixels(entry[k], path, f"{where}.{k}") for k in ("width", "height")
+        )
+        size = NAN_SIZE if math.isnan(width) or math.isnan(height) else (width, height)
+        original = optional_str(entry, "original_file_name", path, where)
+        file_name = optional_str(entry, "file_name", path, where)
+        names = tuple(n for n in (original, file_name) if n is not None)
+        index[key] = Image(i, size, names[0] if names else None, names)
+    return index
+
+
+def skeleton_from_names(value: Any, path: str, where: str) -> Skeleton:
+    """The skeleton whose joint names are exactly `value`; 17 unknown names mean COCO-17."""
+    names = as_list(value, path, where)
+    for k, name in enumerate(names):
+        if not isinstance(name, str):
+            raise error(path, f"{where}[{k}]", f"expected a joint name, got {kind(name)}")
+    skeleton = skeleton_from_joint_names(names)
+    if skeleton is not None:
+        return skeleton
+    if len(names) == 17:
+        return SKELETONS["coco17"]
+    known = ", ".join(sorted(SKELETONS))
+    raise error(
+        path, where,
+        f"unsupported joint count {len(names)} with unknown joint names "
+        f"(expected 17 COCO joints or the joint names of a known skeleton: {known})",
+    )  # fmt: skip
+
+
+# --- annotations ---------------------------------------------------------------------------
+
+
+def _categories_skeleton(doc: dict[str, Any], path: str) -> Skeleton:
+    """Skeleton from ``categories[0].keypoints``; COCO-17 when the names are not given."""
+    categories = as_list(required(doc, "categories", path, ""), path, "categories")
+    if not categories:
+        return SKELETONS["coco17"]
+    first = as_dict(categories[0], path, "categories[0]")
+    if "keypoints" not in first:
+        return SKELETONS["coco17"]
+    return skeleton_from_names(first["keypoints"], path, "categories[0].keypoints")
+
+
+def _visibility_confidence(v: float, path: str, where: str) -> float:
+    """COCO visibility -> confidence: 0 -> 0 (missing), 1 -> 0.5, 2 -> 1, a float in (0, 1) -> itself."""
+    if v == 0:
+        return 0.0
+    if v == 1:
+        return OCCLUDED_CONFIDENCE
+    if v == 2:
+        return 1.0
+    if 0.0 < v < 1.0:
+        return v
+    raise error(path, where, f"visibility {v:g} is neither 0, 1, 2 nor a confidence in (0, 1]")
+
+
+def _parse_annotation(
+    entry: Any, i: int, images: Mapping[ImageId, Image], skeleton: Skeleton, path: str
+) -> tuple[tuple[int, int], Row]:
+    """One annotation -> (sort key by image position then annotation position, row)."""
+    where = f"annotations[{i}]"
+    entry = as_dict(entry, path, where)
+    key = image_id(required(entry, "image_id", path, where), path, f"{where}.image_id")
+    image = images.get(key)
+    if image is None:
+        raise error(path, f"{where}.image_id", f"image id {key!r} is not in images")
+    where_kp = f"{where}.keypoints"
+    triplets = flat_triplets(required(entry, "keypoints", path, where), skeleton.num_joints, path, where_kp)
+    points = [
+        (x, y, _visibility_confidence(v, path, f"{where_kp}[{3 * j + 2}]")) for j, (x, y, v) in enumerate(triplets)
+    ]
+    xy, conf = joints(points, skeleton, path, where_kp)
+    score = optional_score(entry, path, where)
+    return (image.position, i), Row(key, xy, conf, image.file_name, image.size, score)
+
+
+def read_coco_annotations(data: Any, path: str) -> Keypoints2D:
+    """Read a parsed COCO keypoint annotation file (FORMATS.md 3.1).
+
+    Instances are ordered by their image's position in ``images``, then by annotation position.
+    Sizes (pixels) and file names come from ``images[]``; the skeleton from ``categories[0]``.
+    """
+    doc = as_dict(data, path, "")
+    images = parse_images(doc, path)
+    skeleton = _categories_skeleton(doc, path)
+    annotations = as_list(required(doc, "annotations", path, ""), path, "annotations")
+    keyed = [_parse_annotation(entry, i, images, skeleton, path) for i, entry in enumerate(annotations)]
+    keyed.sort(key=lambda item: item[0])
+    return build([row for _, row in keyed], skeleton, path, "coco-annotations")
+
+
+# --- results -------------------------------------------------------------------------------
+
+
+def _results_skeleton(values: Any, path: str, where: str) -> Skeleton:
+    """Skeleton of a results instance, inferred from its flat keypoint list length (17 -> coco17)."""
+    values = as_list(values, path, where)
+    if len(values) % 3:
+        raise error(path, where, f"expected x, y, c triplets (a multiple of 3 numbers), got {len(values)}")
+    if len(values) // 3 != 17:
+        raise error(
+            path, where,
+            f"unsupported joint count {len(values) // 3} (COCO results need 17 joints; "
+            "for 26 Halpe joints use --format alphapose)",
+        )  # fmt: skip
+    return SKELETONS["coco17"]
+
+
+def _parse_result(entry: Any, i: int, sizes: Mapping[ImageId, tuple[float, float]], path: str) -> Row:
+    where = f"[{i}]"
+    entry = as_dict(entry, path, where)
+    key = image_id(required(entry, "image_id", path, where), path, f"{where}.image_id")
+    where_kp = f"{where}.keypoints"
+    values = required(entry, "keypoints", path, where)
+    skeleton = _results_skeleton(values, path, where_kp)
+    triplets = flat_triplets(values, skeleton.num_joints, path, where_kp)
+    points = [(x, y, detector_confidence(c, path, f"{where_kp}[{3 * j + 2}]")) for j, (x, y, c) in enumerate(triplets)]
+    xy, conf = joints(points, skeleton, path, where_kp)
+    size = tuple(float(s) for s in sizes.get(key, NAN_SIZE))
+    return Row(key, xy, conf, None, (size[0], size[1]), optional_score(entry, path, where))
+
+
+def read_coco_results(
+    data: Any, path: str, image_sizes: Mapping[ImageId, tuple[float, float]] | None = None
+) -> Keypoints2D:
+    """Read a parsed COCO keypoint results list (FORMATS.md 3.2), every instance in file order.
+
+    `image_sizes` maps image_id -> (width, height) in pixels; instances without one get NaN.
+    """
+    entries = as_list(data, path, "")
+    rows = [_parse_result(entry, i, image_sizes or {}, path) for i, entry in enumerate(entries)]
+    return build(rows, SKELETONS["coco17"], path, "coco-results")

@@ -1,0 +1,121 @@
+"""zedo JSON Lines 2D, ``zedo-jsonl``: one frame per line, for streaming from a detector.
+
+Each non-blank line is one JSON object::
+
+    {"frame": 0, "persons": [{"keypoints": [[x, y, c], [x, y], null, ...], "score": 0.93}]}
+
+- ``frame`` (required): the 0-based frame index, an integer.
+- ``persons`` (required): the people in the frame, possibly none. Per person ``keypoints`` has
+  one point per joint in the zedo 2D syntax (``[x, y]`` = confidence 1, ``[x, y, c]`` with c in
+  [0, 1], ``null`` or c == 0 = missing); ``score`` (optional) is the detection score.
+- ``image_id`` (optional, default: the frame), ``file_name`` (optional),
+  ``image_size`` (optional ``[W, H]`` pixels).
+- ``skeleton`` (optional): a zedo skeleton name, given on the first line (later lines may repeat
+  it); without it the joint count decides (17 coco17, 18 coco18, 25 body25, 26 halpe26).
+
+Lines are read in order; blank lines are skipped; a ``.jsonl`` file or stdin (``-``) carries it.
+Errors name the line, e.g. ``kp.jsonl: line 3: persons[0].keypoints[4]: expected a number``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..errors import InputFormatError
+from ..skeleton import Skeleton
+from .keypoints import Keypoints2D
+from .source import parse_json
+from .validate import (
+    NAN_SIZE,
+    Row,
+    as_dict,
+    as_list,
+    build,
+    counted_skeleton,
+    error,
+    frame_number,
+    image_id,
+    joints,
+    kind,
+    optional_score,
+    size_pair,
+)
+from .zedo2d import skeleton_name, zedo_point
+
+FORMAT = "zedo-jsonl"
+
+
+def _line_key(obj: dict[str, Any], key: str, path: str, line: str) -> Any:
+    if key not in obj:
+        raise error(path, f"{line}: {key}", "missing required key")
+    return obj[key]
+
+
+def _frame_rows(obj: Any, line: str, skeleton: Skeleton | None, path: str) -> tuple[Skeleton | None, list[Row]]:
+    """The rows of one line (`line` = "line 3"); `skeleton` is the one fixed by earlier lines."""
+    obj = as_dict(obj, path, line)
+    frame = frame_number(_line_key(obj, "frame", path, line), path, f"{line}: frame")
+    key = image_id(obj["image_id"], path, f"{line}: image_id") if obj.get("image_id") is not None else frame
+    if obj.get("skeleton") is not None:
+        named = skeleton_name(obj["skeleton"], path, f"{line}: skeleton")
+        if skeleton is not None and named != skeleton:
+            raise error(path, f"{line}: skeleton", f"expected {skeleton.name} like the earlier lines, got {named.name}")
+        skeleton = named
+    size = size_pair(obj["image_size"], path, f"{line}: image_size") if obj.get("image_size") is not None else NAN_SIZE
+    file_name = obj.get("file_name")
+    if file_name is not None and not isinstance(file_name, str):
+        raise error(path, f"{line}: file_name", f"expected a string, got {kind(file_name)}")
+    rows = []
+    for i, person in enumerate(as_list(_line_key(obj, "persons", path, line), path, f"{line}: persons")):
+        where = f"{line}: persons[{i}]"
+        person = as_dict(person, path, where)
+        if "keypoints" not in person:
+            raise error(path, f"{where}.keypoints", "missing required key")
+        points = as_list(person["keypoints"], path, f"{where}.keypoints")
+        skeleton = counted_skeleton(len(points), skeleton, path, f"{where}.keypoints")
+        parsed = [zedo_point(p, path, f"{where}.keypoints[{j}]") for j, p in enumerate(points)]
+        xy, conf = joints(parsed, skeleton, path, f"{where}.keypoints")
+        rows.append(Row(key, xy, conf, file_name, size, optional_score(person, path, where), frame))
+    return skeleton, rows
+
+
+def _read_records(records: list[tuple[int, Any]], path: str) -> Keypoints2D:
+    skeleton: Skeleton | None = None
+    rows: list[Row] = []
+    for number, obj in records:
+        skeleton, frame_rows = _frame_rows(obj, f"line {number}", skeleton, path)
+        rows.extend(frame_rows)
+    if skeleton is None:
+        raise error(path, "", "no instances found" if records else "no frames found")
+    return build(rows, skeleton, path, FORMAT)
+
+
+def read_zedo_jsonl(data: Any, path: str) -> Keypoints2D:
+    """Read already parsed zedo JSONL: one frame object (one line) or a list of them (line k + 1)."""
+    records = data if isinstance(data, list) else [data]
+    return _read_records(list(enumerate(records, start=1)), path)
+
+
+def read_zedo_jsonl_text(text: str, path: str) -> Keypoints2D:
+    """Read zedo JSONL text. Lines are split on "\\n" only: U+2028 may stand raw inside a JSON string."""
+    records = [
+        (number, parse_json(line, path, f"line {number}"))
+        for number, line in enumerate(text.split("\n"), start=1)
+        if line.strip()
+    ]
+    if not records:
+        raise error(path, "", "file is empty")
+    return _read_records(records, path)
+
+
+def looks_like_jsonl(text: str) -> bool:
+    """Whether `text` is zedo JSONL rather than one JSON document: its first non-blank line
+    parses alone as an object with ``persons`` (a pretty-printed document's first line is "{")."""
+    for line in text.split("\n"):
+        if line.strip():
+            try:
+                first = parse_json(line, "", "")
+            except InputFormatError:  # not JSON on its own: the caller parses it whole and reports errors
+                return False
+            return isinstance(first, dict) and "persons" in first
+    return False
