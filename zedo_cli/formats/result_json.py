@@ -1,16 +1,21 @@
 """The 3D result as JSON (FORMATS.md 3.8a, schema `zedo.pose3d/1`), written atomically.
 
-Every document states units (m), frame (camera), axes and the K used per frame. Missing
-values are `null`, never 0. Instances are grouped into frames by `image_id`, in input order.
+Every document states units, coordinate frame, axes and the K used per frame (and its source).
+Missing values are `null`, never 0. Instances are grouped into frames by `image_id`, in input
+order. By default coordinates are in metres in the camera frame; `units="mm"` and
+`frame="root"` (writers_common) change `keypoints_3d`, `keypoints_3d_root_relative` and
+`root_translation` alike (the last stays the root point's camera-frame position).
+
+The document is assembled from three parts that the JSON Lines writer streams one by one:
+`build_header` (everything but frames and summary), `iter_frames` and `build_summary`.
 """
 
 from __future__ import annotations
 
 import json
 import math
-import os
 import sys
-import tempfile
+from collections.abc import Iterator
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -21,9 +26,10 @@ from .. import __version__
 from ..lifting import LiftResult
 from ..skeleton import Skeleton
 from .keypoints import Keypoints2D
+from .writers_common import AXES, OutputOptions, frame_origin, group_frames, output_poses, write_text_atomic
 
 SCHEMA = "zedo.pose3d/1"
-AXES = {"x": "right", "y": "down", "z": "forward (away from the camera)"}
+__all__ = ["AXES", "SCHEMA", "build_header", "build_result_document", "build_summary", "iter_frames", "write_json"]
 
 
 def _num(value: float, digits: int) -> float | None:
@@ -41,22 +47,99 @@ def _skeleton_doc(skeleton: Skeleton) -> dict[str, Any]:
             "root": " + ".join(skeleton.root) + (" (midpoint)" if len(skeleton.root) > 1 else "")}  # fmt: skip
 
 
-def _person(kp: Keypoints2D, res: LiftResult, i: int) -> dict[str, Any]:
+def _person(kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: OutputOptions) -> dict[str, Any]:
     flags = [] if res.lifted[i] else ["not_lifted_too_few_observed_joints"]
     missing = [kp.skeleton.joints[j] for j in np.flatnonzero(~res.observed[i])]
     if missing and res.lifted[i]:
         flags.append("joints_filled_by_prior: " + ", ".join(missing))
+    d = opts.digits
     return {
         "instance_index": i,
         "input_score": None if kp.scores[i] is None else _num(kp.scores[i], 4),
-        "keypoints_3d": _points(res.poses_camera[i]),
-        "keypoints_3d_root_relative": _points(res.poses_root_relative[i]),
-        "root_translation": None if not res.lifted[i] else [_num(v, 6) for v in res.root_translation[i]],
+        "keypoints_3d": _points(poses[i], d),
+        "keypoints_3d_root_relative": _points(res.poses_root_relative[i] * opts.scale, d),
+        "root_translation": None if not res.lifted[i] else [_num(v * opts.scale, d) for v in res.root_translation[i]],
         "observed": [bool(o) for o in res.observed[i]],
         "joint_confidence": [_num(c, 4) if c > 0 else None for c in kp.confidence[i]],
         "keypoints_2d": [[_num(v, 3) for v in p] if np.isfinite(p).all() else None for p in kp.xy[i]],
         "reprojection_error_px": [_num(e, 3) for e in res.reprojection_error_px[i]],
         "flags": flags,
+    }
+
+
+def build_header(
+    kp: Keypoints2D,
+    intrinsics: np.ndarray,
+    sources: list[str],
+    *,
+    params: dict[str, Any],
+    input_info: dict[str, Any],
+    units: str = "m",
+    frame: str = "camera",
+) -> dict[str, Any]:
+    """Everything of the document but `frames` and `summary`, in the document's key order.
+
+    `intrinsics (N, 3, 3)` and `sources (N,)` are only summarised here (the per-frame K is in
+    each frame).
+    """
+    opts = OutputOptions(units, frame)
+    unique_sources = sorted(set(sources))
+    header: dict[str, Any] = {
+        "schema": SCHEMA,
+        "zedo_version": __version__,
+        "created": datetime.now(UTC).isoformat(timespec="seconds"),
+        "skeleton": _skeleton_doc(kp.skeleton),
+        "units": opts.units,
+        "coordinate_frame": opts.frame,
+    }
+    if opts.frame != "camera":  # only then, so that the default document stays as it was
+        header["origin"] = frame_origin(opts.frame, kp.skeleton.root)
+    header.update({
+        "axes": AXES,
+        "camera": {
+            "source": unique_sources[0] if len(unique_sources) == 1 else "mixed",
+            "note": "pseudo = f 2000 px at the image centre: absolute depth and scale are only as good "
+            "as this guess and the prior" if "pseudo" in unique_sources else None,
+        },
+        "input": input_info,
+        "params": params,
+    })  # fmt: skip
+    return header
+
+
+def iter_frames(
+    kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
+    frame: str = "camera",
+) -> Iterator[dict[str, Any]]:  # fmt: skip
+    """The frames of the document one at a time (a frame = the instances of one image id)."""
+    opts = OutputOptions(units, frame)
+    poses = output_poses(res, opts)  # (N, J, 3)
+    for f, members in enumerate(group_frames(kp.image_ids).members):
+        first = members[0]
+        size = kp.image_sizes[first]
+        yield {
+            "frame_index": f,
+            "image_id": kp.image_ids[first],
+            "file_name": kp.file_names[first],
+            "camera": {
+                "K": intrinsics[first].round(6).tolist(),
+                "image_size": [_num(v, 1) for v in size] if np.isfinite(size).all() else None,
+                "source": sources[first],
+            },
+            "persons": [_person(kp, res, i, poses, opts) for i in members],
+        }
+
+
+def build_summary(kp: Keypoints2D, res: LiftResult) -> dict[str, Any]:
+    lifted = int(res.lifted.sum())
+    mean_error = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
+    return {
+        "instances_total": len(kp),
+        "instances_lifted": lifted,
+        "instances_skipped": len(kp) - lifted,
+        "frames_total": len(group_frames(kp.image_ids).members),
+        "mean_reprojection_error_px": _num(mean_error, 3),
+        "seconds": round(res.seconds, 2),
     }
 
 
@@ -68,69 +151,22 @@ def build_result_document(
     *,
     params: dict[str, Any],
     input_info: dict[str, Any],
+    units: str = "m",
+    frame: str = "camera",
 ) -> dict[str, Any]:
     """The JSON-ready result for instances `kp` (already in the prior's joint set)."""
-    frames: dict[str, dict[str, Any]] = {}
-    for i in range(len(kp)):
-        key = repr(kp.image_ids[i])
-        if key not in frames:
-            size = kp.image_sizes[i]
-            frames[key] = {
-                "frame_index": len(frames),
-                "image_id": kp.image_ids[i],
-                "file_name": kp.file_names[i],
-                "camera": {
-                    "K": intrinsics[i].round(6).tolist(),
-                    "image_size": [_num(v, 1) for v in size] if np.isfinite(size).all() else None,
-                    "source": sources[i],
-                },
-                "persons": [],
-            }
-        frames[key]["persons"].append(_person(kp, res, i))
-    unique_sources = sorted(set(sources))
-    lifted = int(res.lifted.sum())
-    return {
-        "schema": SCHEMA,
-        "zedo_version": __version__,
-        "created": datetime.now(UTC).isoformat(timespec="seconds"),
-        "skeleton": _skeleton_doc(kp.skeleton),
-        "units": "m",
-        "coordinate_frame": "camera",
-        "axes": AXES,
-        "camera": {
-            "source": unique_sources[0] if len(unique_sources) == 1 else "mixed",
-            "note": "pseudo = f 2000 px at the image centre: absolute depth and scale are only as good "
-            "as this guess and the prior" if "pseudo" in unique_sources else None,
-        },
-        "input": input_info,
-        "params": params,
-        "frames": list(frames.values()),
-        "summary": {
-            "instances_total": len(kp),
-            "instances_lifted": lifted,
-            "instances_skipped": len(kp) - lifted,
-            "frames_total": len(frames),
-            "mean_reprojection_error_px": _num(float(np.nanmean(res.reprojection_error_px))
-                                               if lifted else float("nan"), 3),  # fmt: skip
-            "seconds": round(res.seconds, 2),
-        },
-    }
+    header = build_header(kp, intrinsics, sources, params=params, input_info=input_info, units=units, frame=frame)
+    frames = list(iter_frames(kp, res, intrinsics, sources, units=units, frame=frame))
+    return {**header, "frames": frames, "summary": build_summary(kp, res)}
 
 
-def write_json(doc: dict[str, Any], out: str | Path) -> None:
+def write_json(doc: dict[str, Any], out: str | Path, *, overwrite: bool = True) -> None:
     """Write `doc` to `out` atomically (temporary file in the same folder, then rename), or to
-    stdout when `out` is "-"."""
+    stdout when `out` is "-". `overwrite` defaults to True here for the callers that check the
+    path themselves; `writers.write_result` passes the caller's choice."""
     text = json.dumps(doc, indent=1, allow_nan=False)
     if str(out) == "-":
         sys.stdout.write(text + "\n")
         sys.stdout.flush()
         return
-    out = Path(out)
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text + "\n")
-        os.replace(tmp, out)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    write_text_atomic(out, text + "\n", overwrite=overwrite)

@@ -1,0 +1,128 @@
+"""One entry point for writing a 3D result in any output format, with the same options.
+
+    write_result("kp.zedo.csv", kp, res, mats, sources, params, input_info, units="mm", frame="root")
+
+Formats (`OUTPUT_FORMATS`), chosen by `fmt` or else by the output's extension:
+
+- `json`  (.json): one document, schema zedo.pose3d/1 (result_json). The default for stdout.
+- `jsonl` (.jsonl, .ndjson): header line, one line per frame, summary line (writers_jsonl).
+- `csv`   (.csv): one row per frame, person and joint, plus a `.meta.json` sidecar (writers_csv).
+- `npz`   (.npz): NumPy arrays, one row per instance (writers_npz). Not on stdout.
+
+Every format states units, coordinate frame, axes, the K of every frame and where K came from;
+missing values are null (JSON) or NaN / empty (NPZ / CSV), never 0. Files are written atomically
+and never replace an existing file unless `overwrite=True`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..lifting import LiftResult
+from .keypoints import Keypoints2D
+from .result_json import build_header, build_result_document, build_summary, iter_frames, write_json
+from .writers_common import FRAMES, UNITS, OutputOptions, check_writable, group_frames
+from .writers_csv import write_csv
+from .writers_jsonl import write_jsonl
+from .writers_npz import write_npz
+
+OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz")
+_EXTENSIONS = {".json": "json", ".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv", ".npz": "npz"}
+__all__ = ["FRAMES", "OUTPUT_FORMATS", "UNITS", "default_output_name", "output_format", "write_result"]
+
+
+def output_format(out: str | Path, fmt: str | None = None) -> str:
+    """The format to write: `fmt` when given, else from the extension of `out` (json for "-").
+
+    An explicit format that contradicts a known extension (`-o poses.json --format csv`) is an
+    error rather than a silently mislabelled file; an unknown extension needs an explicit format.
+    """
+    if fmt is not None and fmt not in OUTPUT_FORMATS:
+        raise ConfigError(f"unknown output format {fmt!r}; choose one of: {', '.join(OUTPUT_FORMATS)}")
+    if str(out) == "-":
+        return fmt or "json"
+    suffix = Path(out).suffix.lower()
+    by_name = _EXTENSIONS.get(suffix)
+    if fmt is None:
+        if by_name is None:
+            raise ConfigError(
+                f"{out}: cannot tell the output format from the extension {suffix or '(none)'!r}; "
+                f"use .json, .jsonl, .csv or .npz, or name the format ({', '.join(OUTPUT_FORMATS)})"
+            )
+        return by_name
+    if by_name is not None and by_name != fmt:
+        raise ConfigError(f"{out}: the extension {suffix} says {by_name}, but the format asked for is {fmt}")
+    return fmt
+
+
+def default_output_name(input_path: str | Path, fmt: str = "json") -> Path:
+    """`<input stem>.zedo.<ext>` beside the input, e.g. `kp.zedo.csv`."""
+    if fmt not in OUTPUT_FORMATS:
+        raise ConfigError(f"unknown output format {fmt!r}; choose one of: {', '.join(OUTPUT_FORMATS)}")
+    path = Path(input_path)
+    return path.with_name(f"{path.stem}.zedo.{fmt}")
+
+
+def _frame_cameras(kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str]) -> list[dict[str, Any]]:
+    """Per frame: ids and the K used, for the formats whose rows do not carry a full camera."""
+    cameras = []
+    for f, members in enumerate(group_frames(kp.image_ids).members):
+        i = members[0]
+        size = kp.image_sizes[i]
+        cameras.append({
+            "frame_index": f, "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
+            "camera": {"K": intrinsics[i].round(6).tolist(),
+                       "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
+                       "source": sources[i]},
+        })  # fmt: skip
+    return cameras
+
+
+def write_result(
+    out: str | Path,
+    kp: Keypoints2D,
+    res: LiftResult,
+    intrinsics: np.ndarray,
+    sources: list[str],
+    params: dict[str, Any],
+    input_info: dict[str, Any],
+    *,
+    fmt: str | None = None,
+    units: str = "m",
+    frame: str = "camera",
+    overwrite: bool = False,
+) -> list[Path]:
+    """Write the result of lifting `kp` (already in the prior's joint set) to `out` ("-" = stdout).
+
+    `intrinsics (N, 3, 3)` and `sources (N,)` are the K and its source per instance (as from
+    `camera.resolve_intrinsics`); `params` and `input_info` go into the metadata unchanged.
+    Returns the files written (the CSV's sidecar included; empty for stdout). Raises ConfigError
+    for a bad format, units or frame, an existing file without `overwrite`, a missing folder,
+    or NPZ to stdout; all before anything is written.
+    """
+    fmt = output_format(out, fmt)
+    OutputOptions(units, frame)  # validate before any work
+    if fmt == "npz" and str(out) == "-":
+        raise ConfigError("NPZ is a binary archive and cannot go to stdout; give a .npz file, "
+                          "or use --format json/jsonl/csv for stdout")  # fmt: skip
+    if str(out) != "-":
+        check_writable(Path(out), overwrite)
+    if fmt == "json":
+        doc = build_result_document(kp, res, intrinsics, sources, params=params, input_info=input_info,
+                                    units=units, frame=frame)  # fmt: skip
+        write_json(doc, out, overwrite=overwrite)
+        return [] if str(out) == "-" else [Path(out)]
+    header = build_header(kp, intrinsics, sources, params=params, input_info=input_info, units=units, frame=frame)
+    summary = build_summary(kp, res)
+    if fmt == "jsonl":
+        frames = iter_frames(kp, res, intrinsics, sources, units=units, frame=frame)
+        write_jsonl(out, header, frames, summary, overwrite=overwrite)
+        return [] if str(out) == "-" else [Path(out)]
+    metadata = {**header, "frames": _frame_cameras(kp, intrinsics, sources), "summary": summary}
+    if fmt == "csv":
+        return write_csv(out, kp, res, intrinsics, sources, metadata, units=units, frame=frame, overwrite=overwrite)
+    return write_npz(out, kp, res, intrinsics, sources, metadata, units=units, frame=frame, overwrite=overwrite)

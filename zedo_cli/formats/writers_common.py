@@ -1,0 +1,147 @@
+"""What every 3D result writer shares: the units/frame options, frame grouping, atomic files.
+
+Options (FORMATS.md 3.8a), the same for every format:
+
+- `units`: "m" (default; the lifting's internal unit) or "mm" (the H36M literature's unit).
+- `frame`: "camera" (default; the absolute camera frame ZeDO optimises in, OpenCV axes x right,
+  y down, z forward) or "root" (root-relative: each pose minus its skeleton's root point, e.g.
+  the hip midpoint for syrip12, so the root sits at the origin; same axes). The root point's
+  camera-frame position is always written as well, so a root-frame file loses nothing.
+
+Files are written atomically: a temporary file in the destination folder, renamed over the
+destination only when complete, so a crash or Ctrl-C never leaves a truncated result. An
+existing file is replaced only when the caller says so.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..lifting import LiftResult
+
+UNITS = ("m", "mm")
+FRAMES = ("camera", "root")
+AXES = {"x": "right", "y": "down", "z": "forward (away from the camera)"}
+_SCALE = {"m": 1.0, "mm": 1000.0}
+# Decimal places kept for 3D coordinates: a micrometre in either unit.
+_DIGITS = {"m": 6, "mm": 3}
+
+
+@dataclass(frozen=True)
+class OutputOptions:
+    """Units and coordinate frame of the written 3D coordinates."""
+
+    units: str = "m"
+    frame: str = "camera"
+
+    def __post_init__(self) -> None:
+        if self.units not in UNITS:
+            raise ConfigError(f"unknown units {self.units!r}; choose one of: {', '.join(UNITS)}")
+        if self.frame not in FRAMES:
+            raise ConfigError(f"unknown coordinate frame {self.frame!r}; choose one of: {', '.join(FRAMES)}")
+
+    @property
+    def scale(self) -> float:
+        """Factor from the lifting's metres to `units`."""
+        return _SCALE[self.units]
+
+    @property
+    def digits(self) -> int:
+        return _DIGITS[self.units]
+
+
+def output_poses(res: LiftResult, options: OutputOptions) -> np.ndarray:
+    """The poses `(N, J, 3)` in `options.frame` and `options.units`; NaN where not lifted."""
+    poses = res.poses_camera if options.frame == "camera" else res.poses_root_relative
+    return poses * options.scale
+
+
+def frame_origin(frame: str, root_joints: Sequence[str]) -> str:
+    """One line saying where the origin of `frame` is."""
+    if frame == "camera":
+        return "camera centre"
+    root = " + ".join(root_joints) + (" (midpoint)" if len(root_joints) > 1 else "")
+    return f"each person's root point ({root}); root_translation gives it in the camera frame"
+
+
+@dataclass(frozen=True)
+class FrameGroups:
+    """Instances grouped into frames by image id, frames in order of first appearance."""
+
+    frame_index: np.ndarray  # (N,) int, the output frame of each instance
+    person: np.ndarray  # (N,) int, the position of each instance within its frame
+    members: list[list[int]]  # per frame, its instance indices in input order
+
+
+def group_frames(image_ids: Sequence[int | str]) -> FrameGroups:
+    """Group instances by image id (compared by repr, so 1 and "1" stay apart, as in the JSON)."""
+    index: dict[str, int] = {}
+    members: list[list[int]] = []
+    frame_index = np.zeros(len(image_ids), dtype=np.int64)
+    person = np.zeros(len(image_ids), dtype=np.int64)
+    for i, image_id in enumerate(image_ids):
+        key = repr(image_id)
+        if key not in index:
+            index[key] = len(members)
+            members.append([])
+        f = index[key]
+        frame_index[i], person[i] = f, len(members[f])
+        members[f].append(i)
+    return FrameGroups(frame_index, person, members)
+
+
+def check_writable(path: Path, overwrite: bool) -> None:
+    """Refuse to replace an existing file unless `overwrite`; fail early on a missing folder."""
+    if path.exists() and not overwrite:
+        raise ConfigError(f"{path}: already exists; pass overwrite=True (--overwrite) to replace it")
+    if not path.parent.is_dir():
+        raise ConfigError(f"{path.parent}: output folder does not exist")
+
+
+def _umask() -> int:
+    # os.umask can only be read by setting it; mkstemp creates 0600 files, and a result file
+    # should get the permissions any other new file of the user would get.
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def open_temporary(path: Path) -> tuple[int, Path]:
+    """A temporary file (descriptor, path) beside `path`, so that os.replace is atomic."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.chmod(tmp, 0o666 & ~_umask())
+    return fd, Path(tmp)
+
+
+@contextmanager
+def atomic_path(path: str | Path, *, overwrite: bool = False) -> Iterator[Path]:
+    """Yield a temporary path to write; on success it replaces `path`, on error it is removed.
+
+    The overwrite check runs before anything is written and again before the rename, so a file
+    that appeared meanwhile is not clobbered either.
+    """
+    path = Path(path)
+    check_writable(path, overwrite)
+    fd, tmp = open_temporary(path)
+    os.close(fd)
+    try:
+        yield tmp
+        check_writable(path, overwrite)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def write_text_atomic(path: str | Path, text: str, *, overwrite: bool = False) -> None:
+    """Write `text` (UTF-8) to `path` atomically."""
+    with atomic_path(path, overwrite=overwrite) as tmp:
+        tmp.write_text(text, encoding="utf-8")

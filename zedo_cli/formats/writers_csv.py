@@ -1,0 +1,140 @@
+"""The 3D result as a long ("tidy") CSV (FORMATS.md 3.8c): one row per (frame, person, joint).
+
+Metadata choice: the CSV itself is plain RFC 4180 (the first line is the column header, no
+comment lines), so `pandas.read_csv`, R's `read.csv` and spreadsheets read it with their
+defaults. What a row needs to be read correctly travels in the CSV itself:
+
+- the units and the coordinate frame are in the coordinate column names, `x_cam_m` (camera
+  frame, metres), `x_cam_mm`, `x_root_m` or `x_root_mm`, so a script written for one setting
+  fails loudly on another instead of misreading numbers;
+- the K of each row's frame (`fx_px`, `fy_px`, `cx_px`, `cy_px`; zedo's K has no skew) and its
+  source (`k_source`: pseudo, cli or file) are columns.
+
+Everything else (schema, axes, skeleton and bones, input, parameters, summary, and per frame the
+full K and image size) goes to a sidecar JSON file beside it, `<name>.meta.json` for
+`<name>.csv`. On stdout there is no sidecar; the columns above still state units, frame and K,
+and the axes are always OpenCV's (x right, y down, z forward).
+
+Missing values are empty fields (read as NaN by pandas and NA by R; a literal "nan" would make
+R read the column as text), never 0. Booleans are `true`/`false`. Unlifted instances keep their
+rows, with empty coordinates.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..lifting import LiftResult
+from .keypoints import Keypoints2D
+from .writers_common import OutputOptions, atomic_path, check_writable, group_frames, output_poses
+
+
+def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:
+    """The names of the x, y, z columns for these options, e.g. `["x_cam_m", "y_cam_m", "z_cam_m"]`."""
+    opts = OutputOptions(units, frame)
+    tag = "cam" if opts.frame == "camera" else "root"
+    return [f"{axis}_{tag}_{opts.units}" for axis in "xyz"]
+
+
+def csv_columns(units: str = "m", frame: str = "camera") -> list[str]:
+    return [
+        "frame_index", "image_id", "file_name", "person", "instance_index", "joint", "joint_index",
+        *coordinate_columns(units, frame), "observed", "lifted", "confidence", "u_px", "v_px",
+        "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source",
+    ]  # fmt: skip
+
+
+def sidecar_path(path: str | Path) -> Path:
+    """`<name>.meta.json` beside `<name>.csv` (any other name: the name + ".meta.json")."""
+    path = Path(path)
+    return path.with_suffix(".meta.json") if path.suffix.lower() == ".csv" else path.with_name(path.name + ".meta.json")
+
+
+def _cell(value: float, digits: int) -> str:
+    return "" if not math.isfinite(value) else repr(round(float(value), digits))
+
+
+def _bool(value: bool) -> str:
+    return "true" if value else "false"
+
+
+def csv_text(
+    kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
+    frame: str = "camera",
+) -> str:  # fmt: skip
+    """The CSV as one string (the header row, then the rows in frame, person, joint order)."""
+    opts = OutputOptions(units, frame)
+    poses = output_poses(res, opts)  # (N, J, 3)
+    groups = group_frames(kp.image_ids)
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(csv_columns(units, frame))
+    for members in groups.members:
+        for i in members:
+            k = intrinsics[i]
+            camera = [_cell(k[0, 0], 6), _cell(k[1, 1], 6), _cell(k[0, 2], 6), _cell(k[1, 2], 6), sources[i]]
+            head = [int(groups.frame_index[i]), kp.image_ids[i], kp.file_names[i] or "", int(groups.person[i]), i]
+            for j, joint in enumerate(kp.skeleton.joints):
+                conf = kp.confidence[i, j]
+                writer.writerow([
+                    *head, joint, j, *(_cell(v, opts.digits) for v in poses[i, j]),
+                    _bool(res.observed[i, j]), _bool(res.lifted[i]), _cell(conf, 4) if conf > 0 else "",
+                    _cell(kp.xy[i, j, 0], 3), _cell(kp.xy[i, j, 1], 3),
+                    _cell(res.reprojection_error_px[i, j], 3), *camera,
+                ])  # fmt: skip
+    return buf.getvalue()
+
+
+def _column_notes(units: str, frame: str) -> dict[str, str]:
+    x, y, z = coordinate_columns(units, frame)
+    where = "camera frame" if frame == "camera" else "relative to the person's root point"
+    return {
+        "frame_index": "0-based output frame (instances grouped by image_id, in input order)",
+        "person": "0-based position of the instance within its frame",
+        "instance_index": "0-based index of the instance in the input",
+        f"{x}, {y}, {z}": f"3D joint position in {units}, {where}; empty where not lifted",
+        "observed": "the joint was a 2D constraint (false: filled by the prior)",
+        "lifted": "the instance was lifted (false: too few observed joints, coordinates empty)",
+        "confidence": "input joint confidence; empty where missing",
+        "u_px, v_px": "input 2D keypoint in pixels; empty where missing",
+        "reprojection_error_px": "pixel distance between the 2D input and the projected 3D joint; empty if unobserved",
+        "fx_px, fy_px, cx_px, cy_px": "intrinsics K of the row's frame (no skew)",
+        "k_source": "where K came from: pseudo (f 2000 px at the image centre), cli or file",
+    }
+
+
+def write_csv(
+    out: str | Path,
+    kp: Keypoints2D,
+    res: LiftResult,
+    intrinsics: np.ndarray,
+    sources: list[str],
+    metadata: dict[str, Any],
+    *,
+    units: str = "m",
+    frame: str = "camera",
+    overwrite: bool = False,
+) -> list[Path]:
+    """Write the CSV and its sidecar (`metadata` = the JSON header plus summary and per-frame
+    cameras) to `out`, or the CSV alone to stdout ("-"). Returns the paths written."""
+    text = csv_text(kp, res, intrinsics, sources, units=units, frame=frame)
+    if str(out) == "-":
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return []
+    path, meta = Path(out), sidecar_path(out)
+    check_writable(path, overwrite)  # both checked before either is written
+    check_writable(meta, overwrite)
+    sidecar = {**metadata, "data_file": path.name, "columns": _column_notes(units, frame)}
+    with atomic_path(meta, overwrite=overwrite) as tmp_meta, atomic_path(path, overwrite=overwrite) as tmp_csv:
+        tmp_meta.write_text(json.dumps(sidecar, indent=1, allow_nan=False) + "\n", encoding="utf-8")
+        tmp_csv.write_text(text, encoding="utf-8")
+    return [path, meta]

@@ -1,0 +1,97 @@
+"""The 3D result as a NumPy `.npz` archive (FORMATS.md 3.8d), one row per instance.
+
+Arrays (N instances, J joints); NaN marks every missing value, never 0:
+
+    poses                  (N, J, 3) float64  in `units`, in `coordinate_frame`; NaN where not lifted
+    root_translation       (N, 3)    float64  the root point in the camera frame, in `units`
+    observed               (N, J)    bool     joints used as 2D constraints (False: filled by the prior)
+    lifted                 (N,)      bool     False: too few observed joints (poses all NaN)
+    confidence             (N, J)    float64  input confidence; NaN where missing
+    keypoints_2d           (N, J, 2) float64  input pixels; NaN where missing
+    reprojection_error_px  (N, J)    float64  NaN where not observed
+    K                      (N, 3, 3) float64  intrinsics of each instance's frame, pixels
+    k_source               (N,)      str      pseudo | cli | file
+    image_size             (N, 2)    float64  width, height in pixels; NaN where unknown
+    frame_index, person    (N,)      int64    output frame (grouped by image id) and position in it
+    image_ids              (N,)      int64 when every id is an integer, else str
+    file_names             (N,)      str      "" where the input has none
+    joint_names            (J,) str, bones (B, 2) int64
+    units, coordinate_frame  0-d str; axes (3,) str: the directions of x, y, z
+    metadata               0-d str: JSON of the result's header and summary (skeleton, input, params, ...)
+
+Nothing needs pickle: `np.load(path)` (allow_pickle=False) reads it all. NPZ is binary, so it is
+never written to stdout.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..lifting import LiftResult
+from .keypoints import Keypoints2D
+from .writers_common import AXES, OutputOptions, atomic_path, group_frames, output_poses
+
+
+def _ids(image_ids: list[int | str]) -> np.ndarray:
+    if all(isinstance(i, int | np.integer) and not isinstance(i, bool) for i in image_ids):
+        return np.asarray(image_ids, dtype=np.int64)
+    return np.asarray([str(i) for i in image_ids], dtype=np.str_)
+
+
+def npz_arrays(
+    kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], metadata: dict[str, Any], *,
+    units: str = "m", frame: str = "camera",
+) -> dict[str, np.ndarray]:  # fmt: skip
+    """The archive's arrays by name (see the module docstring)."""
+    opts = OutputOptions(units, frame)
+    groups = group_frames(kp.image_ids)
+    return {
+        "poses": output_poses(res, opts).astype(np.float64),
+        "root_translation": np.where(res.lifted[:, None], res.root_translation * opts.scale, np.nan),
+        "observed": res.observed.astype(bool),
+        "lifted": res.lifted.astype(bool),
+        "confidence": np.where(kp.confidence > 0, kp.confidence, np.nan),
+        "keypoints_2d": kp.xy.astype(np.float64),
+        "reprojection_error_px": res.reprojection_error_px.astype(np.float64),
+        "K": np.asarray(intrinsics, dtype=np.float64).reshape(-1, 3, 3),
+        "k_source": np.asarray(sources, dtype=np.str_),
+        "image_size": kp.image_sizes.astype(np.float64),
+        "frame_index": groups.frame_index,
+        "person": groups.person,
+        "image_ids": _ids(kp.image_ids),
+        "file_names": np.asarray([f or "" for f in kp.file_names], dtype=np.str_),
+        "joint_names": np.asarray(kp.skeleton.joints, dtype=np.str_),
+        "bones": np.asarray(kp.skeleton.bones, dtype=np.int64).reshape(-1, 2),
+        "units": np.asarray(opts.units),
+        "coordinate_frame": np.asarray(opts.frame),
+        "axes": np.asarray([AXES["x"], AXES["y"], AXES["z"]], dtype=np.str_),
+        "metadata": np.asarray(json.dumps(metadata, allow_nan=False)),
+    }
+
+
+def write_npz(
+    out: str | Path,
+    kp: Keypoints2D,
+    res: LiftResult,
+    intrinsics: np.ndarray,
+    sources: list[str],
+    metadata: dict[str, Any],
+    *,
+    units: str = "m",
+    frame: str = "camera",
+    overwrite: bool = False,
+) -> list[Path]:
+    """Write the compressed archive to `out` atomically. Returns the path written."""
+    if str(out) == "-":
+        raise ConfigError("NPZ is a binary archive and cannot go to stdout; give a .npz file, "
+                          "or use --format json/jsonl/csv for stdout")  # fmt: skip
+    arrays = npz_arrays(kp, res, intrinsics, sources, metadata, units=units, frame=frame)
+    path = Path(out)
+    with atomic_path(path, overwrite=overwrite) as tmp, open(tmp, "wb") as fh:
+        np.savez_compressed(fh, **arrays)  # a file object: numpy would append ".npz" to a name
+    return [path]
