@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import functools
 import os
-import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import ParamSpec, TypeVar
@@ -29,6 +28,7 @@ EXIT_OK = 0
 EXIT_RUNTIME = 1
 EXIT_USAGE = 2
 EXIT_INPUT = 3
+EXIT_PARTIAL = 4  # batch: some inputs lifted, some failed
 EXIT_INTERRUPTED = 130
 
 P = ParamSpec("P")
@@ -81,6 +81,6 @@ def progress_bar(quiet: bool) -> Progress:
         TimeElapsedColumn(),
         TimeRemainingColumn(),
         console=err_console,
-        disable=quiet or not sys.stderr.isatty() and bool(os.environ.get("ZEDO_NO_PROGRESS")),
+        disable=quiet or bool(os.environ.get("ZEDO_NO_PROGRESS")),
         transient=False,
     )

@@ -1,26 +1,25 @@
-"""`zedo lift`: 2D keypoints file -> 3D poses JSON."""
+"""`zedo lift`: 2D keypoint files -> 3D pose files, one model load for every input."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
 import numpy as np
 import typer
+from rich.table import Table
 
 from .. import __version__
 from ..camera import check_focal, resolve_intrinsics
-from ..errors import ConfigError, InputFormatError
-from ..formats import INPUT_FORMATS, Keypoints2D, read_keypoints
-from ..formats.result_json import build_result_document, write_json
+from ..errors import ConfigError, InputFormatError, ZedoError
+from ..formats import INPUT_FORMATS, Keypoints2D, input_sha256, read_keypoints
+from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting import DEFAULT_PRESET, PRESETS, LiftConfig, LiftProgress, LiftResult, get_preset, lift, observed_mask
-from ..weights import Prior, file_sha256, load_prior, resolve_prior_path
-from .common import check_output_path, err_console, error_boundary, progress_bar
-
-
-def default_output_path(input_path: Path) -> Path:
-    """`<input stem>.zedo.json` beside the input."""
-    return input_path.with_name(input_path.stem + ".zedo.json")
+from ..people import PERSON_MODES, select_people
+from ..weights import Prior, load_prior, resolve_prior_path
+from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
+from .lift_plan import STDIN, expand_inputs, plan_outputs
 
 
 def run_lift(
@@ -53,15 +52,153 @@ def lift_params(prior: Prior, cfg: LiftConfig, *, seed: int, device: str, min_co
     }
 
 
+@dataclass(frozen=True)
+class LiftSettings:
+    """Everything `zedo lift` applies to each input alike."""
+
+    cfg: LiftConfig
+    input_format: str | None
+    image_size: tuple[float, float] | None
+    images: Path | None
+    focal: float | None
+    principal_point: tuple[float, float] | None
+    intrinsics: Path | None
+    min_confidence: float
+    person: str
+    fps: float | None
+    output_format: str | None
+    units: str
+    frame: str
+    plot_dir: Path | None
+    seed: int
+    device: str
+    overwrite: bool
+    quiet: bool
+
+
+@dataclass
+class FileOutcome:
+    """What happened to one input: counts and output, or the error."""
+
+    source: str
+    output: str
+    instances: int = 0
+    lifted: int = 0
+    seconds: float = 0.0
+    error: ZedoError | None = None
+
+
+def read_selected(source: str, prior: Prior, st: LiftSettings) -> Keypoints2D:
+    """The input's instances chosen by --person, in the prior's joint set."""
+    kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images)
+    if len(kp) == 0:
+        raise InputFormatError(f"{source}: no keypoint instances in the input")
+    kp = kp.subset(select_people(kp, st.person).index)
+    return kp.to_skeleton(prior.skeleton)
+
+
+def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
+    """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
+    kp = read_selected(source, prior, st)
+    mats, sources = resolve_intrinsics(
+        kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
+        intrinsics_file=str(st.intrinsics) if st.intrinsics else None,
+    )  # fmt: skip
+    usable = observed_mask(kp.xy, kp.confidence, st.min_confidence).sum(1) >= st.cfg.min_observed
+    if not usable.any():
+        raise InputFormatError(
+            f"{source}: no instance has {st.cfg.min_observed} or more observed {prior.skeleton.name} joints "
+            f"(all missing, or below --min-confidence {st.min_confidence})"
+        )
+    if not st.quiet:
+        err_console.print(f"lifting {len(kp)} instances from {source} ({kp.format}) with {prior.label}, "
+                          f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
+    res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet)
+    params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
+    params.update(person=st.person, fps=st.fps)
+    input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
+                  "sha256": input_sha256(source), "zedo_version": __version__}  # fmt: skip
+    write_result(output, kp, res, mats, sources, params, input_info, fmt=st.output_format, units=st.units,
+                 frame=st.frame, overwrite=st.overwrite)  # fmt: skip
+    if st.plot_dir is not None:
+        stem = Path(output).name.split(".zedo.")[0] if output != STDIN else "stdin"
+        written = write_plots(st.plot_dir / stem, kp, res, st)
+        if not st.quiet and written:
+            err_console.print(f"plots: {', '.join(str(p) for p in written)}", markup=False)
+    lifted = int(res.lifted.sum())
+    _report_file(source, output, kp, res, lifted, st.quiet)
+    return FileOutcome(source, output, len(kp), lifted, res.seconds)
+
+
+def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings) -> list[Path]:
+    from ..plots import write_pose_plots  # matplotlib loads only when plots are asked for
+
+    return write_pose_plots(prefix, kp, res, units=st.units, overwrite=st.overwrite)
+
+
+def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lifted: int, quiet: bool) -> None:
+    if not quiet:
+        rate = lifted / res.seconds if res.seconds > 0 else float("nan")
+        reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
+        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.1f} s ({rate:.1f} poses/s), "
+                          f"mean reprojection error {reproj:.2f} px"
+                          + ("" if output == STDIN else f"; wrote {output}"), markup=False)  # fmt: skip
+    if lifted < len(kp):
+        err_console.print(f"zedo: warning: {source}: {len(kp) - lifted} instances had too few observed joints "
+                          "and were not lifted (null in the output)", markup=False)  # fmt: skip
+
+
+def _summary_table(outcomes: list[FileOutcome]) -> Table:
+    table = Table(title=f"zedo lift: {len(outcomes)} inputs")
+    for col in ("input", "instances", "lifted", "s", "output / error"):
+        table.add_column(col, justify="right" if col in ("instances", "lifted", "s") else "left")
+    for o in outcomes:
+        result = f"[red]{o.error}[/red]" if o.error else o.output
+        table.add_row(o.source, str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
+    return table
+
+
+def batch_exit_code(outcomes: list[FileOutcome]) -> int:
+    """0 when every input was lifted, EXIT_PARTIAL when some were, else the failures' common
+    exit code (1 when they differ)."""
+    failed = [o.error for o in outcomes if o.error is not None]
+    if not failed:
+        return 0
+    if len(failed) < len(outcomes):
+        return EXIT_PARTIAL
+    codes = {e.exit_code for e in failed}
+    return codes.pop() if len(codes) == 1 else EXIT_RUNTIME
+
+
+def _check_options(st: LiftSettings) -> None:
+    if not 0.0 <= st.min_confidence <= 1.0:
+        raise ConfigError(f"--min-confidence must be in [0, 1], got {st.min_confidence}")
+    if st.units not in UNITS:
+        raise ConfigError(f"--units must be one of {', '.join(UNITS)}, got {st.units!r}")
+    if st.frame not in FRAMES:
+        raise ConfigError(f"--frame must be one of {', '.join(FRAMES)}, got {st.frame!r}")
+    if st.person not in PERSON_MODES:
+        raise ConfigError(f"--person must be one of {', '.join(PERSON_MODES)}, got {st.person!r}")
+    if st.fps is not None and not st.fps > 0:
+        raise ConfigError(f"--fps must be > 0, got {st.fps}")
+
+
 @error_boundary
 def lift_command(
-    keypoints: Annotated[Path, typer.Argument(help="2D keypoints: COCO annotations, COCO results or zedo 2D JSON (H36M-17, COCO-17 or SyRIP-12 joints).")],
-    out: Annotated[Optional[str], typer.Option("--out", "-o", help="Output JSON file, or - for stdout. Default: <input stem>.zedo.json beside the input.")] = None,
+    keypoints: Annotated[list[str], typer.Argument(help="2D keypoint files, folders or glob patterns; - reads stdin. Formats: " + ", ".join(f for f in INPUT_FORMATS if f != "auto") + " (detected).", show_default=False)],
+    out: Annotated[Optional[str], typer.Option("--out", "-o", help="Output file (one input only), or - for stdout. Default: <input stem>.zedo.json beside the input (stdout for stdin).")] = None,
+    output_dir: Annotated[Optional[Path], typer.Option(help="Write every output into this folder as <input stem>.zedo.<format>.")] = None,
+    output_format: Annotated[Optional[str], typer.Option("--output-format", help=f"Output format: {', '.join(OUTPUT_FORMATS)}. Default: from the --out extension, else json.")] = None,
+    units: Annotated[str, typer.Option(help=f"Units of the 3D coordinates: {', '.join(UNITS)}.")] = "m",
+    frame: Annotated[str, typer.Option(help=f"Coordinate frame: {', '.join(FRAMES)} (camera: x right, y down, z forward from the camera; root: the same axes, root joint at the origin).")] = "camera",
+    person: Annotated[str, typer.Option(help=f"Whom to lift when a frame holds several people: {', '.join(PERSON_MODES)}. auto: the most complete person, then the same person frame after frame.")] = "auto",
+    fps: Annotated[Optional[float], typer.Option(help="Frame rate of a video input, recorded in the output.")] = None,
+    plot: Annotated[Optional[Path], typer.Option("--plot", help="Also write PNGs of the first, median and worst-reprojection 3D poses into this folder.")] = None,
     prior_spec: Annotated[Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file. Default: the bundled syrip12-scratch.")] = None,
     preset: Annotated[str, typer.Option(help=f"Lifting preset: {', '.join(PRESETS)}. fast: 50 prior steps, about 20x faithful's poses/s at the same accuracy; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs).")] = DEFAULT_PRESET,
     steps: Annotated[Optional[int], typer.Option(help="Override the preset's prior iterations (fast: 50, faithful: 1000).")] = None,
     input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
-    image_size: Annotated[Optional[tuple[float, float]], typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results).")] = None,
+    image_size: Annotated[Optional[tuple[float, float]], typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results, OpenPose).")] = None,
     images: Annotated[Optional[Path], typer.Option(help="COCO annotation file giving image sizes and names for a COCO results input.")] = None,
     focal: Annotated[Optional[float], typer.Option(help="Focal length in pixels (fx = fy). Default: the pseudo 2000 px.")] = None,
     principal_point: Annotated[Optional[tuple[float, float]], typer.Option(help="CX CY in pixels. Default: the image centre.")] = None,
@@ -69,64 +206,54 @@ def lift_command(
     min_confidence: Annotated[float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")] = 0.0,
     seed: Annotated[int, typer.Option(help="Seed, recorded in the output (every preset is deterministic).")] = 0,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
-    overwrite: Annotated[bool, typer.Option(help="Replace the output file if it exists.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
 ) -> None:
-    """Lift 2D keypoints to 3D poses in metres, in the camera frame (x right, y down, z forward).
+    """Lift 2D keypoints to 3D poses, in the camera frame (x right, y down, z forward).
 
     Each instance is fitted by the ZeDO-i optimisation: its joints stay on their camera rays
     while the diffusion prior denoises the pose. Missing joints (COCO v=0, confidence 0 or
     below --min-confidence) are filled by the prior and flagged. Without calibration the
     camera is the paper's pseudo camera: f = 2000 px at the image centre.
 
+    Several inputs are lifted in one process with one model load; an input that fails is
+    reported and skipped, and the exit code is 4 when some inputs failed and others did not.
+    Outputs are written atomically and never replace a file without --overwrite.
+
     Examples:
 
-      zedo lift examples/syrip_test5_coco.json                  # writes examples/syrip_test5_coco.zedo.json
+      zedo lift examples/prior_samples_coco.json            # writes examples/prior_samples_coco.zedo.json
 
       zedo lift detections.json --images annotations.json -o - | jq .summary
 
-      zedo lift kp.json --intrinsics K.json --min-confidence 0.3 -o kp3d.json
-    """
-    check_focal(focal)  # before the prior is loaded: a usage error should fail fast
-    if not 0.0 <= min_confidence <= 1.0:
-        raise ConfigError(f"--min-confidence must be in [0, 1], got {min_confidence}")
-    out_path = out if out == "-" else Path(out) if out else default_output_path(keypoints)
-    if out_path != "-":
-        check_output_path(Path(out_path), overwrite)
-    cfg = get_preset(preset)
-    if steps is not None:
-        from dataclasses import replace
+      zedo lift openpose_frames/ --fps 30 --units mm --output-format csv
 
-        cfg = replace(cfg, steps=steps)
-    fmt = None if input_format == "auto" else input_format
-    kp = read_keypoints(keypoints, format=fmt, image_size=image_size, images=images)
+      zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
+    """
+    check_focal(focal)  # usage errors fail before the prior is loaded
+    cfg = get_preset(preset)
+    cfg = replace(cfg, steps=steps) if steps is not None else cfg
+    st = LiftSettings(cfg, None if input_format == "auto" else input_format, image_size, images, focal,
+                      principal_point, intrinsics, min_confidence, person, fps, output_format, units, frame,
+                      plot, seed, device, overwrite, quiet)  # fmt: skip
+    _check_options(st)
+    sources = expand_inputs(keypoints)
+    outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
+    if plot is not None:
+        plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
-    kp = kp.to_skeleton(prior.skeleton)
-    mats, sources = resolve_intrinsics(
-        kp.image_sizes, kp.image_ids, kp.file_names, focal=focal, principal_point=principal_point,
-        intrinsics_file=str(intrinsics) if intrinsics else None,
-    )  # fmt: skip
-    usable = observed_mask(kp.xy, kp.confidence, min_confidence).sum(1) >= cfg.min_observed
-    if not usable.any():
-        raise InputFormatError(
-            f"{keypoints}: no instance has {cfg.min_observed} or more observed {prior.skeleton.name} joints "
-            f"(all missing, or below --min-confidence {min_confidence})"
-        )
+    if len(sources) == 1:  # one input: its error is the command's error
+        lift_file(sources[0], outputs[0], prior, st)
+        return
+    outcomes = []
+    for source, output in zip(sources, outputs, strict=True):
+        try:
+            outcomes.append(lift_file(source, output, prior, st))
+        except ZedoError as exc:
+            err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
+            outcomes.append(FileOutcome(source, output, error=exc))
     if not quiet:
-        err_console.print(f"lifting {len(kp)} instances from {keypoints} ({kp.format}) with {prior.label}, "
-                          f"preset {cfg.preset}, {cfg.steps} steps, {device}", markup=False)  # fmt: skip
-    res = run_lift(kp, prior, cfg, mats, min_confidence=min_confidence, device=device, quiet=quiet)
-    params = lift_params(prior, cfg, seed=seed, device=device, min_confidence=min_confidence)
-    input_info = {"path": str(keypoints), "format": kp.format, "skeleton": kp.skeleton.name,
-                  "sha256": file_sha256(keypoints), "zedo_version": __version__}  # fmt: skip
-    doc = build_result_document(kp, res, mats, sources, params=params, input_info=input_info)
-    write_json(doc, out_path)
-    lifted = int(res.lifted.sum())
-    if not quiet:
-        rate = lifted / res.seconds if res.seconds > 0 else float("nan")
-        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.1f} s ({rate:.1f} poses/s), "
-                          f"mean reprojection error {doc['summary']['mean_reprojection_error_px']} px"
-                          + ("" if out_path == "-" else f"; wrote {out_path}"), markup=False)  # fmt: skip
-    if lifted < len(kp):
-        err_console.print(f"zedo: warning: {len(kp) - lifted} instances had fewer than {cfg.min_observed} "
-                          "observed joints and were not lifted (null in the output)", markup=False)  # fmt: skip
+        err_console.print(_summary_table(outcomes))
+    code = batch_exit_code(outcomes)
+    if code:
+        raise typer.Exit(code)

@@ -1,0 +1,100 @@
+"""Which files `zedo lift` reads and writes: inputs expanded from files, folders and globs, and
+one output path per input, all checked before anything is lifted."""
+
+from __future__ import annotations
+
+import glob
+from pathlib import Path
+
+from ..errors import ConfigError, InputFormatError
+from ..formats.writers import default_output_name, output_format
+
+STDIN = "-"
+_INPUT_SUFFIXES = (".json", ".jsonl", ".ndjson")
+_GLOB_CHARS = set("*?[")
+
+
+def _is_zedo_output(path: Path) -> bool:
+    return ".zedo." in path.name or path.name.endswith(".meta.json")
+
+
+def _folder_inputs(folder: Path) -> list[str]:
+    """An OpenPose folder (per-frame `*_keypoints.json`) is one input, a sequence; any other
+    folder stands for its keypoint files (zedo's own outputs left out)."""
+    if any(folder.glob("*_keypoints.json")):
+        return [str(folder)]
+    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not _is_zedo_output(p))
+    if not files:
+        raise InputFormatError(f"{folder}: folder holds no keypoint files (*.json, *.jsonl) and no OpenPose frames")
+    return [str(p) for p in files]
+
+
+def expand_inputs(args: list[str]) -> list[str]:
+    """Input paths in the order given: `-` (stdin), files, folders, and glob patterns the
+    shell did not expand (quoted, or on Windows). Duplicates are dropped."""
+    out: list[str] = []
+    for arg in args:
+        path = Path(arg)
+        if arg == STDIN:
+            out.append(arg)
+        elif path.is_dir():
+            out += _folder_inputs(path)
+        elif path.exists():
+            out.append(arg)
+        elif _GLOB_CHARS & set(arg):
+            matches = sorted(m for m in glob.glob(arg, recursive=True) if not _is_zedo_output(Path(m)))
+            if not matches:
+                raise InputFormatError(f"{arg}: no file matches this pattern")
+            out += matches
+        else:
+            raise InputFormatError(f"{arg}: file not found")
+    if out.count(STDIN) > 1:
+        raise ConfigError("stdin (-) can be read only once")
+    return list(dict.fromkeys(out))
+
+
+def plan_outputs(
+    inputs: list[str], out: str | None, output_dir: Path | None, fmt: str | None, overwrite: bool
+) -> list[str]:
+    """The output of each input, or `-` for stdout. Refuses, before any work, clashing
+    outputs, existing files without `overwrite` and missing folders."""
+    if out is not None and len(inputs) > 1:
+        raise ConfigError("--out/-o names one output; for several inputs use --output-dir (or none: beside each input)")
+    if out is not None and output_dir is not None:
+        raise ConfigError("give --out or --output-dir, not both")
+    if output_dir is not None and not output_dir.is_dir():
+        raise ConfigError(f"{output_dir}: output folder does not exist")
+    if out is not None:
+        output_format(out, fmt)  # a contradicting extension fails here
+        outputs = [out]
+    else:
+        outputs = []
+        for name in inputs:
+            if name == STDIN:
+                if output_dir is None:
+                    outputs.append(STDIN)  # a pipeline: stdin to stdout
+                    continue
+                name = "stdin"
+            default = default_output_name(Path(name.rstrip("/")), fmt or "json")
+            outputs.append(str(output_dir / default.name if output_dir is not None else default))
+    _check_outputs(inputs, outputs, overwrite)
+    return outputs
+
+
+def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> None:
+    seen: dict[str, str] = {}
+    existing = []
+    for src, dst in zip(inputs, outputs, strict=True):
+        if dst == STDIN:
+            continue
+        key = str(Path(dst).resolve())
+        if key in seen:
+            raise ConfigError(f"{seen[key]} and {src} would both be written to {dst}; use separate --output-dir runs")
+        seen[key] = src
+        if not Path(dst).parent.is_dir():
+            raise ConfigError(f"{Path(dst).parent}: output folder does not exist")
+        if Path(dst).exists() and not overwrite:
+            existing.append(dst)
+    if existing:
+        more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
+        raise ConfigError(f"{', '.join(existing[:3])}{more}: already exist(s); pass --overwrite to replace")
