@@ -19,6 +19,14 @@ same total, re-solves the root translation over the last 15 % of them instead of
 R0/T0 in 100 steps; measured on the SyRIP train split, chosen there, and confirmed on Test100
 (README, "Speed"). Cutting the reference to 100 steps while keeping delta = 1/1000 loses 6 mm:
 the steps then denoise only a tenth as far.
+
+Warm start (opt-in, `lift(..., start_poses=, start_translation=)`, used by the temporal mode in
+`temporal.py`): a pose already close to the answer (the previous video frame's, or a smoothed
+one) skips the rotation/depth fit and the flat start, and runs a short loop of `warm_steps`
+from the lower noise level `warm_t_start` down to `t_end`, re-solving the root translation in
+the last `warm_release_fraction` of it (none by default: the start's translation is kept, as a
+smoothed translation is better than one re-solved from one frame's rays). Without a start pose
+nothing changes.
 """
 
 from __future__ import annotations
@@ -57,6 +65,11 @@ class LiftConfig:
     min_observed: int = 3  # fewer observed joints: the instance is not lifted
     chunk_size: int = 4096  # poses lifted together
     bf16: bool = False  # run the network in bfloat16 (fast on CPUs with AVX512-BF16 or AMX, and on GPUs)
+    # Warm start only (`lift(start_poses=...)`); unused otherwise.
+    warm_steps: int = 3  # prior iterations from a start pose (measured: 3 beat 10)
+    warm_t_start: float = 0.01  # a start pose is nearly right: the lowest noise level of the presets
+    warm_release_fraction: float = 0.0  # keep the start's translation (a smoothed one: re-solving adds jitter)
+    warm_step_delta: float | None = None  # None: the main loop's delta
 
     def __post_init__(self) -> None:
         if self.steps < 1 or self.init_steps < 0:
@@ -71,11 +84,24 @@ class LiftConfig:
             raise ConfigError(f"need 0 < t_end <= t_start <= 1, got {self.t_end}, {self.t_start}")
         if self.min_observed < 2:
             raise ConfigError("min_observed must be >= 2 (the translation solve needs two joints)")
+        if self.warm_steps < 1:
+            raise ConfigError(f"warm_steps must be >= 1, got {self.warm_steps}")
+        if not self.t_end <= self.warm_t_start <= 1:
+            raise ConfigError(f"need t_end <= warm_t_start <= 1, got {self.warm_t_start}")
+        if not 0 <= self.warm_release_fraction <= 1:
+            raise ConfigError(f"warm_release_fraction must be in [0, 1], got {self.warm_release_fraction}")
+        if self.warm_step_delta is not None and self.warm_step_delta <= 0:
+            raise ConfigError(f"warm_step_delta must be > 0, got {self.warm_step_delta}")
 
     @property
     def delta(self) -> float:
         """The probability-flow step size in effect."""
         return 1.0 / self.steps if self.step_delta is None else self.step_delta
+
+    @property
+    def warm_delta(self) -> float:
+        """The step size of the warm-started loop."""
+        return self.delta if self.warm_step_delta is None else self.warm_step_delta
 
     def to_dict(self) -> dict[str, float | int | str | bool | None]:
         return {**asdict(self), "delta": self.delta}
@@ -183,16 +209,41 @@ def _lift_chunk(
     x = flat @ rot0.transpose(1, 2)
     ts = torch.linspace(cfg.t_start, cfg.t_end, cfg.steps, dtype=xy.dtype, device=xy.device)
     release = round(cfg.steps * (1.0 - cfg.release_fraction))
-    every, reported = max(1, cfg.steps // 20), 0  # about 20 progress reports per chunk
-    for i in range(cfg.steps):
+    return _prior_loop(prior, x, trans, rays, unit, w, ts, release, cfg.delta, cfg, tick)
+
+
+@torch.no_grad()
+def _warm_chunk(
+    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, x0: torch.Tensor, t0: torch.Tensor,
+    cfg: LiftConfig, tick: Callable[[int], None],
+) -> tuple[torch.Tensor, torch.Tensor]:  # fmt: skip
+    """Like `_lift_chunk`, from start poses `x0 (B, J, 3)` and translations `t0 (B, 3)`: no fit,
+    a short loop from `warm_t_start`."""
+    rays = pixel_rays(xy, k)
+    unit = rays / rays.norm(dim=-1, keepdim=True)
+    ts = torch.linspace(cfg.warm_t_start, cfg.t_end, cfg.warm_steps, dtype=xy.dtype, device=xy.device)
+    release = round(cfg.warm_steps * (1.0 - cfg.warm_release_fraction))
+    return _prior_loop(prior, x0, t0, rays, unit, w, ts, release, cfg.warm_delta, cfg, tick)
+
+
+def _prior_loop(
+    prior: Prior, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor, w: torch.Tensor,
+    ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig, tick: Callable[[int], None],
+) -> tuple[torch.Tensor, torch.Tensor]:  # fmt: skip
+    """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
+    iteration `release` on, observed joints projected onto their rays, one prior step."""
+    obs = w > 0
+    steps = len(ts)
+    every, reported = max(1, steps // 20), 0  # about 20 progress reports per chunk
+    for i in range(steps):
         if i >= release:
             trans = solve_root_translation(x, rays, w)
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
         x = torch.where(obs[..., None], on_rays, x)
-        with _network_precision(cfg, xy.device):
+        with _network_precision(cfg, x.device):
             eps = prior.model(x, ts[i]).to(x.dtype)
-        x = probability_flow_step(x, eps, ts[i], prior.sde, cfg.delta, cfg.flow)
-        if (i + 1) % every == 0 or i + 1 == cfg.steps:
+        x = probability_flow_step(x, eps, ts[i], prior.sde, delta, cfg.flow)
+        if (i + 1) % every == 0 or i + 1 == steps:
             tick(i + 1 - reported)
             reported = i + 1
     return x, trans
@@ -215,11 +266,18 @@ def lift(
     min_confidence: float = 0.0,
     device: str = "cpu",
     callback: Callable[[LiftProgress], None] | None = None,
+    start_poses: np.ndarray | None = None,
+    start_translation: np.ndarray | None = None,
 ) -> LiftResult:
     """Lift pixels `xy (N, J, 2)` with confidences `(N, J)` and intrinsics `(N, 3, 3)` to 3D.
 
     The joints must be in the prior's joint set. Missing joints (NaN, confidence 0 or below
     `min_confidence`) are not used as constraints; the prior fills them.
+
+    Warm start (optional, both or neither): `start_poses (N, J, 3)` root-relative metres in the
+    camera frame and `start_translation (N, 3)` their root points. An instance whose start is
+    finite skips the rotation/depth fit and runs the short loop of `config.warm_steps` from
+    `config.warm_t_start`; one with a NaN start is lifted from scratch as usual.
     """
     start = time.perf_counter()
     n, joints = xy.shape[:2]
@@ -227,9 +285,12 @@ def lift(
         raise ConfigError(f"keypoints have {joints} joints, the prior's skeleton {prior.skeleton.num_joints}")
     obs = observed_mask(xy, confidence, min_confidence)
     lifted = obs.sum(1) >= config.min_observed
-    todo = np.flatnonzero(lifted)
-    chunks = [todo[i : i + config.chunk_size] for i in range(0, len(todo), config.chunk_size)]
-    total = len(chunks) * (config.init_steps + config.steps)
+    warm = _warm_mask(start_poses, start_translation, n, joints) & lifted
+    todo, todo_warm = np.flatnonzero(lifted & ~warm), np.flatnonzero(warm)
+    size = config.chunk_size
+    chunks = [todo[i : i + size] for i in range(0, len(todo), size)]
+    warm_chunks = [todo_warm[i : i + size] for i in range(0, len(todo_warm), size)]
+    total = len(chunks) * (config.init_steps + config.steps) + len(warm_chunks) * config.warm_steps
     done = 0
 
     def tick(steps: int) -> None:
@@ -238,21 +299,39 @@ def lift(
         if callback is not None:
             callback(LiftProgress(done, total))
 
+    def tensor(a: np.ndarray) -> torch.Tensor:
+        return torch.as_tensor(a, dtype=torch.float32, device=device)
+
     cam = np.full((n, joints, 3), np.nan)
     for idx in chunks:
-        xy_t = torch.as_tensor(np.nan_to_num(xy[idx]), dtype=torch.float32, device=device)
-        k_t = torch.as_tensor(intrinsics[idx], dtype=torch.float32, device=device)
-        w_t = torch.as_tensor(obs[idx], dtype=torch.float32, device=device)
-        x, trans = _lift_chunk(prior, xy_t, k_t, w_t, config, tick)
+        x, trans = _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+                               config, tick)  # fmt: skip
+        cam[idx] = (x + trans[:, None]).double().cpu().numpy()
+    for idx in warm_chunks:
+        assert start_poses is not None and start_translation is not None
+        x, trans = _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+                               tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick)  # fmt: skip
         cam[idx] = (x + trans[:, None]).double().cpu().numpy()
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
-    reproj = _reprojection_error_px(cam, xy, intrinsics, obs)
+    reproj = reprojection_error_px(cam, xy, intrinsics, obs)
     return LiftResult(
         cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start
     )
 
 
-def _reprojection_error_px(cam: np.ndarray, xy: np.ndarray, k: np.ndarray, obs: np.ndarray) -> np.ndarray:
+def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joints: int) -> np.ndarray:
+    """Instances `(N,)` with a usable (finite) start pose and translation."""
+    if poses is None and trans is None:
+        return np.zeros(n, dtype=bool)
+    if poses is None or trans is None:
+        raise ConfigError("a warm start needs both start_poses and start_translation")
+    if poses.shape != (n, joints, 3) or trans.shape != (n, 3):
+        raise ConfigError(f"start poses {poses.shape} / translations {trans.shape} do not match {n} instances "
+                          f"of {joints} joints")  # fmt: skip
+    return np.isfinite(poses).all(axis=(1, 2)) & np.isfinite(trans).all(axis=1)
+
+
+def reprojection_error_px(cam: np.ndarray, xy: np.ndarray, k: np.ndarray, obs: np.ndarray) -> np.ndarray:
     uv = project(torch.as_tensor(cam), torch.as_tensor(k, dtype=torch.float64)).numpy()
     err = np.linalg.norm(uv - xy, axis=-1)
     return np.where(obs, err, np.nan)
