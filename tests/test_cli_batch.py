@@ -108,3 +108,13 @@ def test_batch_exit_codes() -> None:
     assert batch_exit_code([ok, bad_input]) == 4
     assert batch_exit_code([bad_input, bad_input]) == 3
     assert batch_exit_code([bad_input, bad_usage]) == 1
+
+
+def test_missing_image_size_names_the_input(tiny_prior_path: Path, tmp_path: Path) -> None:
+    points = [v for j in range(25) for v in (100 + 9 * j, 200 + 4 * j, 0.9)]
+    frame = {"version": 1.3, "people": [{"pose_keypoints_2d": points}]}
+    src = tmp_path / "op_000000000000_keypoints.json"
+    src.write_text(json.dumps(frame))
+    result = runner.invoke(app, lift_args(tiny_prior_path, str(src)))
+    assert result.exit_code == 2 and "op_000000000000_keypoints.json" in result.output
+    assert "--image-size" in result.output

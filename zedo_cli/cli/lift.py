@@ -12,7 +12,7 @@ from rich.table import Table
 
 from .. import __version__
 from ..camera import check_focal, resolve_intrinsics
-from ..errors import ConfigError, InputFormatError, ZedoError
+from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, Keypoints2D, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting import DEFAULT_PRESET, PRESETS, LiftConfig, LiftProgress, LiftResult, get_preset, lift, observed_mask
@@ -108,10 +108,13 @@ def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoint
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
     """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
     kp, places = read_selected(source, prior, st)
-    mats, sources = resolve_intrinsics(
-        kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
-        intrinsics_file=str(st.intrinsics) if st.intrinsics else None,
-    )  # fmt: skip
+    try:
+        mats, sources = resolve_intrinsics(
+            kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
+            intrinsics_file=str(st.intrinsics) if st.intrinsics else None,
+        )  # fmt: skip
+    except IntrinsicsError as exc:  # name the input whose camera could not be settled
+        raise IntrinsicsError(f"{source}: {exc}") from None
     usable = observed_mask(kp.xy, kp.confidence, st.min_confidence).sum(1) >= st.cfg.min_observed
     if not usable.any():
         raise InputFormatError(
