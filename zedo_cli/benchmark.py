@@ -52,14 +52,19 @@ def score_poses(pred: np.ndarray, target: np.ndarray, joints: tuple[str, ...]) -
     return float(err.mean()), float(pa.mean()), {j: float(e) for j, e in zip(joints, err.mean(0), strict=True)}
 
 
+def _best_per_key(kp: Keypoints2D, keys: list[object]) -> dict[object, int]:
+    """For each key (image name or id), the index of its highest-scoring instance (the first on ties)."""
+    best: dict[object, int] = {}
+    for i, key in enumerate(keys):
+        if key not in best or (kp.scores[i] or 0.0) > (kp.scores[best[key]] or 0.0):
+            best[key] = i
+    return best
+
+
 def _match(kp: Keypoints2D, names: list[str], truth: PoseSet, what: str) -> tuple[Keypoints2D, np.ndarray]:
     """Instances of `kp` for the ground-truth images (one per image: the highest score) and
     the ground truth in the same order."""
-    best: dict[str, int] = {}
-    for i, name in enumerate(names):
-        if name in best and (kp.scores[i] or 0.0) <= (kp.scores[best[name]] or 0.0):
-            continue
-        best[name] = i
+    best = _best_per_key(kp, list(names))
     missing = [n for n in truth.names if n not in best]
     if missing:
         raise DataError(f"{what}: no 2D keypoints for {len(missing)} test images, e.g. {missing[:3]}")
@@ -82,11 +87,7 @@ def load_benchmark_inputs(syrip_dir: Path) -> tuple[PoseSet, dict[str, Keypoints
 
 def _best_per_image(kp: Keypoints2D) -> Keypoints2D:
     """One instance per image id: the highest-scoring one."""
-    best: dict[object, int] = {}
-    for i, image in enumerate(kp.image_ids):
-        if image not in best or (kp.scores[i] or 0.0) > (kp.scores[best[image]] or 0.0):
-            best[image] = i
-    return kp.subset(sorted(best.values()))
+    return kp.subset(sorted(_best_per_key(kp, list(kp.image_ids)).values()))
 
 
 def load_throughput_inputs(syrip_dir: str | Path) -> dict[str, Keypoints2D]:
