@@ -5,7 +5,6 @@ from __future__ import annotations
 import functools
 import os
 from collections.abc import Callable
-from pathlib import Path
 from typing import ParamSpec, TypeVar
 
 import typer
@@ -19,7 +18,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from ..errors import ConfigError, ZedoError
+from ..errors import ZedoError
 
 # Data goes to stdout; progress, logs and errors to stderr.
 err_console = Console(stderr=True, highlight=False)
@@ -62,14 +61,6 @@ def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
             raise typer.Exit(EXIT_RUNTIME) from None
 
     return wrapper
-
-
-def check_output_path(path: Path, overwrite: bool) -> None:
-    """Refuse to replace an existing file unless asked, and fail early on a missing folder."""
-    if path.exists() and not overwrite:
-        raise ConfigError(f"{path}: already exists; pass --overwrite to replace it")
-    if not path.parent.exists():
-        raise ConfigError(f"{path.parent}: output folder does not exist")
 
 
 def progress_bar(quiet: bool) -> Progress:

@@ -9,10 +9,11 @@ import typer
 
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
+from ..formats.writers_common import check_writable
 from ..minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_output, with_overrides, write_fitted_prior
 from ..training import TrainProgress
-from .common import check_output_path, err_console, error_boundary, progress_bar
+from .common import err_console, error_boundary, progress_bar
 
 
 def load_training_poses(
@@ -67,9 +68,9 @@ def fit_prior_command(
 
       zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
     """
-    check_output_path(out, overwrite)
+    check_writable(out, overwrite)
     if ema_out is not None:
-        check_output_path(ema_out, overwrite)
+        check_writable(ema_out, overwrite)
     base = load_recipe(recipe) if recipe is not None else Recipe()
     chosen = with_overrides(base, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     chosen = with_output(chosen, weights=weights, dtype=dtype)

@@ -101,7 +101,7 @@ def group_frames(image_ids: Sequence[int | str]) -> FrameGroups:
 def check_writable(path: Path, overwrite: bool) -> None:
     """Refuse to replace an existing file unless `overwrite`; fail early on a missing folder."""
     if path.exists() and not overwrite:
-        raise ConfigError(f"{path}: already exists; pass overwrite=True (--overwrite) to replace it")
+        raise ConfigError(f"{path}: already exists; pass --overwrite (overwrite=True) to replace it")
     if not path.parent.is_dir():
         raise ConfigError(f"{path.parent}: output folder does not exist")
 
