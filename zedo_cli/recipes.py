@@ -1,7 +1,8 @@
 """Training recipes (TOML) and `fit_prior`: data -> trained score network -> weights file.
 
 A recipe has the tables `[model]` (PriorConfig fields except num_joints), `[sde]`,
-`[training]` (TrainConfig fields) and `[output]` (`weights` = "raw" | "ema", `dtype` =
+`[training]` (TrainConfig fields), `[augment]` (PoseAugmentation fields: per-batch random
+rotation and scale, off by default) and `[output]` (`weights` = "raw" | "ema", `dtype` =
 "float16" | "float32"). Unknown keys are errors. Command-line options override recipe values.
 """
 
@@ -15,6 +16,7 @@ from typing import Any
 
 import torch
 
+from .adult import PoseAugmentation
 from .datasets import PoseSet
 from .errors import ConfigError
 from .model import PriorConfig, ScoreNet, parameter_count
@@ -49,6 +51,7 @@ class Recipe:
     model: dict[str, Any] = field(default_factory=dict)  # PriorConfig fields but num_joints
     sde: SubVPSDE = SubVPSDE()
     training: TrainConfig = TrainConfig()
+    augment: PoseAugmentation = PoseAugmentation()
     output: OutputConfig = OutputConfig()
 
     def prior_config(self, num_joints: int) -> PriorConfig:
@@ -73,7 +76,7 @@ def load_recipe(path: str | Path) -> Recipe:
         raise ConfigError(f"{path}: cannot read the recipe ({exc.strerror})") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{path}: not valid TOML ({exc})") from None
-    known = {"model", "sde", "training", "output", "data"}  # [data] documents, CLI chooses
+    known = {"model", "sde", "training", "augment", "output", "data"}  # [data] documents, CLI chooses
     unknown = set(doc) - known
     if unknown:
         raise ConfigError(f"{path}: unknown tables {sorted(unknown)}; allowed: {sorted(known)}")
@@ -84,6 +87,7 @@ def load_recipe(path: str | Path) -> Recipe:
             model=model,
             sde=SubVPSDE(**_checked(doc.get("sde", {}), SubVPSDE, f"{path} [sde]")),
             training=TrainConfig(**_checked(doc.get("training", {}), TrainConfig, f"{path} [training]")),
+            augment=PoseAugmentation(**_checked(doc.get("augment", {}), PoseAugmentation, f"{path} [augment]")),
             output=OutputConfig(**_checked(doc.get("output", {}), OutputConfig, f"{path} [output]")),
         )
     except TypeError as exc:
@@ -123,7 +127,10 @@ def fit_prior(
         torch.manual_seed(recipe.training.seed)  # initial weights; global RNG restored after
         model = ScoreNet(cfg)
     poses = torch.as_tensor(data.poses, dtype=torch.float32)
-    result = train_score_model(model, recipe.sde, poses, recipe.training, device=device, callback=callback)
+    augment = recipe.augment if recipe.augment.active else None
+    result = train_score_model(
+        model, recipe.sde, poses, recipe.training, device=device, callback=callback, augment=augment
+    )
     return FitResult(result, cfg, parameter_count(model))
 
 
@@ -149,6 +156,7 @@ def write_fitted_prior(
         "final_loss": round(fit.result.final_loss, 5),
         "seconds": round(fit.result.seconds, 1),
         "parameters": fit.parameters,
+        "augment": recipe.augment.to_dict(),
         **(extra_training or {}),
     }
     return save_prior(

@@ -124,10 +124,13 @@ def train_score_model(
     *,
     device: str = "cpu",
     callback: Callable[[TrainProgress], None] | None = None,
+    augment: Callable[[torch.Tensor, torch.Generator], torch.Tensor] | None = None,
 ) -> TrainResult:
     """Train `model` in place on root-relative poses `(N, J, 3)` in metres.
 
     Only parameters with `requires_grad` are optimised (adaptation freezes a base this way).
+    `augment`, when given, transforms every batch before noising (e.g. random rotations),
+    drawing from the training generator so runs stay reproducible.
     Randomness (shuffling, t, noise, dropout) is seeded by `cfg.seed`; the global RNG state
     is restored afterwards.
     """
@@ -152,6 +155,8 @@ def train_score_model(
             losses = []
             for lo in range(0, n, cfg.batch_size):
                 x0 = data[order[lo : lo + cfg.batch_size]]
+                if augment is not None:
+                    x0 = augment(x0, gen)
                 t = cfg.t_min + (1.0 - cfg.t_min) * torch.rand(
                     x0.shape[0], generator=gen, device=device
                 )

@@ -7,6 +7,7 @@ from typing import Annotated, Optional
 
 import typer
 
+from ..adult import ADULT_LICENSE, load_adult_poses
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..formats.writers_common import check_writable
@@ -19,9 +20,12 @@ from .common import err_console, error_boundary, progress_bar
 def load_training_poses(
     poses: Optional[Path], syrip_dir: Optional[Path], split: str, skeleton: Optional[str],
     *, minirgbd_dir: Optional[Path] = None, minirgbd_split: str = "paper", mapping: str = "reference",
+    adult_dir: Optional[Path] = None,
 ) -> PoseSet:  # fmt: skip
-    if sum(src is not None for src in (poses, syrip_dir, minirgbd_dir)) != 1:
-        raise ConfigError("give either a 3D pose file (POSES), --syrip-dir or --minirgbd-dir: exactly one")
+    if sum(src is not None for src in (poses, syrip_dir, minirgbd_dir, adult_dir)) != 1:
+        raise ConfigError("give exactly one source: a 3D pose file (POSES), --syrip-dir, --minirgbd-dir or --adult-dir")
+    if adult_dir is not None:
+        return load_adult_poses(adult_dir, skeleton or "syrip12")
     if minirgbd_dir is not None:
         if skeleton not in (None, "h36m17"):
             raise ConfigError(f"MINI-RGBD poses are mapped to the h36m17 joint set, not {skeleton!r}")
@@ -43,6 +47,7 @@ def fit_prior_command(
     minirgbd_dir: Annotated[Optional[Path], typer.Option(help="Train on a local MINI-RGBD folder (holding 01 .. 12), mapped to h36m17.")] = None,
     minirgbd_split: Annotated[str, typer.Option(help="MINI-RGBD sequences: paper (train 01-09, test 10-12) or reference (train 01-10, test 11-12).")] = "paper",
     mapping: Annotated[str, typer.Option(help="MINI-RGBD SMIL -> h36m17 joints: reference (toes as ankles, collars as shoulders, as the authors) or anatomical.")] = "reference",
+    adult_dir: Annotated[Optional[Path], typer.Option(help="Train on the adult motion-capture folder (three *_h36m17.npz files), in --skeleton's joints (default syrip12).")] = None,
     skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it (h36m17, syrip12, ...).")] = None,
     recipe: Annotated[Optional[Path], typer.Option(help="TOML recipe (see weights_spec/); options below override it.")] = None,
     epochs: Annotated[Optional[int], typer.Option(help="Passes over the data (recipe: 8000).")] = None,
@@ -64,6 +69,8 @@ def fit_prior_command(
 
       zedo fit-prior --syrip-dir ../shared/data/syrip --split train --recipe weights_spec/syrip12-scratch.toml --out my.safetensors
 
+      zedo fit-prior --adult-dir ../shared/data/adult --recipe weights_spec/adult12-rotscale.toml --out adult.safetensors
+
       zedo fit-prior poses.npz --skeleton h36m17 --epochs 2000 --out adult.safetensors
 
       zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
@@ -75,13 +82,15 @@ def fit_prior_command(
     chosen = with_overrides(base, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     chosen = with_output(chosen, weights=weights, dtype=dtype)
     data = load_training_poses(poses, syrip_dir, split, skeleton, minirgbd_dir=minirgbd_dir,
-                               minirgbd_split=minirgbd_split, mapping=mapping)  # fmt: skip
+                               minirgbd_split=minirgbd_split, mapping=mapping, adult_dir=adult_dir)  # fmt: skip
     if license_text is None:
         license_text = SYRIP_LICENSE if syrip_dir is not None else "as the terms of the training data"
         license_text = MINIRGBD_LICENSE if minirgbd_dir is not None else license_text
+        license_text = ADULT_LICENSE if adult_dir is not None else license_text
     err_console.print(
         f"training a {data.skeleton.name} prior on {len(data.names)} poses from {data.source}: "
         f"{chosen.training.epochs} epochs, batch {chosen.training.batch_size}, seed {chosen.training.seed}, {device}"
+        + (f"; batches augmented {chosen.augment.to_dict()}" if chosen.augment.active else "")
     )
     with progress_bar(quiet) as bar:
         task = bar.add_task("fit-prior", total=chosen.training.epochs, status="")
