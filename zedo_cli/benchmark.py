@@ -85,6 +85,36 @@ def load_benchmark_inputs(syrip_dir: Path) -> tuple[PoseSet, dict[str, Keypoints
     return truth, {"gt": gt_kp, "detected": det_kp}
 
 
+def load_syrip_train_inputs(syrip_dir: str | Path, names: list[str]) -> tuple[PoseSet, Keypoints2D]:
+    """Training images `names` (SyRIP names, e.g. held out of an adaptation subset): their 3D
+    ground truth and ground-truth 2D, in the same order. Used to choose settings without
+    looking at Test100."""
+    syrip_dir = Path(syrip_dir)
+    train = load_syrip_3d(syrip_dir, "train")
+    row = {n: i for i, n in enumerate(train.names)}
+    unknown = [n for n in names if n not in row]
+    if unknown:
+        raise DataError(f"{syrip_dir}: not SyRIP training images: {unknown[:3]}")
+    held_out = f"{train.source}, {len(names)} held out"
+    truth = PoseSet(train.poses[[row[n] for n in names]], train.skeleton, list(names), held_out)
+    gt2d = read_keypoints(syrip_dir / SYRIP_REAL700)
+    originals = syrip_original_names(syrip_dir / SYRIP_REAL700)
+    keys = [originals.get(str(i), "") for i in gt2d.image_ids]
+    kp, _ = _match(gt2d, keys, truth, str(syrip_dir / SYRIP_REAL700))
+    return truth, kp
+
+
+def lift_and_score(
+    prior: Prior, truth: PoseSet, kp: Keypoints2D, config: LiftConfig, *, device: str = "cpu"
+) -> tuple[float, float]:
+    """MPJPE and PA-MPJPE (mm) of `kp` lifted with `prior`, against `truth` (same order)."""
+    kp = kp.to_skeleton(prior.skeleton)
+    mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
+    res = lift(kp.xy, kp.confidence, mats, prior, config, device=device)
+    mpjpe, pa, _ = score_poses(center_on_root(res.poses_camera, prior.skeleton), truth.poses, prior.skeleton.joints)
+    return mpjpe, pa
+
+
 def _best_per_image(kp: Keypoints2D) -> Keypoints2D:
     """One instance per image id: the highest-scoring one."""
     return kp.subset(sorted(_best_per_key(kp, list(kp.image_ids)).values()))

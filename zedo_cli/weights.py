@@ -7,6 +7,12 @@ File contract (format version 1), also stated in weights_spec/README.md:
 - metadata (all strings): `format` = "zedo.prior", `format_version` = "1", `skeleton`,
   `joints` (JSON list), `model_config`, `sde_config`, `training`, `data` (JSON objects),
   `license`, `zedo_version`, `created`.
+
+Format version 2 adds one kind of network, written only for it: metadata `architecture` =
+"control" (a frozen base plus the controllable branch of `control.py`, tensors under
+`model.base.*`, `model.branch_*`, `model.zero_*`, `model.prompt`) and `adapted_from` (JSON: the
+base prior's file name and sha256). Plain priors are still written as version 1, so older
+zedo versions read them; a version-2 file gives those a clear "not supported" error.
 """
 
 from __future__ import annotations
@@ -24,8 +30,10 @@ from typing import Any
 import torch
 from safetensors import SafetensorError
 from safetensors.torch import load_file, save_file
+from torch import nn
 
 from . import __version__
+from .control import ControlledScoreNet
 from .errors import WeightsError
 from .model import PriorConfig, ScoreNet
 from .sde import SubVPSDE
@@ -33,6 +41,9 @@ from .skeleton import Skeleton, get_skeleton
 
 FORMAT = "zedo.prior"
 FORMAT_VERSION = "1"
+CONTROL_FORMAT_VERSION = "2"
+READABLE_VERSIONS = (FORMAT_VERSION, CONTROL_FORMAT_VERSION)
+ARCHITECTURES = ("scorenet", "control")
 MODEL_PREFIX = "model."
 
 # Priors shipped inside the package: name -> file in zedo_cli/weights/.
@@ -42,9 +53,12 @@ DEFAULT_PRIOR = "syrip12-scratch"
 
 @dataclass
 class Prior:
-    """A loaded prior: the network (eval mode, float32), its SDE, skeleton and template."""
+    """A loaded prior: the network (eval mode, float32), its SDE, skeleton and template.
 
-    model: ScoreNet
+    `model` is a ScoreNet, or a ControlledScoreNet for an adapted prior that carries its branch.
+    """
+
+    model: ScoreNet | ControlledScoreNet
     sde: SubVPSDE
     skeleton: Skeleton
     template: torch.Tensor  # (J, 3) metres, root-relative
@@ -77,8 +91,16 @@ def save_prior(
     data: dict[str, Any],
     license_text: str,
     dtype: torch.dtype = torch.float16,
+    architecture: str = "scorenet",
+    adapted_from: dict[str, Any] | None = None,
 ) -> str:
-    """Write a prior atomically (temporary file then rename) and return its sha256."""
+    """Write a prior atomically (temporary file then rename) and return its sha256.
+
+    `architecture` "control" marks a controlled network's state (format version 2);
+    `adapted_from` names the base prior (file name, sha256) an adapted prior came from.
+    """
+    if architecture not in ARCHITECTURES:
+        raise WeightsError(f"unknown architecture {architecture!r}; known: {', '.join(ARCHITECTURES)}")
     if template.shape != (skeleton.num_joints, 3):
         raise WeightsError(f"template must have shape ({skeleton.num_joints}, 3)")
     tensors = {MODEL_PREFIX + k: v.detach().to("cpu", dtype).contiguous() for k, v in state.items()}
@@ -96,6 +118,11 @@ def save_prior(
         "zedo_version": __version__,
         "created": datetime.now(UTC).isoformat(timespec="seconds"),
     }
+    if adapted_from is not None:
+        metadata["adapted_from"] = json.dumps(adapted_from)
+    if architecture == "control":
+        metadata["format_version"] = CONTROL_FORMAT_VERSION
+        metadata["architecture"] = architecture
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".safetensors", dir=path.parent or ".")
     os.close(fd)
@@ -136,11 +163,15 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
         raise WeightsError(f"{path}: not a readable safetensors file ({exc})") from None
     if meta.get("format") != FORMAT:
         raise WeightsError(f"{path}: metadata 'format' is {meta.get('format')!r}, not {FORMAT!r}")
-    if meta.get("format_version") != FORMAT_VERSION:
+    if meta.get("format_version") not in READABLE_VERSIONS:
         raise WeightsError(
             f"{path}: format_version {meta.get('format_version')!r} is not supported "
-            f"(this zedo reads version {FORMAT_VERSION})"
+            f"(this zedo reads versions {', '.join(READABLE_VERSIONS)})"
         )
+    architecture = "scorenet" if meta["format_version"] == FORMAT_VERSION else meta.get("architecture")
+    if architecture not in ARCHITECTURES:
+        known = ", ".join(ARCHITECTURES)
+        raise WeightsError(f"{path}: metadata 'architecture' is {architecture!r}, not one of {known}")
     skel = get_skeleton(meta.get("skeleton", ""))
     if skeleton is not None and skel.name != skeleton:
         raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
@@ -156,7 +187,9 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
         raise WeightsError(f"{path}: metadata config has unknown fields ({exc})") from None
     if cfg.num_joints != skel.num_joints:
         raise WeightsError(f"{path}: model has {cfg.num_joints} joints, skeleton {skel.num_joints}")
-    model = ScoreNet(cfg)
+    model: nn.Module = ScoreNet(cfg) if architecture == "scorenet" else ControlledScoreNet(
+        ScoreNet(cfg), prompt_generator=torch.Generator().manual_seed(0)  # overwritten by the file
+    )
     state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
     try:
         model.load_state_dict(state, strict=True)
@@ -170,7 +203,7 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     if extra:
         raise WeightsError(f"{path}: unexpected tensors {sorted(extra)[:3]}")
     model.to(device).eval()
-    metadata = {k: (json.loads(v) if k in ("model_config", "sde_config", "training", "data") else v)
+    metadata = {k: (json.loads(v) if k in ("model_config", "sde_config", "training", "data", "adapted_from") else v)
                 for k, v in meta.items()}  # fmt: skip
     return Prior(model, sde, skel, template.float().to(device), metadata, file_sha256(path), str(path))
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import typer
 
+from .adapt import adapt_command
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
 from .lift import lift_command
@@ -30,6 +31,7 @@ def _root() -> None:
 
 app.command("lift", no_args_is_help=True)(lift_command)
 app.command("fit-prior", no_args_is_help=True)(fit_prior_command)
+app.command("adapt", no_args_is_help=True)(adapt_command)
 app.command("evaluate", no_args_is_help=True)(evaluate_command)
 app.command("benchmark", no_args_is_help=True)(benchmark_command)
 app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)

@@ -1,0 +1,91 @@
+"""`zedo adapt`: adapt a prior (e.g. the bundled adult prior) to a small infant data set."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from ..adapt import ADAPT_TRAINING, STRATEGIES, adapt_prior, select_subset, write_adapted_prior
+from ..errors import ConfigError
+from ..formats.writers_common import check_writable
+from ..recipes import DTYPES, SYRIP_LICENSE, WEIGHT_CHOICES
+from ..training import TrainProgress
+from ..weights import load_prior, resolve_prior_path
+from .common import err_console, error_boundary, progress_bar
+from .fit import load_training_poses
+
+
+@error_boundary
+def adapt_command(
+    poses: Annotated[Optional[Path], typer.Argument(help="Infant 3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names'), in the base's joint set.")] = None,
+    base: Annotated[str, typer.Option(help="Prior to adapt: a bundled name (adult12-rotscale, syrip12-scratch) or a weights file.")] = "adult12-rotscale",
+    strategy: Annotated[str, typer.Option(help="control (frozen base + trainable branch), finetune (all weights from the base) or scratch (fresh net of the base's size).")] = "control",
+    out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors); `zedo lift --prior` loads it.")] = Path("adapted.safetensors"),
+    syrip_dir: Annotated[Optional[Path], typer.Option(help="Adapt on the SyRIP data folder instead of POSES.")] = None,
+    split: Annotated[str, typer.Option(help="SyRIP side: train (600 poses), test or all.")] = "train",
+    skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it.")] = None,
+    limit: Annotated[Optional[int], typer.Option(help="Train on a seeded, reproducible subset of N poses (default: all).")] = None,
+    epochs: Annotated[int, typer.Option(help="Passes over the data; one step each while N <= batch size.")] = ADAPT_TRAINING.epochs,
+    batch_size: Annotated[int, typer.Option(help="Poses per step.")] = ADAPT_TRAINING.batch_size,
+    lr: Annotated[float, typer.Option(help="Adam learning rate after warm-up.")] = ADAPT_TRAINING.lr,
+    warmup_steps: Annotated[int, typer.Option(help="Linear warm-up steps.")] = ADAPT_TRAINING.warmup_steps,
+    seed: Annotated[int, typer.Option(help="Seed of the --limit subset, new weights (prompt, scratch net), noise and shuffling.")] = 0,
+    weights: Annotated[str, typer.Option(help="Which weights to save: raw (last step) or ema.")] = "raw",
+    dtype: Annotated[str, typer.Option(help="Stored precision: float16 or float32.")] = "float16",
+    license_text: Annotated[Optional[str], typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in).")] = None,
+    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Adapt a pose prior to a small infant 3D data set; write a prior `zedo lift` loads.
+
+    The default base is the bundled adult prior. `control` trains a ControlNet-like branch
+    beside the frozen base (the written file carries both and names its base); `finetune`
+    trains every weight starting from the base; `scratch` trains a fresh network of the same
+    size, as a baseline.
+
+    Examples:
+
+      zedo adapt --syrip-dir ../shared/data/syrip --strategy control --limit 100 --seed 1 --out ca100.safetensors
+
+      zedo adapt my_infants.npz --strategy finetune --epochs 1000 --out ft.safetensors
+
+      zedo lift keypoints.json --prior ca100.safetensors
+    """
+    if strategy not in STRATEGIES:
+        raise ConfigError(f"--strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+    if weights not in WEIGHT_CHOICES:
+        raise ConfigError(f"--weights must be one of {', '.join(WEIGHT_CHOICES)}, got {weights!r}")
+    if dtype not in DTYPES:
+        raise ConfigError(f"--dtype must be one of {', '.join(DTYPES)}, got {dtype!r}")
+    check_writable(out, overwrite)
+    cfg = replace(ADAPT_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
+    prior = load_prior(resolve_prior_path(base), device="cpu")
+    data = select_subset(load_training_poses(poses, syrip_dir, split, skeleton), limit, seed)
+    terms = license_text if license_text is not None else (SYRIP_LICENSE if syrip_dir is not None else "as the terms of the adaptation data")
+    err_console.print(
+        f"adapting {prior.label} by {strategy} on {len(data.names)} poses from {data.source}: "
+        f"{cfg.epochs} epochs, batch {cfg.batch_size}, lr {cfg.lr}, seed {cfg.seed}, {device}"
+    )
+    with progress_bar(quiet) as bar:
+        task = bar.add_task("adapt", total=cfg.epochs, status="")
+
+        def on_epoch(p: TrainProgress) -> None:
+            bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
+
+        adapted = adapt_prior(prior, data, strategy, cfg, device=device, callback=on_epoch)
+    license_all = f"{terms} Adapted from a prior whose terms are: {prior.metadata.get('license', 'unknown')}"
+    if strategy == "scratch":
+        license_all = terms
+    sha = write_adapted_prior(
+        out, adapted, prior, data, cfg, license_text=license_all, weights=weights, dtype=DTYPES[dtype],
+        extra={"device": device, "limit": limit},
+    )  # fmt: skip
+    err_console.print(
+        f"wrote {out} ({strategy}, {adapted.trainable:,} of {adapted.total:,} parameters trained, {dtype}, "
+        f"sha256 {sha[:12]}); {adapted.result.steps} steps in {adapted.result.seconds:.0f} s, "
+        f"final loss {adapted.result.final_loss:.3f}"
+    )
