@@ -125,7 +125,9 @@ def test_controlled_prior_round_trips_and_names_its_base(tiny_prior, tmp_path) -
     data = _infant_set()
     adapted = adapt_prior(tiny_prior, data, "control", TINY)
     path = tmp_path / "ca.safetensors"
-    write_adapted_prior(path, adapted, tiny_prior, data, TINY, license_text="test terms", dtype=torch.float32)
+    write_adapted_prior(
+        path, adapted, tiny_prior, data, TINY, license_text="test terms", weights="raw", dtype=torch.float32
+    )
     loaded = load_prior(path)
     assert isinstance(loaded.model, ControlledScoreNet)
     assert loaded.metadata["format_version"] == "2" and loaded.metadata["architecture"] == "control"

@@ -146,7 +146,7 @@ def test_fit_prior_then_lift_with_it(tmp_path: Path) -> None:
     ("args", "code", "needle"),
     [
         (["fit-prior", "missing.npz", "--out", "{tmp}/p.safetensors"], 3, "file not found"),
-        (["fit-prior", "--out", "{tmp}/p.safetensors"], 2, "either a 3D pose file"),
+        (["fit-prior", "--out", "{tmp}/p.safetensors"], 2, "exactly one source"),
         (["fit-prior", "{tmp}/bad.npz", "--out", "{tmp}/p.safetensors"], 3, "not a readable npz"),
         (["fit-prior", "{tmp}/ok.npz", "--epochs", "0", "--out", "{tmp}/p.safetensors"], 2, "epochs"),
         (["fit-prior", "{tmp}/ok.npz", "--recipe", "{tmp}/r.toml", "--out", "{tmp}/p.safetensors"], 2, "unknown keys"),

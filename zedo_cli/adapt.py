@@ -30,7 +30,7 @@ STRATEGIES = ("control", "finetune", "scratch")
 
 # The adaptation recipe (all strategies): the paper's objective and optimiser with a schedule
 # sized for small sets. Chosen on SyRIP training poses held out of the subset (README).
-ADAPT_TRAINING = TrainConfig(epochs=2000, batch_size=5000, warmup_steps=200)
+ADAPT_TRAINING = TrainConfig(epochs=1000, batch_size=5000, warmup_steps=200)
 
 
 def select_subset(data: PoseSet, limit: int | None, seed: int) -> PoseSet:
@@ -112,7 +112,7 @@ def write_adapted_prior(
     cfg: TrainConfig,
     *,
     license_text: str,
-    weights: str = "raw",
+    weights: str = "ema",
     dtype: torch.dtype = torch.float16,
     extra: dict[str, Any] | None = None,
 ) -> str:

@@ -47,7 +47,10 @@ ARCHITECTURES = ("scorenet", "control")
 MODEL_PREFIX = "model."
 
 # Priors shipped inside the package: name -> file in zedo_cli/weights/.
-BUNDLED_PRIORS: dict[str, str] = {"syrip12-scratch": "syrip12-scratch.safetensors"}
+BUNDLED_PRIORS: dict[str, str] = {
+    "syrip12-scratch": "syrip12-scratch.safetensors",  # the default for lifting
+    "adult12-rotscale": "adult12-rotscale.safetensors",  # the default base of `zedo adapt`
+}
 DEFAULT_PRIOR = "syrip12-scratch"
 
 

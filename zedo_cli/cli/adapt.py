@@ -33,7 +33,7 @@ def adapt_command(
     lr: Annotated[float, typer.Option(help="Adam learning rate after warm-up.")] = ADAPT_TRAINING.lr,
     warmup_steps: Annotated[int, typer.Option(help="Linear warm-up steps.")] = ADAPT_TRAINING.warmup_steps,
     seed: Annotated[int, typer.Option(help="Seed of the --limit subset, new weights (prompt, scratch net), noise and shuffling.")] = 0,
-    weights: Annotated[str, typer.Option(help="Which weights to save: raw (last step) or ema.")] = "raw",
+    weights: Annotated[str, typer.Option(help="Which weights to save: ema (moving average, the default: steadier on held-out poses) or raw (last step).")] = "ema",
     dtype: Annotated[str, typer.Option(help="Stored precision: float16 or float32.")] = "float16",
     license_text: Annotated[Optional[str], typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in).")] = None,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
