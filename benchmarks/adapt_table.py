@@ -44,15 +44,14 @@ def run_one(job: dict) -> dict:
     data = select_subset(train, None if size >= len(train.names) else size, job["seed"])
     cfg = replace(ADAPT_TRAINING, epochs=job["epochs"], seed=job["seed"])
     adapted = adapt_prior(base, data, job["strategy"], cfg)
-    state = adapted.result.raw_state if job["weights"] == "raw" else adapted.result.ema_state
-    adapted.model.load_state_dict(state)
+    adapted.model.load_state_dict(adapted.result.state(job["weights"]))
     prior = Prior(adapted.model.eval(), base.sde, base.skeleton,
                   torch.as_tensor(data.poses[0], dtype=torch.float32), {}, "", "adapted")  # fmt: skip
     truth, kps = load_benchmark_inputs(Path(job["syrip_dir"]))
     scores = {}
     for key in ("gt", "detected"):
-        mpjpe, pa = lift_and_score(prior, truth, kps[key], PRESETS[job["preset"]])
-        scores[key] = {"mpjpe_mm": round(mpjpe, 2), "pa_mpjpe_mm": round(pa, 2)}
+        score, _ = lift_and_score(prior, truth, kps[key], PRESETS[job["preset"]], input_2d=key)
+        scores[key] = {"mpjpe_mm": round(score.mpjpe_mm, 2), "pa_mpjpe_mm": round(score.pa_mpjpe_mm, 2)}
     return {**job, "train_seconds": round(adapted.result.seconds, 1), "steps": adapted.result.steps,
             "trainable_parameters": adapted.trainable, "scores": scores}  # fmt: skip
 

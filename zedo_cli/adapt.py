@@ -121,14 +121,12 @@ def write_adapted_prior(
     Its metadata names the base (file and sha256) and the strategy; the template is the first
     adaptation pose, as the reference does for infant priors.
     """
-    state = adapted.result.raw_state if weights == "raw" else adapted.result.ema_state
+    state = adapted.result.state(weights)
     training = {
         **cfg.to_dict(),
         "strategy": adapted.strategy,
         "weights": weights,
-        "steps": adapted.result.steps,
-        "final_loss": round(adapted.result.final_loss, 5),
-        "seconds": round(adapted.result.seconds, 1),
+        **adapted.result.summary(),
         "parameters": adapted.total,
         "trainable_parameters": adapted.trainable,
         **(extra or {}),

@@ -105,14 +105,24 @@ def load_syrip_train_inputs(syrip_dir: str | Path, names: list[str]) -> tuple[Po
 
 
 def lift_and_score(
-    prior: Prior, truth: PoseSet, kp: Keypoints2D, config: LiftConfig, *, device: str = "cpu"
-) -> tuple[float, float]:
-    """MPJPE and PA-MPJPE (mm) of `kp` lifted with `prior`, against `truth` (same order)."""
+    prior: Prior,
+    truth: PoseSet,
+    kp: Keypoints2D,
+    config: LiftConfig,
+    *,
+    input_2d: str = "gt",
+    device: str = "cpu",
+    callback: Callable[[LiftProgress], None] | None = None,
+) -> tuple[Score, LiftResult]:
+    """Lift `kp` with `prior` and score it against `truth` (same order), timing the lift."""
     kp = kp.to_skeleton(prior.skeleton)
     mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
-    res = lift(kp.xy, kp.confidence, mats, prior, config, device=device)
-    mpjpe, pa, _ = score_poses(center_on_root(res.poses_camera, prior.skeleton), truth.poses, prior.skeleton.joints)
-    return mpjpe, pa
+    start = time.perf_counter()
+    res = lift(kp.xy, kp.confidence, mats, prior, config, device=device, callback=callback)
+    seconds = time.perf_counter() - start
+    pred = center_on_root(res.poses_camera, prior.skeleton)
+    mpjpe, pa, per_joint = score_poses(pred, truth.poses, prior.skeleton.joints)
+    return Score(input_2d, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds), res
 
 
 def _best_per_image(kp: Keypoints2D) -> Keypoints2D:
@@ -172,16 +182,12 @@ def run_syrip_benchmark(
     if prior.skeleton.name != "syrip12":
         raise DataError(f"the SyRIP benchmark needs a syrip12 prior, not {prior.skeleton.name}")
     truth, kps = load_benchmark_inputs(syrip_dir)
-    scores, results = [], {}
+    scores: list[Score] = []
+    results: dict[str, LiftResult] = {}
     for key in inputs:
-        kp = kps[key].to_skeleton(prior.skeleton)
-        mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
-        start = time.perf_counter()
-        res = lift(kp.xy, kp.confidence, mats, prior, config, device=device,
-                   callback=None if callback is None else (lambda p, k=key: callback(k, p)))  # fmt: skip
-        seconds = time.perf_counter() - start
-        pred = center_on_root(res.poses_camera, prior.skeleton)
-        mpjpe, pa, per_joint = score_poses(pred, truth.poses, prior.skeleton.joints)
-        scores.append(Score(key, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds))
-        results[key] = res
+        on_progress = None if callback is None else (lambda p, k=key: callback(k, p))
+        score, results[key] = lift_and_score(
+            prior, truth, kps[key], config, input_2d=key, device=device, callback=on_progress
+        )
+        scores.append(score)
     return scores, results

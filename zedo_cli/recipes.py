@@ -147,14 +147,12 @@ def write_fitted_prior(
 
     The template is the first training pose, as in the reference.
     """
-    state = fit.result.raw_state if recipe.output.weights == "raw" else fit.result.ema_state
+    state = fit.result.state(recipe.output.weights)
     training = {
         **recipe.training.to_dict(),
         "weights": recipe.output.weights,
         "dtype": recipe.output.dtype,
-        "steps": fit.result.steps,
-        "final_loss": round(fit.result.final_loss, 5),
-        "seconds": round(fit.result.seconds, 1),
+        **fit.result.summary(),
         "parameters": fit.parameters,
         "augment": recipe.augment.to_dict(),
         **(extra_training or {}),

@@ -75,6 +75,14 @@ class TrainResult:
     seconds: float
     loss_history: list[float] = field(default_factory=list)
 
+    def state(self, weights: str) -> dict[str, torch.Tensor]:
+        """The raw ("raw") or averaged ("ema") weights."""
+        return self.raw_state if weights == "raw" else self.ema_state
+
+    def summary(self) -> dict[str, float | int]:
+        """Steps, final loss and seconds, for a weights file's training metadata."""
+        return {"steps": self.steps, "final_loss": round(self.final_loss, 5), "seconds": round(self.seconds, 1)}
+
 
 def dsm_loss(
     model: nn.Module, sde: SubVPSDE, x0: torch.Tensor, t: torch.Tensor, noise: torch.Tensor

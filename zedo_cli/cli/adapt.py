@@ -77,9 +77,8 @@ def adapt_command(
             bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
 
         adapted = adapt_prior(prior, data, strategy, cfg, device=device, callback=on_epoch)
-    license_all = f"{terms} Adapted from a prior whose terms are: {prior.metadata.get('license', 'unknown')}"
-    if strategy == "scratch":
-        license_all = terms
+    base_terms = prior.metadata.get("license", "unknown")
+    license_all = terms if strategy == "scratch" else f"{terms} Adapted from a prior whose terms are: {base_terms}"
     sha = write_adapted_prior(
         out, adapted, prior, data, cfg, license_text=license_all, weights=weights, dtype=DTYPES[dtype],
         extra={"device": device, "limit": limit},
