@@ -111,8 +111,11 @@ class ScoreNet(nn.Module):
         return self.time_mlp(positional_embedding(labels, self.cfg.embed))
 
     def forward(self, x: torch.Tensor, t: torch.Tensor) -> torch.Tensor:
+        return self.denoise(x, self.time_embedding(t.to(x.dtype)))  # temb (B, E) or (1, E) when t is shared
+
+    def denoise(self, x: torch.Tensor, temb: torch.Tensor) -> torch.Tensor:
+        """The noise prediction given an already computed embedding (time, plus any condition)."""
         batch = x.shape[0]
-        temb = self.time_embedding(t.to(x.dtype))  # (B, E) or (1, E) when t is shared
         h = self.stem(x.reshape(batch, -1), temb)
         for block in self.blocks:
             h = block(h, temb)

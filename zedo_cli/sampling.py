@@ -3,6 +3,8 @@ a noise prediction."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import torch
 
 from .sde import SubVPSDE
@@ -38,6 +40,27 @@ def euler_maruyama_step(
 
 
 @torch.no_grad()
+def integrate_reverse_sde(
+    eps_fn: Callable[[torch.Tensor, torch.Tensor], torch.Tensor],
+    sde: SubVPSDE,
+    x: torch.Tensor,
+    *,
+    t_start: float,
+    t_end: float,
+    steps: int,
+    generator: torch.Generator,
+) -> torch.Tensor:
+    """Integrate the reverse SDE from `t_start` down to `t_end` in `steps` Euler-Maruyama steps,
+    starting at `x`; `eps_fn(x, t)` is the noise prediction. Seeded by `generator`."""
+    ts = torch.linspace(t_start, t_end, steps + 1)
+    dt = (t_start - t_end) / steps
+    for t in ts[:-1]:
+        eps = eps_fn(x, t)
+        x = euler_maruyama_step(x, eps, t, sde, dt, torch.randn(x.shape, generator=generator))
+    return x
+
+
+@torch.no_grad()
 def sample_poses(
     model: torch.nn.Module,
     sde: SubVPSDE,
@@ -48,12 +71,7 @@ def sample_poses(
     generator: torch.Generator,
 ) -> torch.Tensor:
     """Unconditional samples `shape = (N, J, 3)` from the prior: start from N(0, sigma(1)^2),
-    integrate the reverse SDE from t = 1 to `t_min` by Euler-Maruyama. Seeded by `generator`."""
-    one = torch.tensor(1.0)
-    x = sde.sigma(one) * torch.randn(shape, generator=generator)
-    ts = torch.linspace(1.0, t_min, steps)
-    dt = (1.0 - t_min) / (steps - 1)
-    for t in ts[:-1]:
-        eps = model(x, t)
-        x = euler_maruyama_step(x, eps, t, sde, dt, torch.randn(shape, generator=generator))
-    return x
+    integrate the reverse SDE from t = 1 to `t_min` by Euler-Maruyama (`steps` time points).
+    Seeded by `generator`."""
+    x = sde.sigma(torch.tensor(1.0)) * torch.randn(shape, generator=generator)
+    return integrate_reverse_sde(model, sde, x, t_start=1.0, t_end=t_min, steps=steps - 1, generator=generator)

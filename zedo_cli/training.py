@@ -85,14 +85,22 @@ class TrainResult:
 
 
 def dsm_loss(
-    model: nn.Module, sde: SubVPSDE, x0: torch.Tensor, t: torch.Tensor, noise: torch.Tensor
+    model: nn.Module,
+    sde: SubVPSDE,
+    x0: torch.Tensor,
+    t: torch.Tensor,
+    noise: torch.Tensor,
+    labels: torch.Tensor | None = None,
 ) -> torch.Tensor:
     """Noise-prediction loss: 1/2 sum over the 3J dims of (eps_theta(x_t, t) - z)^2, batch mean.
 
     Summed rather than averaged over dims, as the reference does (`reduce_mean = False`).
+    `labels`, when given, is the per-pose condition passed to a conditional model as a third
+    argument (the domain of `zedo augment`'s network).
     """
     xt = sde.perturb(x0, t, noise)
-    err = model(xt, t) - noise
+    eps = model(xt, t) if labels is None else model(xt, t, labels)
+    err = eps - noise
     return 0.5 * err.pow(2).flatten(1).sum(dim=1).mean()
 
 
@@ -133,12 +141,14 @@ def train_score_model(
     device: str = "cpu",
     callback: Callable[[TrainProgress], None] | None = None,
     augment: Callable[[torch.Tensor, torch.Generator], torch.Tensor] | None = None,
+    labels: torch.Tensor | None = None,
 ) -> TrainResult:
     """Train `model` in place on root-relative poses `(N, J, 3)` in metres.
 
     Only parameters with `requires_grad` are optimised (adaptation freezes a base this way).
     `augment`, when given, transforms every batch before noising (e.g. random rotations),
-    drawing from the training generator so runs stay reproducible.
+    drawing from the training generator so runs stay reproducible. `labels (N,)`, when given,
+    are integer conditions that follow their poses into every batch (see `dsm_loss`).
     Randomness (shuffling, t, noise, dropout) is seeded by `cfg.seed`; the global RNG state
     is restored afterwards.
     """
@@ -146,8 +156,11 @@ def train_score_model(
         raise ConfigError(f"training poses must have shape (N>0, J, 3), got {tuple(poses.shape)}")
     if not torch.isfinite(poses).all():
         raise ConfigError("training poses contain NaN or infinite values")
+    if labels is not None and labels.shape != poses.shape[:1]:
+        raise ConfigError(f"training labels must have shape ({poses.shape[0]},), got {tuple(labels.shape)}")
     start = time.perf_counter()
     data = poses.to(device=device, dtype=torch.float32)
+    label_data = None if labels is None else labels.to(device=device, dtype=torch.long)
     model.to(device).train()
     params = [p for p in model.parameters() if p.requires_grad]
     optimizer = torch.optim.Adam(params, lr=cfg.lr, betas=(0.9, 0.999), eps=1e-8)
@@ -162,7 +175,8 @@ def train_score_model(
             order = torch.randperm(n, generator=gen, device=device)
             losses = []
             for lo in range(0, n, cfg.batch_size):
-                x0 = data[order[lo : lo + cfg.batch_size]]
+                rows = order[lo : lo + cfg.batch_size]
+                x0 = data[rows]
                 if augment is not None:
                     x0 = augment(x0, gen)
                 t = cfg.t_min + (1.0 - cfg.t_min) * torch.rand(
@@ -173,7 +187,7 @@ def train_score_model(
                 for group in optimizer.param_groups:
                     group["lr"] = lr
                 optimizer.zero_grad(set_to_none=True)
-                loss = dsm_loss(model, sde, x0, t, noise)
+                loss = dsm_loss(model, sde, x0, t, noise, None if label_data is None else label_data[rows])
                 loss.backward()
                 if cfg.grad_clip > 0:
                     nn.utils.clip_grad_norm_(params, cfg.grad_clip)

@@ -126,6 +126,11 @@ def save_prior(
     if architecture == "control":
         metadata["format_version"] = CONTROL_FORMAT_VERSION
         metadata["architecture"] = architecture
+    return write_safetensors_atomic(path, tensors, metadata)
+
+
+def write_safetensors_atomic(path: str | Path, tensors: dict[str, torch.Tensor], metadata: dict[str, str]) -> str:
+    """Write a safetensors file atomically (temporary file then rename); return its sha256."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".safetensors", dir=path.parent or ".")
     os.close(fd)
@@ -139,7 +144,21 @@ def save_prior(
     return file_sha256(path)
 
 
-def _json_field(meta: dict[str, str], key: str, path: Path) -> Any:
+def read_safetensors(path: Path) -> tuple[dict[str, str], dict[str, torch.Tensor]]:
+    """Metadata and tensors of a safetensors file, with a WeightsError naming the file on failure."""
+    if not path.is_file():
+        raise WeightsError(f"{path}: weights file not found")
+    try:
+        from safetensors import safe_open
+
+        with safe_open(str(path), framework="pt") as fh:
+            meta = fh.metadata() or {}
+        return meta, load_file(str(path))
+    except (SafetensorError, OSError, ValueError) as exc:
+        raise WeightsError(f"{path}: not a readable safetensors file ({exc})") from None
+
+
+def json_field(meta: dict[str, str], key: str, path: Path) -> Any:
     if key not in meta:
         raise WeightsError(f"{path}: metadata field {key!r} is missing")
     try:
@@ -148,22 +167,42 @@ def _json_field(meta: dict[str, str], key: str, path: Path) -> Any:
         raise WeightsError(f"{path}: metadata field {key!r} is not valid JSON") from None
 
 
+def read_network_configs(meta: dict[str, str], path: Path) -> tuple[Skeleton, PriorConfig, SubVPSDE]:
+    """The skeleton, network and SDE configs a weights file's metadata declares, checked."""
+    skel = get_skeleton(meta.get("skeleton", ""))
+    if json_field(meta, "joints", path) != list(skel.joints):
+        raise WeightsError(f"{path}: metadata 'joints' do not match skeleton {skel.name}")
+    try:
+        cfg = PriorConfig(**json_field(meta, "model_config", path))
+        sde_cfg = dict(json_field(meta, "sde_config", path))
+        if sde_cfg.pop("type", None) != "subvp":
+            raise WeightsError(f"{path}: only subVP SDE priors are supported")
+        sde = SubVPSDE(**sde_cfg)
+    except TypeError as exc:
+        raise WeightsError(f"{path}: metadata config has unknown fields ({exc})") from None
+    if cfg.num_joints != skel.num_joints:
+        raise WeightsError(f"{path}: model has {cfg.num_joints} joints, skeleton {skel.num_joints}")
+    return skel, cfg, sde
+
+
+def load_model_state(model: nn.Module, tensors: dict[str, torch.Tensor], path: Path) -> dict[str, torch.Tensor]:
+    """Load the `model.*` tensors strictly into `model` (float32); return that state."""
+    state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
+    try:
+        model.load_state_dict(state, strict=True)
+    except RuntimeError as exc:
+        first = str(exc).splitlines()[0]
+        raise WeightsError(f"{path}: tensors do not match the model ({first})") from None
+    return state
+
+
 def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "cpu") -> Prior:
     """Load a prior strictly: format and version, skeleton, configs and every tensor must match.
 
     `skeleton`, when given, is the joint set the caller needs; a prior of another is an error.
     """
     path = Path(path)
-    if not path.is_file():
-        raise WeightsError(f"{path}: weights file not found")
-    try:
-        from safetensors import safe_open
-
-        with safe_open(str(path), framework="pt") as fh:
-            meta = fh.metadata() or {}
-        tensors = load_file(str(path))
-    except (SafetensorError, OSError, ValueError) as exc:
-        raise WeightsError(f"{path}: not a readable safetensors file ({exc})") from None
+    meta, tensors = read_safetensors(path)
     if meta.get("format") != FORMAT:
         raise WeightsError(f"{path}: metadata 'format' is {meta.get('format')!r}, not {FORMAT!r}")
     if meta.get("format_version") not in READABLE_VERSIONS:
@@ -175,30 +214,13 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     if architecture not in ARCHITECTURES:
         known = ", ".join(ARCHITECTURES)
         raise WeightsError(f"{path}: metadata 'architecture' is {architecture!r}, not one of {known}")
-    skel = get_skeleton(meta.get("skeleton", ""))
+    skel, cfg, sde = read_network_configs(meta, path)
     if skeleton is not None and skel.name != skeleton:
         raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
-    if _json_field(meta, "joints", path) != list(skel.joints):
-        raise WeightsError(f"{path}: metadata 'joints' do not match skeleton {skel.name}")
-    try:
-        cfg = PriorConfig(**_json_field(meta, "model_config", path))
-        sde_cfg = dict(_json_field(meta, "sde_config", path))
-        if sde_cfg.pop("type", None) != "subvp":
-            raise WeightsError(f"{path}: only subVP SDE priors are supported")
-        sde = SubVPSDE(**sde_cfg)
-    except TypeError as exc:
-        raise WeightsError(f"{path}: metadata config has unknown fields ({exc})") from None
-    if cfg.num_joints != skel.num_joints:
-        raise WeightsError(f"{path}: model has {cfg.num_joints} joints, skeleton {skel.num_joints}")
     model: nn.Module = ScoreNet(cfg) if architecture == "scorenet" else ControlledScoreNet(
         ScoreNet(cfg), prompt_generator=torch.Generator().manual_seed(0)  # overwritten by the file
     )
-    state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
-    try:
-        model.load_state_dict(state, strict=True)
-    except RuntimeError as exc:
-        first = str(exc).splitlines()[0]
-        raise WeightsError(f"{path}: tensors do not match the model ({first})") from None
+    state = load_model_state(model, tensors, path)
     template = tensors.get("template")
     if template is None or tuple(template.shape) != (skel.num_joints, 3):
         raise WeightsError(f"{path}: tensor 'template' missing or not of shape ({skel.num_joints}, 3)")
