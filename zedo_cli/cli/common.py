@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import functools
 import os
+import time
 from collections.abc import Callable
-from typing import ParamSpec, TypeVar
+from typing import Any, ParamSpec, TypeVar
 
 import typer
 from rich.console import Console
@@ -63,7 +64,42 @@ def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
     return wrapper
 
 
-def progress_bar(quiet: bool) -> Progress:
+class LineProgress:
+    """Progress for a stderr that is not a terminal (log files, CI, batch jobs): the same calls
+    as rich's Progress, but one plain line per task at most every `interval` seconds."""
+
+    def __init__(self, interval: float = 30.0) -> None:
+        self.interval = interval
+        self.tasks: dict[int, dict[str, Any]] = {}
+
+    def __enter__(self) -> LineProgress:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def add_task(self, description: str, total: float = 1, **fields: Any) -> int:
+        now = time.monotonic()
+        self.tasks[len(self.tasks)] = {"description": description, "total": total, "completed": 0,
+                                       "start": now, "printed": now, **fields}  # fmt: skip
+        return len(self.tasks) - 1
+
+    def update(self, task: int, **changes: Any) -> None:
+        state = self.tasks[task]
+        state.update(changes)
+        now = time.monotonic()
+        if now - state["printed"] < self.interval:
+            return
+        state["printed"] = now
+        status = f" {state['status']}" if state.get("status") else ""
+        err_console.print(f"{state['description']}: {state['completed']}/{state['total']}{status} "
+                          f"({now - state['start']:.0f} s)", markup=False, soft_wrap=True)  # fmt: skip
+
+
+def progress_bar(quiet: bool) -> Progress | LineProgress:
+    """A live bar on a terminal; periodic plain lines otherwise; nothing when quiet."""
+    if not quiet and not os.environ.get("ZEDO_NO_PROGRESS") and not err_console.is_terminal:
+        return LineProgress()
     return Progress(
         TextColumn("{task.description}"),
         BarColumn(),
