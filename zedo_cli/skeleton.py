@@ -312,3 +312,9 @@ def root_point(points: np.ndarray, skeleton: Skeleton) -> np.ndarray:
 def center_on_root(points: np.ndarray, skeleton: Skeleton) -> np.ndarray:
     """Points `(..., J, D)` translated so that the skeleton's root point is the origin."""
     return points - root_point(points, skeleton)[..., None, :]
+
+
+def bone_lengths(poses: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """Length of every bone of `skeleton.bones` per pose: `(N, J, 3)` -> `(N, B)`, input units."""
+    a, b = np.asarray(skeleton.bones, dtype=np.int64).reshape(-1, 2).T
+    return np.linalg.norm(poses[:, a] - poses[:, b], axis=-1)

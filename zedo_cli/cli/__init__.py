@@ -5,6 +5,7 @@ from __future__ import annotations
 import typer
 
 from .adapt import adapt_command
+from .augment import augment_command, fit_augmenter_command
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
 from .lift import lift_command
@@ -32,6 +33,8 @@ def _root() -> None:
 app.command("lift", no_args_is_help=True)(lift_command)
 app.command("fit-prior", no_args_is_help=True)(fit_prior_command)
 app.command("adapt", no_args_is_help=True)(adapt_command)
+app.command("fit-augmenter", no_args_is_help=True)(fit_augmenter_command)
+app.command("augment", no_args_is_help=True)(augment_command)
 app.command("evaluate", no_args_is_help=True)(evaluate_command)
 app.command("benchmark", no_args_is_help=True)(benchmark_command)
 app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)
