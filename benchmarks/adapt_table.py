@@ -3,9 +3,11 @@
 
 S < 600 rows use one seeded subset per seed (the seed also drives the new weights, noise and
 shuffling); the full-set row has one run per seed too. Every finished run is appended to
---out as one JSON line, so an interrupted table resumes where it stopped.
+--out as one JSON line, so an interrupted table resumes where it stopped. --add-poses adds
+poses (e.g. `zedo augment`'s) to every training set: the paper's "augmented" rows.
 
     python benchmarks/adapt_table.py --syrip-dir ../shared/data/syrip --out adapt_table.jsonl
+    python benchmarks/adapt_table.py --syrip-dir ../shared/data/syrip --sizes 600 --add-poses aug.npz --out aug.jsonl
 
 Runs go to --jobs worker processes, one CPU thread each.
 """
@@ -26,15 +28,16 @@ PAPER = {  # SyRIP Test100 MPJPE (mm), GT 2D, the paper's Table 3
     "finetune": {20: 69.4, 100: 60.8, 600: 47.7},
     "scratch": {20: 72.3, 100: 60.6, 600: 54.0},
 }
+PAPER_AUGMENTED = {"control": 43.6, "finetune": 45.5, "scratch": 48.9}  # S = 600 + 600 augmented
 
 
 def run_one(job: dict) -> dict:
     import torch
 
     torch.set_num_threads(1)
-    from zedo_cli.adapt import ADAPT_TRAINING, adapt_prior, select_subset
+    from zedo_cli.adapt import ADAPT_TRAINING, adapt_prior, select_subset, with_added_poses
     from zedo_cli.benchmark import lift_and_score, load_benchmark_inputs
-    from zedo_cli.datasets import load_syrip_3d
+    from zedo_cli.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.lifting import PRESETS
     from zedo_cli.weights import Prior, load_prior, resolve_prior_path
 
@@ -42,6 +45,8 @@ def run_one(job: dict) -> dict:
     train = load_syrip_3d(job["syrip_dir"], "train")
     size = job["size"]
     data = select_subset(train, None if size >= len(train.names) else size, job["seed"])
+    if job.get("added"):
+        data = with_added_poses(data, load_npz_poses(job["added"], train.skeleton.name))
     cfg = replace(ADAPT_TRAINING, epochs=job["epochs"], seed=job["seed"])
     adapted = adapt_prior(base, data, job["strategy"], cfg)
     adapted.model.load_state_dict(adapted.result.state(job["weights"]))
@@ -54,6 +59,11 @@ def run_one(job: dict) -> dict:
         scores[key] = {"mpjpe_mm": round(score.mpjpe_mm, 2), "pa_mpjpe_mm": round(score.pa_mpjpe_mm, 2)}
     return {**job, "train_seconds": round(adapted.result.seconds, 1), "steps": adapted.result.steps,
             "trainable_parameters": adapted.trainable, "scores": scores}  # fmt: skip
+
+
+def paper_figure(strategy: str, size: int, added: str | None) -> str:
+    figure = PAPER_AUGMENTED.get(strategy) if added and size >= 600 else PAPER[strategy].get(size)
+    return "—" if figure is None else str(figure)
 
 
 def summarise(rows: list[dict]) -> str:
@@ -74,7 +84,7 @@ def summarise(rows: list[dict]) -> str:
             lines.append(
                 f"| {strategy} | {size} | {len(runs)} | {statistics.mean(gt):.1f}{sd} | "
                 f"{' / '.join(f'{g:.1f}' for g in gt)} | {statistics.mean(dt):.1f} | "
-                f"{PAPER[strategy].get(size, '—')} | {secs:.0f} |"
+                f"{paper_figure(strategy, size, runs[0].get('added'))} | {secs:.0f} |"
             )
     return "\n".join(lines)
 
@@ -91,6 +101,7 @@ def main() -> int:
     ap.add_argument("--epochs", type=int, default=None, help="default: the adaptation recipe's")
     ap.add_argument("--weights", choices=("raw", "ema"), default="raw")
     ap.add_argument("--preset", default="fast")
+    ap.add_argument("--add-poses", default=None, help="npz of poses added to every training set")
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
     from zedo_cli.adapt import ADAPT_TRAINING
@@ -98,8 +109,8 @@ def main() -> int:
     done = []
     if args.out.exists():
         done = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
-    fields = ("strategy", "size", "seed", "epochs", "weights", "base", "preset")
-    key = lambda r: tuple(r[f] for f in fields)  # noqa: E731
+    fields = ("strategy", "size", "seed", "epochs", "weights", "base", "preset", "added")
+    key = lambda r: tuple(r.get(f) for f in fields)  # noqa: E731
     have = {key(r) for r in done}
     jobs = []
     for size in args.sizes:
@@ -107,7 +118,7 @@ def main() -> int:
             for seed in args.full_seeds if size >= 600 else args.seeds:
                 job = {"strategy": strategy, "size": size, "seed": seed, "base": args.base,
                        "epochs": args.epochs or ADAPT_TRAINING.epochs, "weights": args.weights,
-                       "preset": args.preset, "syrip_dir": args.syrip_dir}  # fmt: skip
+                       "preset": args.preset, "syrip_dir": args.syrip_dir, "added": args.add_poses}  # fmt: skip
                 if key(job) not in have:
                     jobs.append(job)
     print(f"{len(jobs)} runs to do, {len(done)} already in {args.out}", file=sys.stderr)
@@ -124,7 +135,8 @@ def main() -> int:
                   f"GT {row['scores']['gt']['mpjpe_mm']:.1f} mm, "
                   f"detected {row['scores']['detected']['mpjpe_mm']:.1f} mm "
                   f"({row['train_seconds']:.0f} s training)", file=sys.stderr, flush=True)  # fmt: skip
-    print(summarise([r for r in done if r["base"] == args.base and r["weights"] == args.weights]))
+    print(summarise([r for r in done if r["base"] == args.base and r["weights"] == args.weights
+                     and r.get("added") == args.add_poses]))  # fmt: skip
     return 0
 
 

@@ -51,6 +51,19 @@ def select_subset(data: PoseSet, limit: int | None, seed: int) -> PoseSet:
     )  # fmt: skip
 
 
+def with_added_poses(data: PoseSet, extra: PoseSet) -> PoseSet:
+    """`data` followed by `extra` (e.g. `zedo augment`'s converted poses), in one joint set."""
+    if extra.skeleton.name != data.skeleton.name:
+        raise DataError(
+            f"{extra.source}: added poses are in the {extra.skeleton.name} joint set, the training poses "
+            f"in {data.skeleton.name}"
+        )
+    return PoseSet(
+        np.concatenate([data.poses, extra.poses]), data.skeleton, data.names + extra.names,
+        f"{data.source} + {len(extra.names)} added poses ({extra.source})",
+    )  # fmt: skip
+
+
 def build_model(base: Prior, strategy: str, seed: int) -> nn.Module:
     """The network to train: a controlled copy, a full copy, or a fresh net of the base's size."""
     if strategy not in STRATEGIES:

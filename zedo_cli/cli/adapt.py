@@ -8,7 +8,8 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..adapt import ADAPT_TRAINING, STRATEGIES, adapt_prior, select_subset, write_adapted_prior
+from ..adapt import ADAPT_TRAINING, STRATEGIES, adapt_prior, select_subset, with_added_poses, write_adapted_prior
+from ..datasets import load_npz_poses
 from ..errors import ConfigError
 from ..formats.writers_common import check_writable
 from ..recipes import DTYPES, SYRIP_LICENSE, WEIGHT_CHOICES
@@ -27,6 +28,7 @@ def adapt_command(
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Adapt on the SyRIP data folder instead of POSES.")] = None,
     split: Annotated[str, typer.Option(help="SyRIP side: train (600 poses), test or all.")] = "train",
     skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it.")] = None,
+    add_poses: Annotated[Optional[Path], typer.Option(help="Also train on these poses (npz, e.g. from `zedo augment`), added after the --limit subset.")] = None,
     limit: Annotated[Optional[int], typer.Option(help="Train on a seeded, reproducible subset of N poses (default: all).")] = None,
     epochs: Annotated[int, typer.Option(help="Passes over the data; one step each while N <= batch size.")] = ADAPT_TRAINING.epochs,
     batch_size: Annotated[int, typer.Option(help="Poses per step.")] = ADAPT_TRAINING.batch_size,
@@ -53,6 +55,8 @@ def adapt_command(
 
       zedo adapt my_infants.npz --strategy finetune --epochs 1000 --out ft.safetensors
 
+      zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune --out ft_aug.safetensors
+
       zedo lift keypoints.json --prior ca100.safetensors
     """
     if strategy not in STRATEGIES:
@@ -65,6 +69,8 @@ def adapt_command(
     cfg = replace(ADAPT_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     prior = load_prior(resolve_prior_path(base), device="cpu")
     data = select_subset(load_training_poses(poses, syrip_dir, split, skeleton), limit, seed)
+    if add_poses is not None:
+        data = with_added_poses(data, load_npz_poses(add_poses, data.skeleton.name))
     terms = license_text if license_text is not None else (SYRIP_LICENSE if syrip_dir is not None else "as the terms of the adaptation data")
     err_console.print(
         f"adapting {prior.label} by {strategy} on {len(data.names)} poses from {data.source}: "
@@ -81,7 +87,7 @@ def adapt_command(
     license_all = terms if strategy == "scratch" else f"{terms} Adapted from a prior whose terms are: {base_terms}"
     sha = write_adapted_prior(
         out, adapted, prior, data, cfg, license_text=license_all, weights=weights, dtype=DTYPES[dtype],
-        extra={"device": device, "limit": limit},
+        extra={"device": device, "limit": limit, "added_poses": None if add_poses is None else str(add_poses)},
     )  # fmt: skip
     err_console.print(
         f"wrote {out} ({strategy}, {adapted.trainable:,} of {adapted.total:,} parameters trained, {dtype}, "
