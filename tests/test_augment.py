@@ -204,7 +204,7 @@ def test_cli_fit_augment_and_adapt_with_added_poses(tiny_prior_path: Path, tmp_p
     assert result.exit_code == 0, result.output
     with np.load(out) as data:
         assert data["poses"].shape == (12, 12, 3) and list(data["joint_names"]) == list(SKELETON.joints)
-        assert data["source_poses"].shape == (12, 12, 3) and float(data["strength"]) == 0.3
+        assert data["source_poses"].shape == (12, 12, 3) and float(data["strength"]) == 0.2
     assert sorted(p.name for p in plots.iterdir()) == ["bone_angles.png", "bone_lengths.png", "pairs.png"]
     again = runner.invoke(app, convert)  # nothing replaced without --overwrite
     assert again.exit_code == 2 and "already exists" in again.output

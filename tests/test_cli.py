@@ -193,3 +193,16 @@ def test_k_matrix_is_used(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     frame = json.loads(result.stdout)["frames"][0]
     assert frame["camera"]["source"] == "file" and frame["camera"]["K"][0][0] == 1000.0
+
+
+def test_line_progress_prints_plain_lines_only_after_the_interval(capsys) -> None:
+    from zedo_cli.cli.common import LineProgress
+
+    quiet_now = LineProgress(interval=3600.0)
+    task = quiet_now.add_task("fit", total=10, status="")
+    quiet_now.update(task, completed=5, status="loss 1.0")
+    assert capsys.readouterr().err == ""
+    every_call = LineProgress(interval=0.0)
+    task = every_call.add_task("fit", total=10, status="")
+    every_call.update(task, completed=5, status="loss 1.0")
+    assert "fit: 5/10 loss 1.0" in capsys.readouterr().err

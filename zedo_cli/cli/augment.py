@@ -23,7 +23,7 @@ from ..weights import load_prior, resolve_prior_path
 from .common import err_console, error_boundary, progress_bar
 
 ORIENT_MODES = ("keep", "infant")
-DEFAULT_STRENGTH = 0.3
+DEFAULT_STRENGTH = 0.2  # the smallest sweep strength closing >= 90 % of the proportion gap (README)
 
 
 def load_adult_source(adult_poses: Optional[Path], adult_dir: Optional[Path], skeleton: str) -> PoseSet:
@@ -171,6 +171,7 @@ def augment_command(
     )
     poses = convert_poses(augmenter.model, augmenter.sde, augmenter.sizes, skel, sources, strength=strength,
                           steps=steps, scale=scale, seed=seed)  # fmt: skip
+    converted = poses  # in the sources' orientation, for side-by-side pairs
     if orient == "infant":
         assert reference is not None
         poses = orient_like(poses, reference.poses, skel, seed)
@@ -185,5 +186,6 @@ def augment_command(
         assert reference is not None
         from ..augment_plots import write_augmentation_plots
 
-        paths = write_augmentation_plots(plot, skel, reference.poses, poses, sources, overwrite=overwrite)
+        # Bone lengths and angles do not depend on orientation; pairs are drawn in the source's.
+        paths = write_augmentation_plots(plot, skel, reference.poses, converted, sources, overwrite=overwrite)
         err_console.print(f"wrote {', '.join(str(p) for p in paths)}")
