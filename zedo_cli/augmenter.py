@@ -14,13 +14,11 @@ import copy
 import json
 from collections.abc import Callable
 from dataclasses import dataclass
-from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
 import torch
 
-from . import __version__
 from .adult import PoseAugmentation
 from .augment import SizeModel, domain_training_set, fit_size_model
 from .datasets import PoseSet
@@ -31,11 +29,12 @@ from .sde import SubVPSDE
 from .skeleton import Skeleton
 from .training import TrainConfig, TrainProgress, TrainResult, train_score_model
 from .weights import (
-    MODEL_PREFIX,
     Prior,
     file_sha256,
     json_field,
     load_model_state,
+    model_tensors,
+    network_metadata,
     read_network_configs,
     read_safetensors,
     write_safetensors_atomic,
@@ -129,25 +128,13 @@ def save_augmenter(
     initialised_from: dict[str, str] | None = None,
 ) -> str:
     """Write an augmenter file atomically; return its sha256."""
-    tensors = {MODEL_PREFIX + k: v.detach().to("cpu", dtype).contiguous() for k, v in state.items()}
-    metadata = {
-        "format": AUGMENTER_FORMAT,
-        "format_version": AUGMENTER_FORMAT_VERSION,
-        "skeleton": skeleton.name,
-        "joints": json.dumps(list(skeleton.joints)),
-        "model_config": json.dumps(cfg.to_dict()),
-        "sde_config": json.dumps(sde.to_dict()),
-        "domains": json.dumps(list(DOMAINS)),
-        "sizes": json.dumps(sizes.to_dict()),
-        "training": json.dumps(training),
-        "data": json.dumps(data),
-        "license": license_text,
-        "zedo_version": __version__,
-        "created": datetime.now(UTC).isoformat(timespec="seconds"),
-    }
+    metadata = network_metadata(AUGMENTER_FORMAT, AUGMENTER_FORMAT_VERSION, skeleton, cfg, sde, training=training,
+                                data=data, license_text=license_text)  # fmt: skip
+    metadata["domains"] = json.dumps(list(DOMAINS))
+    metadata["sizes"] = json.dumps(sizes.to_dict())
     if initialised_from is not None:
         metadata["initialised_from"] = json.dumps(initialised_from)
-    return write_safetensors_atomic(path, tensors, metadata)
+    return write_safetensors_atomic(path, model_tensors(state, dtype), metadata)
 
 
 def load_augmenter(path: str | Path, *, device: str = "cpu") -> Augmenter:
@@ -170,10 +157,7 @@ def load_augmenter(path: str | Path, *, device: str = "cpu") -> Augmenter:
     except TypeError as exc:
         raise WeightsError(f"{path}: metadata 'sizes' has unknown or missing fields ({exc})") from None
     model = DomainScoreNet(ScoreNet(cfg))
-    state = load_model_state(model, tensors, path)
-    extra = set(tensors) - {MODEL_PREFIX + k for k in state}
-    if extra:
-        raise WeightsError(f"{path}: unexpected tensors {sorted(extra)[:3]}")
+    load_model_state(model, tensors, path)
     model.to(device).eval()
     parsed = ("model_config", "sde_config", "domains", "sizes", "training", "data", "initialised_from")
     metadata = {k: (json.loads(v) if k in parsed else v) for k, v in meta.items()}

@@ -106,11 +106,38 @@ def save_prior(
         raise WeightsError(f"unknown architecture {architecture!r}; known: {', '.join(ARCHITECTURES)}")
     if template.shape != (skeleton.num_joints, 3):
         raise WeightsError(f"template must have shape ({skeleton.num_joints}, 3)")
-    tensors = {MODEL_PREFIX + k: v.detach().to("cpu", dtype).contiguous() for k, v in state.items()}
+    tensors = model_tensors(state, dtype)
     tensors["template"] = template.detach().to("cpu", torch.float32).contiguous()
-    metadata = {
-        "format": FORMAT,
-        "format_version": FORMAT_VERSION,
+    metadata = network_metadata(FORMAT, FORMAT_VERSION, skeleton, cfg, sde, training=training, data=data,
+                                license_text=license_text)  # fmt: skip
+    if adapted_from is not None:
+        metadata["adapted_from"] = json.dumps(adapted_from)
+    if architecture == "control":
+        metadata["format_version"] = CONTROL_FORMAT_VERSION
+        metadata["architecture"] = architecture
+    return write_safetensors_atomic(path, tensors, metadata)
+
+
+def model_tensors(state: dict[str, torch.Tensor], dtype: torch.dtype) -> dict[str, torch.Tensor]:
+    """A network's state dict as `model.*` tensors of `dtype`, ready to write."""
+    return {MODEL_PREFIX + k: v.detach().to("cpu", dtype).contiguous() for k, v in state.items()}
+
+
+def network_metadata(
+    fmt: str,
+    version: str,
+    skeleton: Skeleton,
+    cfg: PriorConfig,
+    sde: SubVPSDE,
+    *,
+    training: dict[str, Any],
+    data: dict[str, Any],
+    license_text: str,
+) -> dict[str, str]:
+    """The metadata every zedo weights file carries (format, joint set, configs, provenance)."""
+    return {
+        "format": fmt,
+        "format_version": version,
         "skeleton": skeleton.name,
         "joints": json.dumps(list(skeleton.joints)),
         "model_config": json.dumps(cfg.to_dict()),
@@ -121,12 +148,6 @@ def save_prior(
         "zedo_version": __version__,
         "created": datetime.now(UTC).isoformat(timespec="seconds"),
     }
-    if adapted_from is not None:
-        metadata["adapted_from"] = json.dumps(adapted_from)
-    if architecture == "control":
-        metadata["format_version"] = CONTROL_FORMAT_VERSION
-        metadata["architecture"] = architecture
-    return write_safetensors_atomic(path, tensors, metadata)
 
 
 def write_safetensors_atomic(path: str | Path, tensors: dict[str, torch.Tensor], metadata: dict[str, str]) -> str:
@@ -185,15 +206,20 @@ def read_network_configs(meta: dict[str, str], path: Path) -> tuple[Skeleton, Pr
     return skel, cfg, sde
 
 
-def load_model_state(model: nn.Module, tensors: dict[str, torch.Tensor], path: Path) -> dict[str, torch.Tensor]:
-    """Load the `model.*` tensors strictly into `model` (float32); return that state."""
+def load_model_state(
+    model: nn.Module, tensors: dict[str, torch.Tensor], path: Path, *, other_tensors: tuple[str, ...] = ()
+) -> None:
+    """Load the `model.*` tensors strictly into `model` (float32); any tensor that is neither
+    the model's nor one of `other_tensors` is an error."""
     state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
     try:
         model.load_state_dict(state, strict=True)
     except RuntimeError as exc:
         first = str(exc).splitlines()[0]
         raise WeightsError(f"{path}: tensors do not match the model ({first})") from None
-    return state
+    extra = set(tensors) - {MODEL_PREFIX + k for k in state} - set(other_tensors)
+    if extra:
+        raise WeightsError(f"{path}: unexpected tensors {sorted(extra)[:3]}")
 
 
 def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "cpu") -> Prior:
@@ -220,13 +246,10 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     model: nn.Module = ScoreNet(cfg) if architecture == "scorenet" else ControlledScoreNet(
         ScoreNet(cfg), prompt_generator=torch.Generator().manual_seed(0)  # overwritten by the file
     )
-    state = load_model_state(model, tensors, path)
+    load_model_state(model, tensors, path, other_tensors=("template",))
     template = tensors.get("template")
     if template is None or tuple(template.shape) != (skel.num_joints, 3):
         raise WeightsError(f"{path}: tensor 'template' missing or not of shape ({skel.num_joints}, 3)")
-    extra = set(tensors) - {MODEL_PREFIX + k for k in state} - {"template"}
-    if extra:
-        raise WeightsError(f"{path}: unexpected tensors {sorted(extra)[:3]}")
     model.to(device).eval()
     metadata = {k: (json.loads(v) if k in ("model_config", "sde_config", "training", "data", "adapted_from") else v)
                 for k, v in meta.items()}  # fmt: skip
