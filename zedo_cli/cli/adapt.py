@@ -12,10 +12,9 @@ from ..adapt import ADAPT_TRAINING, STRATEGIES, adapt_prior, select_subset, with
 from ..datasets import load_npz_poses
 from ..errors import ConfigError
 from ..formats.writers_common import check_writable
-from ..recipes import DTYPES, SYRIP_LICENSE, WEIGHT_CHOICES
-from ..training import TrainProgress
+from ..recipes import DTYPES, SYRIP_LICENSE
 from ..weights import load_prior, resolve_prior_path
-from .common import err_console, error_boundary, progress_bar
+from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
 
 
@@ -61,10 +60,7 @@ def adapt_command(
     """
     if strategy not in STRATEGIES:
         raise ConfigError(f"--strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
-    if weights not in WEIGHT_CHOICES:
-        raise ConfigError(f"--weights must be one of {', '.join(WEIGHT_CHOICES)}, got {weights!r}")
-    if dtype not in DTYPES:
-        raise ConfigError(f"--dtype must be one of {', '.join(DTYPES)}, got {dtype!r}")
+    check_weights_output(weights, dtype)
     check_writable(out, overwrite)
     cfg = replace(ADAPT_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     prior = load_prior(resolve_prior_path(base), device="cpu")
@@ -76,12 +72,7 @@ def adapt_command(
         f"adapting {prior.label} by {strategy} on {len(data.names)} poses from {data.source}: "
         f"{cfg.epochs} epochs, batch {cfg.batch_size}, lr {cfg.lr}, seed {cfg.seed}, {device}"
     )
-    with progress_bar(quiet) as bar:
-        task = bar.add_task("adapt", total=cfg.epochs, status="")
-
-        def on_epoch(p: TrainProgress) -> None:
-            bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
-
+    with epoch_progress(quiet, "adapt", cfg.epochs) as on_epoch:
         adapted = adapt_prior(prior, data, strategy, cfg, device=device, callback=on_epoch)
     base_terms = prior.metadata.get("license", "unknown")
     license_all = terms if strategy == "scratch" else f"{terms} Adapted from a prior whose terms are: {base_terms}"

@@ -17,10 +17,9 @@ from ..augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, trai
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..formats.writers_common import atomic_path, check_writable
-from ..recipes import DTYPES, SYRIP_LICENSE, WEIGHT_CHOICES
-from ..training import TrainProgress
+from ..recipes import DTYPES, SYRIP_LICENSE
 from ..weights import load_prior, resolve_prior_path
-from .common import err_console, error_boundary, progress_bar
+from .common import check_weights_output, epoch_progress, err_console, error_boundary
 
 ORIENT_MODES = ("keep", "infant")
 DEFAULT_STRENGTH = 0.2  # the smallest sweep strength closing >= 90 % of the proportion gap (README)
@@ -77,10 +76,7 @@ def fit_augmenter_command(
 
       zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 --out aug.npz
     """
-    if weights not in WEIGHT_CHOICES:
-        raise ConfigError(f"--weights must be one of {', '.join(WEIGHT_CHOICES)}, got {weights!r}")
-    if dtype not in DTYPES:
-        raise ConfigError(f"--dtype must be one of {', '.join(DTYPES)}, got {dtype!r}")
+    check_weights_output(weights, dtype)
     check_writable(out, overwrite)
     cfg = replace(AUGMENTER_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     start = None if init == "none" else load_prior(resolve_prior_path(init), device="cpu")
@@ -93,12 +89,7 @@ def fit_augmenter_command(
         f"{len(infant_set.names)} infant poses ({infant_set.source}), from "
         f"{start.label if start else 'fresh weights'}: {cfg.epochs} epochs, batch {cfg.batch_size}, seed {cfg.seed}"
     )
-    with progress_bar(quiet) as bar:
-        task = bar.add_task("fit-augmenter", total=cfg.epochs, status="")
-
-        def on_epoch(p: TrainProgress) -> None:
-            bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
-
+    with epoch_progress(quiet, "fit-augmenter", cfg.epochs) as on_epoch:
         trained = train_augmenter(adult_set, infant_set, cfg, init=start, device=device, callback=on_epoch)
     terms = license_text if license_text is not None else (SYRIP_LICENSE if syrip_dir else "as the infant data's")
     adult_terms = ADULT_LICENSE if adult_dir is not None else "as the adult data's"

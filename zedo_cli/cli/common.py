@@ -5,7 +5,8 @@ from __future__ import annotations
 import functools
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any, ParamSpec, TypeVar
 
 import typer
@@ -19,7 +20,9 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from ..errors import ZedoError
+from ..errors import ConfigError, ZedoError
+from ..recipes import DTYPES, WEIGHT_CHOICES
+from ..training import TrainProgress
 
 # Data goes to stdout; progress, logs and errors to stderr.
 err_console = Console(stderr=True, highlight=False)
@@ -94,6 +97,26 @@ class LineProgress:
         status = f" {state['status']}" if state.get("status") else ""
         err_console.print(f"{state['description']}: {state['completed']}/{state['total']}{status} "
                           f"({now - state['start']:.0f} s)", markup=False, soft_wrap=True)  # fmt: skip
+
+
+@contextmanager
+def epoch_progress(quiet: bool, name: str, epochs: int) -> Iterator[Callable[[TrainProgress], None]]:
+    """A progress display for a training run; yields the per-epoch callback to pass to it."""
+    with progress_bar(quiet) as bar:
+        task = bar.add_task(name, total=epochs, status="")
+
+        def on_epoch(p: TrainProgress) -> None:
+            bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
+
+        yield on_epoch
+
+
+def check_weights_output(weights: str, dtype: str) -> None:
+    """`--weights` and `--dtype` of a command that writes trained weights."""
+    if weights not in WEIGHT_CHOICES:
+        raise ConfigError(f"--weights must be one of {', '.join(WEIGHT_CHOICES)}, got {weights!r}")
+    if dtype not in DTYPES:
+        raise ConfigError(f"--dtype must be one of {', '.join(DTYPES)}, got {dtype!r}")
 
 
 def progress_bar(quiet: bool) -> Progress | LineProgress:

@@ -13,8 +13,7 @@ from ..errors import ConfigError
 from ..formats.writers_common import check_writable
 from ..minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_output, with_overrides, write_fitted_prior
-from ..training import TrainProgress
-from .common import err_console, error_boundary, progress_bar
+from .common import epoch_progress, err_console, error_boundary
 
 
 def load_training_poses(
@@ -92,12 +91,7 @@ def fit_prior_command(
         f"{chosen.training.epochs} epochs, batch {chosen.training.batch_size}, seed {chosen.training.seed}, {device}"
         + (f"; batches augmented {chosen.augment.to_dict()}" if chosen.augment.active else "")
     )
-    with progress_bar(quiet) as bar:
-        task = bar.add_task("fit-prior", total=chosen.training.epochs, status="")
-
-        def on_epoch(p: TrainProgress) -> None:
-            bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
-
+    with epoch_progress(quiet, "fit-prior", chosen.training.epochs) as on_epoch:
         fit = fit_prior(data, chosen, device=device, callback=on_epoch)
     extra = {"recipe": str(recipe) if recipe else None, "device": device}
     sha = write_fitted_prior(out, fit, data, chosen, license_text=license_text, extra_training=extra)
