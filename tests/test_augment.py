@@ -13,14 +13,17 @@ from typer.testing import CliRunner
 
 from zedo_cli.augment import (
     SIZE_CLIP_SD,
+    TORSO_JOINTS,
     SizeModel,
     choose_sources,
     convert_poses,
     domain_training_set,
     fit_size_model,
+    limb_parents,
     orient_like,
     resize,
     skeleton_size,
+    take_bone_lengths,
 )
 from zedo_cli.augmenter import build_augmenter_net, load_augmenter, save_augmenter, train_augmenter
 from zedo_cli.cli import app
@@ -30,6 +33,7 @@ from zedo_cli.errors import ConfigError, DataError, WeightsError
 from zedo_cli.model import PriorConfig, ScoreNet
 from zedo_cli.rotation import random_rotations
 from zedo_cli.sde import SubVPSDE
+from zedo_cli.skeleton import Skeleton, bone_lengths, get_skeleton
 from zedo_cli.training import TrainConfig
 
 runner = CliRunner()
@@ -146,6 +150,44 @@ def test_orient_like_turns_the_torso_onto_a_reference() -> None:
     np.testing.assert_allclose(skeleton_size(oriented, SKELETON), skeleton_size(turned, SKELETON))
 
 
+def _limb_directions(poses: np.ndarray) -> np.ndarray:
+    pairs = limb_parents(SKELETON)
+    vec = np.stack([poses[:, c] - poses[:, p] for p, c in pairs], axis=1)
+    return vec / np.linalg.norm(vec, axis=-1, keepdims=True)
+
+
+def test_take_bone_lengths_gives_reference_proportions_and_keeps_angles_and_size() -> None:
+    poses = synthetic_poses(6, seed=3) * 3.0
+    reference = synthetic_poses(1, seed=4)
+    rebuilt = take_bone_lengths(poses, reference, SKELETON, seed=0)
+    assert rebuilt.shape == poses.shape
+    np.testing.assert_allclose(skeleton_size(rebuilt, SKELETON), skeleton_size(poses, SKELETON), rtol=1e-9)
+    fractions = bone_lengths(rebuilt, SKELETON) / skeleton_size(rebuilt, SKELETON)[:, None]
+    ref_fractions = bone_lengths(reference, SKELETON) / skeleton_size(reference, SKELETON)[:, None]
+    np.testing.assert_allclose(fractions, np.repeat(ref_fractions, 6, axis=0), atol=1e-9)
+    np.testing.assert_allclose(_limb_directions(rebuilt), _limb_directions(poses), atol=1e-9)
+    np.testing.assert_allclose(rebuilt[:, SKELETON.root_indices].mean(axis=1), 0.0, atol=1e-12)
+    # A pose with its own proportions comes back unchanged.
+    np.testing.assert_allclose(
+        take_bone_lengths(reference, reference, SKELETON),
+        reference - reference[:, SKELETON.root_indices].mean(axis=1, keepdims=True),
+        atol=1e-9,
+    )
+    np.testing.assert_array_equal(rebuilt, take_bone_lengths(poses, reference, SKELETON, seed=0))
+
+
+def test_take_bone_lengths_needs_a_torso_and_connected_limbs() -> None:
+    h36m = get_skeleton("h36m17")
+    assert len(limb_parents(h36m)) == h36m.num_joints - 4  # every other joint hangs off the torso
+    legs = Skeleton("legs", ("left_hip", "left_knee"), ((0, 1),), ("left_hip",))
+    with pytest.raises(ConfigError, match="torso joints"):
+        take_bone_lengths(np.zeros((1, 2, 3)), np.zeros((1, 2, 3)), legs)
+    joints = (*TORSO_JOINTS, "left_knee")
+    loose = Skeleton("loose", joints, ((0, 1), (2, 3)), ("left_hip", "right_hip"))
+    with pytest.raises(ConfigError, match="not connected.*left_knee"):
+        limb_parents(loose)
+
+
 def test_choose_sources_is_seeded_and_repeats_only_when_needed() -> None:
     rows = choose_sources(100, 10, seed=0)
     assert len(set(rows)) == 10 and list(rows) == sorted(rows)
@@ -199,12 +241,19 @@ def test_cli_fit_augment_and_adapt_with_added_poses(tiny_prior_path: Path, tmp_p
     out = tmp_path / "converted.npz"
     plots = tmp_path / "plots"
     convert = ["augment", str(adult), "--model", str(model), "--count", "12", "--steps", "3", "--orient", "infant",
-               "--infant", str(infant), "--plot", str(plots), "--out", str(out)]  # fmt: skip
+               "--bones", "infant", "--infant", str(infant), "--plot", str(plots), "--out", str(out)]  # fmt: skip
     result = runner.invoke(app, convert)
     assert result.exit_code == 0, result.output
     with np.load(out) as data:
         assert data["poses"].shape == (12, 12, 3) and list(data["joint_names"]) == list(SKELETON.joints)
         assert data["source_poses"].shape == (12, 12, 3) and float(data["strength"]) == 0.2
+        assert str(data["bones"]) == "infant"
+        infant_fractions = (
+            bone_lengths(synthetic_poses(10, seed=2), SKELETON)
+            / skeleton_size(synthetic_poses(10, seed=2), SKELETON)[:, None]
+        )
+        fractions = bone_lengths(data["poses"], SKELETON) / skeleton_size(data["poses"], SKELETON)[:, None]
+        assert all(np.abs(infant_fractions - f).max(axis=1).min() < 1e-9 for f in fractions)
     assert sorted(p.name for p in plots.iterdir()) == ["bone_angles.png", "bone_lengths.png", "pairs.png"]
     again = runner.invoke(app, convert)  # nothing replaced without --overwrite
     assert again.exit_code == 2 and "already exists" in again.output
@@ -224,6 +273,10 @@ def test_cli_augment_usage_errors(tiny_prior_path: Path, tmp_path: Path) -> None
     assert result.exit_code == 3 and "that is a prior" in result.output
     result = runner.invoke(app, [*base, "--model", str(tiny_prior_path), "--orient", "infant"])
     assert result.exit_code == 2 and "infant reference" in result.output
+    result = runner.invoke(app, [*base, "--model", str(tiny_prior_path), "--bones", "infant"])
+    assert result.exit_code == 2 and "infant reference" in result.output
+    result = runner.invoke(app, [*base, "--model", str(tiny_prior_path), "--bones", "adult"])
+    assert result.exit_code == 2 and "--bones" in result.output
     result = runner.invoke(app, ["fit-augmenter", "--adult-poses", str(adult), "--out", str(tmp_path / "a.st")])
     assert result.exit_code == 2 and "infant poses" in result.output
     assert not (tmp_path / "o.npz").exists()

@@ -102,9 +102,7 @@ def test_frozen_parameters_are_not_changed() -> None:
     for p in model.stem.parameters():
         p.requires_grad_(False)
     frozen = {n: p.detach().clone() for n, p in model.named_parameters() if n.startswith("stem.")}
-    trainable_before = {
-        n: p.detach().clone() for n, p in model.named_parameters() if not n.startswith("stem.")
-    }
+    trainable_before = {n: p.detach().clone() for n, p in model.named_parameters() if not n.startswith("stem.")}
     result = _train(model, cfg=replace(FAST, epochs=10))
     for name, value in frozen.items():
         assert torch.equal(result.raw_state[name], value), name
@@ -133,6 +131,20 @@ def test_callback_is_called_once_per_epoch() -> None:
     assert [p.step for p in seen] == [4 * e for e in range(1, 8)]
     assert [p.loss for p in seen] == result.loss_history
     assert result.steps == 28
+
+
+def test_progress_snapshots_are_the_weights_of_that_epoch() -> None:
+    snapshots: dict[int, dict[str, dict[str, torch.Tensor]]] = {}
+
+    def keep(progress: TrainProgress) -> None:
+        assert progress.snapshot is not None
+        snapshots[progress.epoch] = {w: progress.snapshot(w) for w in ("raw", "ema")}
+
+    result = _train(cfg=replace(FAST, epochs=3, batch_size=20), callback=keep)
+    assert _states_equal(snapshots[3]["raw"], result.raw_state)
+    assert _states_equal(snapshots[3]["ema"], result.ema_state)
+    assert not _states_equal(snapshots[1]["raw"], result.raw_state)  # copies, not live views
+    assert not _states_equal(snapshots[1]["ema"], snapshots[1]["raw"])
 
 
 @pytest.mark.parametrize(

@@ -160,6 +160,54 @@ def orient_like(poses: np.ndarray, references: np.ndarray, skeleton: Skeleton, s
     return poses @ rot
 
 
+def limb_parents(skeleton: Skeleton) -> list[tuple[int, int]]:
+    """(parent, child) joint pairs that grow the limbs out of the torso (hips and shoulders),
+    breadth first, so each parent is placed before its children."""
+    torso = [skeleton.index(j) for j in TORSO_JOINTS]
+    placed, pairs, frontier = set(torso), [], list(torso)
+    while frontier:
+        nxt = []
+        for parent in frontier:
+            for a, b in skeleton.bones:
+                child = b if a == parent else a if b == parent else None
+                if child is not None and child not in placed:
+                    placed.add(child)
+                    pairs.append((parent, child))
+                    nxt.append(child)
+        frontier = nxt
+    unreached = [skeleton.joints[j] for j in range(skeleton.num_joints) if j not in placed]
+    if unreached:
+        raise ConfigError(f"{skeleton.name}: joints not connected to the torso by bones: {', '.join(unreached)}")
+    return pairs
+
+
+def take_bone_lengths(poses: np.ndarray, references: np.ndarray, skeleton: Skeleton, seed: int = 0) -> np.ndarray:
+    """Each of `poses (N, J, 3)` rebuilt with the bone proportions of a reference pose drawn at
+    random (seeded) from `references (M, J, 3)`, keeping its own size, orientation and joint angles.
+
+    The reference's torso, scaled to the pose's size, is turned onto the pose's torso (Kabsch);
+    then every limb bone keeps the pose's direction and takes the reference's (scaled) length.
+    """
+    missing = [j for j in TORSO_JOINTS if j not in skeleton.joints]
+    if missing:
+        raise ConfigError(f"taking bone lengths needs the torso joints; {skeleton.name} lacks {', '.join(missing)}")
+    torso = [skeleton.index(j) for j in TORSO_JOINTS]
+    pairs = limb_parents(skeleton)
+    picks = np.random.default_rng(seed).integers(0, len(references), size=len(poses))
+    ref = center_on_root(references[picks], skeleton)
+    ref = ref * (skeleton_size(poses, skeleton) / skeleton_size(ref, skeleton))[:, None, None]
+    rot = best_rotation(ref[:, torso], poses[:, torso])
+    ref = ref @ rot
+    out = np.array(poses, dtype=np.float64, copy=True)
+    out[:, torso] = ref[:, torso]
+    for parent, child in pairs:
+        direction = poses[:, child] - poses[:, parent]
+        norm = np.linalg.norm(direction, axis=-1, keepdims=True)
+        length = np.linalg.norm(ref[:, child] - ref[:, parent], axis=-1, keepdims=True)
+        out[:, child] = out[:, parent] + direction / np.maximum(norm, 1e-9) * length
+    return center_on_root(out, skeleton)
+
+
 def choose_sources(available: int, count: int, seed: int) -> np.ndarray:
     """Rows of `count` source poses drawn from `available` (seeded; without replacement when
     there are enough), in ascending order when drawn without replacement."""

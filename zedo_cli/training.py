@@ -62,6 +62,9 @@ class TrainProgress:
     epochs: int
     step: int
     loss: float  # mean loss of the epoch
+    # The current "raw" or "ema" weights as a fresh state dict (like TrainResult.state), for
+    # callers that keep snapshots mid-training.
+    snapshot: Callable[[str], dict[str, torch.Tensor]] | None = None
 
 
 @dataclass
@@ -168,6 +171,12 @@ def train_score_model(
     gen = torch.Generator(device=device).manual_seed(cfg.seed)
     n = data.shape[0]
     step = 0
+
+    def snapshot(weights: str) -> dict[str, torch.Tensor]:
+        if weights == "ema":
+            return {k: v.cpu() for k, v in ema.state_dict_of(model).items()}
+        return {k: v.detach().cpu().clone() for k, v in model.state_dict().items()}
+
     history: list[float] = []
     with torch.random.fork_rng(devices=[] if device == "cpu" else None):
         torch.manual_seed(cfg.seed)  # dropout draws from the global RNG, restored on exit
@@ -179,9 +188,7 @@ def train_score_model(
                 x0 = data[rows]
                 if augment is not None:
                     x0 = augment(x0, gen)
-                t = cfg.t_min + (1.0 - cfg.t_min) * torch.rand(
-                    x0.shape[0], generator=gen, device=device
-                )
+                t = cfg.t_min + (1.0 - cfg.t_min) * torch.rand(x0.shape[0], generator=gen, device=device)
                 noise = torch.randn(x0.shape, generator=gen, device=device)
                 lr = cfg.lr * min(step / cfg.warmup_steps, 1.0) if cfg.warmup_steps else cfg.lr
                 for group in optimizer.param_groups:
@@ -197,8 +204,6 @@ def train_score_model(
                 losses.append(loss.item())
             history.append(sum(losses) / len(losses))
             if callback is not None:
-                callback(TrainProgress(epoch + 1, cfg.epochs, step, history[-1]))
+                callback(TrainProgress(epoch + 1, cfg.epochs, step, history[-1], snapshot))
     model.eval()
-    raw = {k: v.detach().cpu().clone() for k, v in model.state_dict().items()}
-    ema_state = {k: v.cpu() for k, v in ema.state_dict_of(model).items()}
-    return TrainResult(raw, ema_state, step, history[-1], time.perf_counter() - start, history)
+    return TrainResult(snapshot("raw"), snapshot("ema"), step, history[-1], time.perf_counter() - start, history)

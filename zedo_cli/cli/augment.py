@@ -11,7 +11,15 @@ import numpy as np
 import typer
 
 from ..adult import ADULT_LICENSE, load_adult_poses
-from ..augment import SCALE_MODES, check_strength, choose_sources, convert_poses, orient_like, skeleton_size
+from ..augment import (
+    SCALE_MODES,
+    check_strength,
+    choose_sources,
+    convert_poses,
+    orient_like,
+    skeleton_size,
+    take_bone_lengths,
+)
 from ..augment_plots import PLOT_NAMES
 from ..augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, train_augmenter
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
@@ -22,6 +30,7 @@ from ..weights import load_prior, resolve_prior_path
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 
 ORIENT_MODES = ("keep", "infant")
+BONE_MODES = ("keep", "infant")
 DEFAULT_STRENGTH = 0.2  # the smallest sweep strength closing >= 90 % of the proportion gap (README)
 
 
@@ -118,18 +127,19 @@ def augment_command(
     steps: Annotated[int, typer.Option(help="Reverse diffusion steps from t0.")] = 100,
     scale: Annotated[str, typer.Option(help="Size of the outputs: infant (drawn from the infant training sizes stored in the model) or keep (each input's own size).")] = "infant",
     orient: Annotated[str, typer.Option(help="keep (the input's orientation) or infant (turn each pose's torso like a random pose of --infant / --syrip-dir).")] = "keep",
-    infant: Annotated[Optional[Path], typer.Option(help="Infant reference poses (npz) for --orient infant and --plot.")] = None,
+    bones: Annotated[str, typer.Option(help="keep (the converted bone lengths) or infant (each pose takes the bone proportions of a random pose of --infant / --syrip-dir, keeping its joint angles and size).")] = "keep",
+    infant: Annotated[Optional[Path], typer.Option(help="Infant reference poses (npz) for --orient infant, --bones infant and --plot.")] = None,
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Use SyRIP's training poses as the infant reference.")] = None,
     plot: Annotated[Optional[Path], typer.Option(help="Folder for PNGs: bone-length and bone-angle distributions (infant, augmented, adult) and adult/converted pairs.")] = None,
-    seed: Annotated[int, typer.Option(help="Seed of the pose draw, noise, sizes and orientations.")] = 0,
+    seed: Annotated[int, typer.Option(help="Seed of the pose draw, noise, sizes, bone proportions and orientations.")] = 0,
     overwrite: Annotated[bool, typer.Option(help="Replace OUT and the PNGs if they exist.")] = False,
 ) -> None:
     """Convert adult 3D poses into infant-like ones with a domain-conditioned diffusion model.
 
     Each drawn adult pose is size-normalised, noised to level --strength and denoised in --steps
     reverse steps under the infant token, so posture survives while proportions become an
-    infant's; then it is sized (--scale) and optionally turned into the infant data's camera
-    orientation (--orient). The npz written feeds `zedo adapt --add-poses`.
+    infant's; then it is sized (--scale), optionally given a real infant's bone proportions
+    (--bones) and turned into the infant data's camera orientation (--orient). The npz written feeds `zedo adapt --add-poses`.
 
     Examples:
 
@@ -142,8 +152,12 @@ def augment_command(
         raise ConfigError(f"--scale must be one of {', '.join(SCALE_MODES)}, got {scale!r}")
     if orient not in ORIENT_MODES:
         raise ConfigError(f"--orient must be one of {', '.join(ORIENT_MODES)}, got {orient!r}")
-    if infant is None and syrip_dir is None and (orient == "infant" or plot is not None):
-        raise ConfigError("--orient infant and --plot need infant reference poses: --infant (npz) or --syrip-dir")
+    if bones not in BONE_MODES:
+        raise ConfigError(f"--bones must be one of {', '.join(BONE_MODES)}, got {bones!r}")
+    if infant is None and syrip_dir is None and (orient == "infant" or bones == "infant" or plot is not None):
+        raise ConfigError(
+            "--orient infant, --bones infant and --plot need infant reference poses: --infant (npz) or --syrip-dir"
+        )
     check_writable(out, overwrite)
     if plot is not None and plot.is_dir():
         for name in PLOT_NAMES:  # refuse before any work, not after the conversion
@@ -158,10 +172,13 @@ def augment_command(
     sources = adult.poses[rows]
     err_console.print(
         f"converting {len(rows)} of {len(adult.poses)} adult poses ({adult.source}) with {augmenter.label}: "
-        f"strength {strength}, {steps} steps, scale {scale}, orient {orient}, seed {seed}"
+        f"strength {strength}, {steps} steps, scale {scale}, bones {bones}, orient {orient}, seed {seed}"
     )
     poses = convert_poses(augmenter.model, augmenter.sde, augmenter.sizes, skel, sources, strength=strength,
                           steps=steps, scale=scale, seed=seed)  # fmt: skip
+    if bones == "infant":
+        assert reference is not None
+        poses = take_bone_lengths(poses, reference.poses, skel, seed)
     converted = poses  # in the sources' orientation, for side-by-side pairs
     if orient == "infant":
         assert reference is not None
@@ -169,7 +186,7 @@ def augment_command(
     names = np.array([f"{adult.names[r]}#{r}" for r in rows])
     with atomic_path(out, overwrite=overwrite) as tmp, open(tmp, "wb") as fh:
         np.savez(fh, poses=poses, joint_names=np.array(skel.joints), names=names, source_poses=sources,
-                 strength=strength, steps=steps, scale=scale, orient=orient, seed=seed,
+                 strength=strength, steps=steps, scale=scale, bones=bones, orient=orient, seed=seed,
                  augmenter_sha256=augmenter.sha256, license=augmenter.metadata.get("license", ""))  # fmt: skip
     size = np.median(skeleton_size(poses, skel))
     err_console.print(f"wrote {out}: {len(poses)} {skel.name} poses, median skeleton size {size:.3f} m")

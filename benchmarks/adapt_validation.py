@@ -1,0 +1,136 @@
+"""Choose an adaptation schedule without looking at Test100: adapt on a seeded subset of S SyRIP
+training poses, lift 150 *other* training poses (held out of the subset, ground-truth 2D, `fast`
+preset) with snapshots of the raw and EMA weights taken during one training, and score them.
+
+    python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy scratch \\
+        --size 20 --subset-seeds 100 101 102 --snapshots 1000 2000 4000 8000 --warmup 5000 --out val.jsonl
+    python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
+        --size 450 --add-poses aug.npz --snapshots 1000 --out val.jsonl
+
+The held-out poses are drawn (seed 1234) from the training poses outside the subset, so S can be
+at most 600 - --held-out. Every run appends one JSON line to --out (an interrupted sweep resumes);
+the summary gives, per snapshot, the mean held-out MPJPE over subset seeds. Runs go to --jobs
+worker processes, one CPU thread each. Subset seeds default to 100+ so they never coincide with
+the seeds of the published table (0, 1, 2).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import replace
+from pathlib import Path
+
+HELD_OUT_SEED = 1234
+
+
+def run_one(job: dict) -> dict:
+    import numpy as np
+    import torch
+
+    torch.set_num_threads(1)
+    from zedo_cli.adapt import ADAPT_TRAINING, adapt_prior, select_subset, with_added_poses
+    from zedo_cli.benchmark import lift_and_score, load_syrip_train_inputs
+    from zedo_cli.datasets import load_npz_poses, load_syrip_3d
+    from zedo_cli.lifting import PRESETS
+    from zedo_cli.weights import Prior, load_prior, resolve_prior_path
+
+    base = load_prior(resolve_prior_path(job["base"]))
+    train = load_syrip_3d(job["syrip_dir"], "train")
+    subset = select_subset(train, job["size"], job["subset_seed"])
+    chosen = set(subset.names)
+    rest = [n for n in train.names if n not in chosen]
+    rows = np.sort(np.random.default_rng(HELD_OUT_SEED).choice(len(rest), job["held_out"], replace=False))
+    truth, kp = load_syrip_train_inputs(job["syrip_dir"], [rest[i] for i in rows])
+    data = subset
+    if job.get("added"):
+        data = with_added_poses(subset, load_npz_poses(job["added"], train.skeleton.name))
+
+    snapshots: dict[str, dict] = {}
+
+    def keep_snapshots(progress) -> None:
+        if progress.epoch in job["snapshots"]:
+            for weights in ("raw", "ema"):
+                snapshots[f"{weights}@{progress.epoch}"] = progress.snapshot(weights)
+
+    cfg = replace(ADAPT_TRAINING, epochs=max(job["snapshots"]), warmup_steps=job["warmup"],
+                  lr=job["lr"], seed=job["subset_seed"])  # fmt: skip
+    adapted = adapt_prior(base, data, job["strategy"], cfg, callback=keep_snapshots)
+    scores = {}
+    for name, state in snapshots.items():
+        adapted.model.load_state_dict(state)
+        prior = Prior(adapted.model.eval(), base.sde, base.skeleton,
+                      torch.as_tensor(subset.poses[0], dtype=torch.float32), {}, "", "adapted")  # fmt: skip
+        score, _ = lift_and_score(prior, truth, kp, PRESETS[job["preset"]])
+        scores[name] = round(score.mpjpe_mm, 2)
+    return {**job, "train_seconds": round(adapted.result.seconds, 1), "held_out_mpjpe_mm": scores}
+
+
+def summarise(rows: list[dict]) -> str:
+    keys = sorted({k for r in rows for k in r["held_out_mpjpe_mm"]}, key=lambda k: (int(k.split("@")[1]), k))
+    lines = ["| snapshot | runs | held-out MPJPE (mm), mean ± sd | per subset seed |", "| --- | --- | --- | --- |"]
+    for key in keys:
+        values = [r["held_out_mpjpe_mm"][key] for r in rows if key in r["held_out_mpjpe_mm"]]
+        sd = f" ± {statistics.stdev(values):.1f}" if len(values) > 1 else ""
+        per_run = " / ".join(f"{v:.1f}" for v in values)
+        lines.append(f"| {key} | {len(values)} | {statistics.mean(values):.1f}{sd} | {per_run} |")
+    return "\n".join(lines)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--syrip-dir", required=True)
+    ap.add_argument("--base", default="adult12-rotscale", help="base prior: bundled name or file")
+    ap.add_argument("--strategy", choices=("control", "finetune", "scratch"), required=True)
+    ap.add_argument("--size", type=int, required=True, help="training poses in the subset (S)")
+    ap.add_argument("--subset-seeds", nargs="+", type=int, default=[100, 101, 102])
+    ap.add_argument("--snapshots", nargs="+", type=int, default=[1000], help="epochs at which to score")
+    ap.add_argument("--warmup", type=int, default=None, help="warm-up steps (default: the adaptation recipe's)")
+    ap.add_argument("--lr", type=float, default=None, help="learning rate (default: the adaptation recipe's)")
+    ap.add_argument("--held-out", type=int, default=150, help="training poses outside the subset to score")
+    ap.add_argument("--add-poses", default=None, help="npz of poses added to the subset (e.g. zedo augment's)")
+    ap.add_argument("--preset", default="fast")
+    ap.add_argument("--out", type=Path, required=True, help="JSON lines, appended (resumes)")
+    ap.add_argument("--jobs", type=int, default=2)
+    args = ap.parse_args()
+    from zedo_cli.adapt import ADAPT_TRAINING
+
+    if args.size + args.held_out > 600:
+        ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")
+    done = []
+    if args.out.exists():
+        done = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
+    fields = ("strategy", "size", "subset_seed", "snapshots", "warmup", "lr", "base", "added", "held_out", "preset")
+    key = lambda r: json.dumps([r.get(f) for f in fields])  # noqa: E731
+    have = {key(r) for r in done}
+    jobs = []
+    for seed in args.subset_seeds:
+        job = {"strategy": args.strategy, "size": args.size, "subset_seed": seed,
+               "snapshots": sorted(set(args.snapshots)), "base": args.base, "added": args.add_poses,
+               "warmup": ADAPT_TRAINING.warmup_steps if args.warmup is None else args.warmup,
+               "lr": ADAPT_TRAINING.lr if args.lr is None else args.lr,
+               "held_out": args.held_out, "preset": args.preset, "syrip_dir": args.syrip_dir}  # fmt: skip
+        if key(job) not in have:
+            jobs.append(job)
+    print(f"{len(jobs)} runs to do, {len(done)} already in {args.out}", file=sys.stderr)
+    start = time.time()
+    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+        for future in as_completed([pool.submit(run_one, job) for job in jobs]):
+            row = future.result()
+            done.append(row)
+            with args.out.open("a") as fh:
+                fh.write(json.dumps(row) + "\n")
+            print(f"[{time.time() - start:6.0f} s] {row['strategy']} S={row['size']} subset seed "
+                  f"{row['subset_seed']}: {row['held_out_mpjpe_mm']}", file=sys.stderr, flush=True)  # fmt: skip
+    mine = [r for r in done if all(r.get(f) == jobs_f for f, jobs_f in (
+        ("strategy", args.strategy), ("size", args.size), ("base", args.base), ("added", args.add_poses)))]  # fmt: skip
+    print(summarise(mine))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
