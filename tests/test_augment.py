@@ -35,6 +35,7 @@ from zedo_cli.rotation import random_rotations
 from zedo_cli.sde import SubVPSDE
 from zedo_cli.skeleton import Skeleton, bone_lengths, get_skeleton
 from zedo_cli.training import TrainConfig
+from zedo_cli.weights import load_prior
 
 runner = CliRunner()
 TINY_CFG = PriorConfig(12, hidden=64, embed=32, groups=8, num_blocks=1, dropout=0.0)
@@ -262,6 +263,9 @@ def test_cli_fit_augment_and_adapt_with_added_poses(tiny_prior_path: Path, tmp_p
                                  "--strategy", "finetune", "--epochs", "1", "--out", str(adapted), "-q"])  # fmt: skip
     assert result.exit_code == 0, result.output
     assert "+ 12 added poses" in result.output or adapted.is_file()
+    # The adapted prior carries the terms of the data behind the added poses.
+    augmenter_terms = load_augmenter(model).metadata["license"]
+    assert augmenter_terms and augmenter_terms in load_prior(adapted).metadata["license"]
 
 
 def test_cli_augment_usage_errors(tiny_prior_path: Path, tmp_path: Path) -> None:

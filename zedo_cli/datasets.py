@@ -101,6 +101,17 @@ def load_syrip_3d(syrip_dir: str | Path, split: str = "train") -> PoseSet:
     return PoseSet(center_on_root(poses, dst), dst, names, f"SyRIP {split} ({syrip_dir})")
 
 
+def npz_license(path: str | Path) -> str | None:
+    """The data terms an npz of poses states in its optional `license` string (e.g. `zedo
+    augment`'s output, derived from licensed data), or None when it states none."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            text = str(data["license"]) if "license" in data.files else ""
+    except (OSError, ValueError, zipfile.BadZipFile) as exc:
+        raise DataError(f"{path}: not a readable npz file ({exc})") from exc
+    return text.strip() or None
+
+
 def load_npz_poses(path: str | Path, skeleton: str | None = None) -> PoseSet:
     """3D poses from an npz file: `poses (N, J, 3)` in metres, optional `joint_names (J,)`,
     optional `names (N,)`. The skeleton is `skeleton`, else the one whose joint names match.

@@ -9,7 +9,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..adapt import ADAPT_TRAINING, STRATEGIES, adapt_prior, select_subset, with_added_poses, write_adapted_prior
-from ..datasets import load_npz_poses
+from ..datasets import load_npz_poses, npz_license
 from ..errors import ConfigError
 from ..formats.writers_common import check_writable
 from ..recipes import DTYPES, SYRIP_LICENSE
@@ -76,6 +76,9 @@ def adapt_command(
         adapted = adapt_prior(prior, data, strategy, cfg, device=device, callback=on_epoch)
     base_terms = prior.metadata.get("license", "unknown")
     license_all = terms if strategy == "scratch" else f"{terms} Adapted from a prior whose terms are: {base_terms}"
+    added_terms = None if add_poses is None else npz_license(add_poses)
+    if added_terms is not None:  # e.g. augmented poses derived from non-commercial data
+        license_all += f" Also trained on poses from {add_poses.name}, whose terms are: {added_terms}"
     sha = write_adapted_prior(
         out, adapted, prior, data, cfg, license_text=license_all, weights=weights, dtype=DTYPES[dtype],
         extra={"device": device, "limit": limit, "added_poses": None if add_poses is None else str(add_poses)},
