@@ -35,7 +35,7 @@ def run_one(job: dict) -> dict:
     import torch
 
     torch.set_num_threads(1)
-    from zedo_cli.adapt import ADAPT_TRAINING, adapt_prior, select_subset, with_added_poses
+    from zedo_cli.adapt import adapt_prior, default_training, select_subset, with_added_poses
     from zedo_cli.benchmark import lift_and_score, load_benchmark_inputs
     from zedo_cli.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.lifting import PRESETS
@@ -47,7 +47,7 @@ def run_one(job: dict) -> dict:
     data = select_subset(train, None if size >= len(train.names) else size, job["seed"])
     if job.get("added"):
         data = with_added_poses(data, load_npz_poses(job["added"], train.skeleton.name))
-    cfg = replace(ADAPT_TRAINING, epochs=job["epochs"], seed=job["seed"])
+    cfg = replace(default_training(job["strategy"]), epochs=job["epochs"], warmup_steps=job["warmup"], seed=job["seed"])
     adapted = adapt_prior(base, data, job["strategy"], cfg)
     adapted.model.load_state_dict(adapted.result.state(job["weights"]))
     prior = Prior(adapted.model.eval(), base.sde, base.skeleton,
@@ -98,18 +98,19 @@ def main() -> int:
     ap.add_argument("--sizes", nargs="+", type=int, default=[20, 100, 600])
     ap.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
     ap.add_argument("--full-seeds", nargs="+", type=int, default=[0], help="seeds of the S=600 rows")
-    ap.add_argument("--epochs", type=int, default=None, help="default: the adaptation recipe's")
+    ap.add_argument("--epochs", type=int, default=None, help="default: each strategy's recipe (zedo adapt's)")
+    ap.add_argument("--warmup", type=int, default=None, help="warm-up steps; default: each strategy's recipe")
     ap.add_argument("--weights", choices=("raw", "ema"), default="raw")
     ap.add_argument("--preset", default="fast")
     ap.add_argument("--add-poses", default=None, help="npz of poses added to every training set")
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
-    from zedo_cli.adapt import ADAPT_TRAINING
+    from zedo_cli.adapt import default_training
 
     done = []
     if args.out.exists():
         done = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
-    fields = ("strategy", "size", "seed", "epochs", "weights", "base", "preset", "added")
+    fields = ("strategy", "size", "seed", "epochs", "warmup", "weights", "base", "preset", "added")
     key = lambda r: tuple(r.get(f) for f in fields)  # noqa: E731
     have = {key(r) for r in done}
     jobs = []
@@ -117,7 +118,9 @@ def main() -> int:
         for strategy in args.strategies:
             for seed in args.full_seeds if size >= 600 else args.seeds:
                 job = {"strategy": strategy, "size": size, "seed": seed, "base": args.base,
-                       "epochs": args.epochs or ADAPT_TRAINING.epochs, "weights": args.weights,
+                       "epochs": args.epochs or default_training(strategy).epochs,
+                       "warmup": default_training(strategy).warmup_steps if args.warmup is None else args.warmup,
+                       "weights": args.weights,
                        "preset": args.preset, "syrip_dir": args.syrip_dir, "added": args.add_poses}  # fmt: skip
                 if key(job) not in have:
                     jobs.append(job)

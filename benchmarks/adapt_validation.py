@@ -33,7 +33,7 @@ def run_one(job: dict) -> dict:
     import torch
 
     torch.set_num_threads(1)
-    from zedo_cli.adapt import ADAPT_TRAINING, adapt_prior, select_subset, with_added_poses
+    from zedo_cli.adapt import adapt_prior, default_training, select_subset, with_added_poses
     from zedo_cli.benchmark import lift_and_score, load_syrip_train_inputs
     from zedo_cli.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.lifting import PRESETS
@@ -57,7 +57,7 @@ def run_one(job: dict) -> dict:
             for weights in ("raw", "ema"):
                 snapshots[f"{weights}@{progress.epoch}"] = progress.snapshot(weights)
 
-    cfg = replace(ADAPT_TRAINING, epochs=max(job["snapshots"]), warmup_steps=job["warmup"],
+    cfg = replace(default_training(job["strategy"]), epochs=max(job["snapshots"]), warmup_steps=job["warmup"],
                   lr=job["lr"], seed=job["subset_seed"])  # fmt: skip
     adapted = adapt_prior(base, data, job["strategy"], cfg, callback=keep_snapshots)
     scores = {}
@@ -89,15 +89,15 @@ def main() -> int:
     ap.add_argument("--size", type=int, required=True, help="training poses in the subset (S)")
     ap.add_argument("--subset-seeds", nargs="+", type=int, default=[100, 101, 102])
     ap.add_argument("--snapshots", nargs="+", type=int, default=[1000], help="epochs at which to score")
-    ap.add_argument("--warmup", type=int, default=None, help="warm-up steps (default: the adaptation recipe's)")
-    ap.add_argument("--lr", type=float, default=None, help="learning rate (default: the adaptation recipe's)")
+    ap.add_argument("--warmup", type=int, default=None, help="warm-up steps (default: the strategy's recipe)")
+    ap.add_argument("--lr", type=float, default=None, help="learning rate (default: the strategy's recipe)")
     ap.add_argument("--held-out", type=int, default=150, help="training poses outside the subset to score")
     ap.add_argument("--add-poses", default=None, help="npz of poses added to the subset (e.g. zedo augment's)")
     ap.add_argument("--preset", default="fast")
     ap.add_argument("--out", type=Path, required=True, help="JSON lines, appended (resumes)")
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
-    from zedo_cli.adapt import ADAPT_TRAINING
+    from zedo_cli.adapt import default_training
 
     if args.size + args.held_out > 600:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")
@@ -107,13 +107,14 @@ def main() -> int:
     fields = ("strategy", "size", "subset_seed", "snapshots", "warmup", "lr", "base", "added", "held_out", "preset")
     key = lambda r: json.dumps([r.get(f) for f in fields])  # noqa: E731
     have = {key(r) for r in done}
+    recipe = default_training(args.strategy)
+    settings = {"strategy": args.strategy, "size": args.size, "base": args.base, "added": args.add_poses,
+                "warmup": recipe.warmup_steps if args.warmup is None else args.warmup,
+                "lr": recipe.lr if args.lr is None else args.lr, "held_out": args.held_out,
+                "preset": args.preset}  # fmt: skip
     jobs = []
     for seed in args.subset_seeds:
-        job = {"strategy": args.strategy, "size": args.size, "subset_seed": seed,
-               "snapshots": sorted(set(args.snapshots)), "base": args.base, "added": args.add_poses,
-               "warmup": ADAPT_TRAINING.warmup_steps if args.warmup is None else args.warmup,
-               "lr": ADAPT_TRAINING.lr if args.lr is None else args.lr,
-               "held_out": args.held_out, "preset": args.preset, "syrip_dir": args.syrip_dir}  # fmt: skip
+        job = {**settings, "subset_seed": seed, "snapshots": sorted(set(args.snapshots)), "syrip_dir": args.syrip_dir}
         if key(job) not in have:
             jobs.append(job)
     print(f"{len(jobs)} runs to do, {len(done)} already in {args.out}", file=sys.stderr)
@@ -126,8 +127,7 @@ def main() -> int:
                 fh.write(json.dumps(row) + "\n")
             print(f"[{time.time() - start:6.0f} s] {row['strategy']} S={row['size']} subset seed "
                   f"{row['subset_seed']}: {row['held_out_mpjpe_mm']}", file=sys.stderr, flush=True)  # fmt: skip
-    mine = [r for r in done if all(r.get(f) == jobs_f for f, jobs_f in (
-        ("strategy", args.strategy), ("size", args.size), ("base", args.base), ("added", args.add_poses)))]  # fmt: skip
+    mine = [r for r in done if all(r.get(f) == v for f, v in settings.items())]
     print(summarise(mine))
     return 0
 

@@ -13,7 +13,15 @@ from safetensors import safe_open
 from safetensors.torch import load_file, save_file
 from typer.testing import CliRunner
 
-from zedo_cli.adapt import adapt_prior, build_model, select_subset, write_adapted_prior
+from zedo_cli.adapt import (
+    ADAPT_TRAINING,
+    SCRATCH_TRAINING,
+    adapt_prior,
+    build_model,
+    default_training,
+    select_subset,
+    write_adapted_prior,
+)
 from zedo_cli.cli import app
 from zedo_cli.control import ControlledScoreNet
 from zedo_cli.datasets import PoseSet
@@ -184,12 +192,29 @@ def test_cli_adapt_then_lift_with_the_controlled_prior(tiny_prior, tmp_path) -> 
     meta = load_prior(out).metadata
     assert meta["training"]["limit"] == 10 and meta["data"]["count"] == 10
     assert "seeded subset of 10 (seed 4)" in meta["data"]["source"]
+    assert meta["training"]["epochs"] == 2 and meta["training"]["warmup_steps"] == ADAPT_TRAINING.warmup_steps
     again = runner.invoke(app, args)
     assert again.exit_code == 2 and "--overwrite" in again.output
     lifted = tmp_path / "lifted.json"
     result = runner.invoke(app, ["lift", str(coco_file), "--prior", str(out), "-o", str(lifted), "-q"])
     assert result.exit_code == 0, result.output
     assert json.loads(lifted.read_text())["frames"]
+
+
+def test_scratch_keeps_the_core_recipe_and_adapting_strategies_the_short_one(tiny_prior, tmp_path) -> None:
+    assert default_training("control") == default_training("finetune") == ADAPT_TRAINING
+    assert default_training("scratch") == SCRATCH_TRAINING == TrainConfig()  # the core recipe
+    with pytest.raises(ConfigError, match="unknown strategy"):
+        default_training("nope")
+    npz = tmp_path / "infants.npz"
+    data = _infant_set(10)
+    np.savez(npz, poses=data.poses, joint_names=np.array(data.skeleton.joints))
+    out = tmp_path / "scratch.safetensors"
+    args = ["adapt", str(npz), "--base", tiny_prior.path, "--strategy", "scratch", "--epochs", "2",
+            "--out", str(out), "-q"]  # fmt: skip
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert load_prior(out).metadata["training"]["warmup_steps"] == SCRATCH_TRAINING.warmup_steps
 
 
 def test_cli_adapt_usage_errors(tiny_prior, tmp_path) -> None:

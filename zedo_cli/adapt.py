@@ -28,9 +28,19 @@ from .weights import Prior, save_prior
 
 STRATEGIES = ("control", "finetune", "scratch")
 
-# The adaptation recipe (all strategies): the paper's objective and optimiser with a schedule
-# sized for small sets. Chosen on SyRIP training poses held out of the subset (README).
+# The adaptation recipe of `control` and `finetune`: the paper's objective and optimiser with a
+# schedule sized for small sets. `scratch` has nothing to adapt from and keeps the core recipe
+# (8000 epochs, warm-up 5000), which its short-schedule runs needed. Both were chosen on SyRIP
+# training poses held out of the subset (benchmarks/adapt_validation.py, README).
 ADAPT_TRAINING = TrainConfig(epochs=1000, batch_size=5000, warmup_steps=200)
+SCRATCH_TRAINING = TrainConfig()
+
+
+def default_training(strategy: str) -> TrainConfig:
+    """The training settings `strategy` uses unless told otherwise."""
+    if strategy not in STRATEGIES:
+        raise ConfigError(f"unknown strategy {strategy!r}; choose one of {', '.join(STRATEGIES)}")
+    return SCRATCH_TRAINING if strategy == "scratch" else ADAPT_TRAINING
 
 
 def select_subset(data: PoseSet, limit: int | None, seed: int) -> PoseSet:

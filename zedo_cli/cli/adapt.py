@@ -8,7 +8,15 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..adapt import ADAPT_TRAINING, STRATEGIES, adapt_prior, select_subset, with_added_poses, write_adapted_prior
+from ..adapt import (
+    ADAPT_TRAINING,
+    STRATEGIES,
+    adapt_prior,
+    default_training,
+    select_subset,
+    with_added_poses,
+    write_adapted_prior,
+)
 from ..datasets import load_npz_poses, npz_license
 from ..errors import ConfigError
 from ..formats.writers_common import check_writable
@@ -29,10 +37,10 @@ def adapt_command(
     skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it.")] = None,
     add_poses: Annotated[Optional[Path], typer.Option(help="Also train on these poses (npz, e.g. from `zedo augment`), added after the --limit subset.")] = None,
     limit: Annotated[Optional[int], typer.Option(help="Train on a seeded, reproducible subset of N poses (default: all).")] = None,
-    epochs: Annotated[int, typer.Option(help="Passes over the data; one step each while N <= batch size.")] = ADAPT_TRAINING.epochs,
+    epochs: Annotated[Optional[int], typer.Option(help="Passes over the data; one step each while N <= batch size. Default: 1000 (control, finetune), 8000 (scratch).")] = None,
     batch_size: Annotated[int, typer.Option(help="Poses per step.")] = ADAPT_TRAINING.batch_size,
     lr: Annotated[float, typer.Option(help="Adam learning rate after warm-up.")] = ADAPT_TRAINING.lr,
-    warmup_steps: Annotated[int, typer.Option(help="Linear warm-up steps.")] = ADAPT_TRAINING.warmup_steps,
+    warmup_steps: Annotated[Optional[int], typer.Option(help="Linear warm-up steps. Default: 200 (control, finetune), 5000 (scratch).")] = None,
     seed: Annotated[int, typer.Option(help="Seed of the --limit subset, new weights (prompt, scratch net), noise and shuffling.")] = 0,
     weights: Annotated[str, typer.Option(help="Which weights to save: ema (moving average, the default: steadier on held-out poses) or raw (last step).")] = "ema",
     dtype: Annotated[str, typer.Option(help="Stored precision: float16 or float32.")] = "float16",
@@ -62,7 +70,9 @@ def adapt_command(
         raise ConfigError(f"--strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
     check_weights_output(weights, dtype)
     check_writable(out, overwrite)
-    cfg = replace(ADAPT_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
+    recipe = default_training(strategy)
+    cfg = replace(recipe, epochs=recipe.epochs if epochs is None else epochs, batch_size=batch_size, lr=lr,
+                  warmup_steps=recipe.warmup_steps if warmup_steps is None else warmup_steps, seed=seed)  # fmt: skip
     prior = load_prior(resolve_prior_path(base), device="cpu")
     data = select_subset(load_training_poses(poses, syrip_dir, split, skeleton), limit, seed)
     if add_poses is not None:
