@@ -104,6 +104,7 @@ def main() -> int:
     ap.add_argument("--preset", default="fast")
     ap.add_argument("--add-poses", default=None, help="npz of poses added to every training set")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--report", action="store_true", help="only print the table of the runs already in --out")
     args = ap.parse_args()
     from zedo_cli.adapt import default_training
 
@@ -124,6 +125,8 @@ def main() -> int:
                        "preset": args.preset, "syrip_dir": args.syrip_dir, "added": args.add_poses}  # fmt: skip
                 if key(job) not in have:
                     jobs.append(job)
+    if args.report:
+        jobs = []
     print(f"{len(jobs)} runs to do, {len(done)} already in {args.out}", file=sys.stderr)
     start = time.time()
     with ProcessPoolExecutor(max_workers=args.jobs) as pool:
@@ -138,8 +141,13 @@ def main() -> int:
                   f"GT {row['scores']['gt']['mpjpe_mm']:.1f} mm, "
                   f"detected {row['scores']['detected']['mpjpe_mm']:.1f} mm "
                   f"({row['train_seconds']:.0f} s training)", file=sys.stderr, flush=True)  # fmt: skip
-    print(summarise([r for r in done if r["base"] == args.base and r["weights"] == args.weights
-                     and r.get("added") == args.add_poses]))  # fmt: skip
+    def this_setting(row: dict) -> bool:  # the rows this command's settings would produce
+        recipe = default_training(row["strategy"])
+        return (row["base"], row["weights"], row.get("added"), row["epochs"], row.get("warmup")) == (
+            args.base, args.weights, args.add_poses, args.epochs or recipe.epochs,
+            recipe.warmup_steps if args.warmup is None else args.warmup)  # fmt: skip
+
+    print(summarise([r for r in done if this_setting(r)]))
     return 0
 
 
