@@ -148,13 +148,18 @@ def convert_poses(
     return resize(out, skeleton, targets)
 
 
+def torso_indices(skeleton: Skeleton, purpose: str) -> list[int]:
+    """Indices of the hips and shoulders; a clear error naming `purpose` when the joint set lacks them."""
+    missing = [j for j in TORSO_JOINTS if j not in skeleton.joints]
+    if missing:
+        raise ConfigError(f"{purpose} needs the torso joints; {skeleton.name} lacks {', '.join(missing)}")
+    return [skeleton.index(j) for j in TORSO_JOINTS]
+
+
 def orient_like(poses: np.ndarray, references: np.ndarray, skeleton: Skeleton, seed: int = 0) -> np.ndarray:
     """Each of `poses (N, J, 3)` turned about its root so its torso (hips, shoulders) best matches
     the torso of a reference pose drawn at random (seeded) from `references (M, J, 3)`."""
-    missing = [j for j in TORSO_JOINTS if j not in skeleton.joints]
-    if missing:
-        raise ConfigError(f"orienting needs the torso joints; {skeleton.name} lacks {', '.join(missing)}")
-    torso = [skeleton.index(j) for j in TORSO_JOINTS]
+    torso = torso_indices(skeleton, "orienting")
     picks = np.random.default_rng(seed).integers(0, len(references), size=len(poses))
     rot = best_rotation(poses[:, torso], references[picks][:, torso])
     return poses @ rot
@@ -163,7 +168,7 @@ def orient_like(poses: np.ndarray, references: np.ndarray, skeleton: Skeleton, s
 def limb_parents(skeleton: Skeleton) -> list[tuple[int, int]]:
     """(parent, child) joint pairs that grow the limbs out of the torso (hips and shoulders),
     breadth first, so each parent is placed before its children."""
-    torso = [skeleton.index(j) for j in TORSO_JOINTS]
+    torso = torso_indices(skeleton, "growing limbs from the torso")
     placed, pairs, frontier = set(torso), [], list(torso)
     while frontier:
         nxt = []
@@ -188,10 +193,7 @@ def take_bone_lengths(poses: np.ndarray, references: np.ndarray, skeleton: Skele
     The reference's torso, scaled to the pose's size, is turned onto the pose's torso (Kabsch);
     then every limb bone keeps the pose's direction and takes the reference's (scaled) length.
     """
-    missing = [j for j in TORSO_JOINTS if j not in skeleton.joints]
-    if missing:
-        raise ConfigError(f"taking bone lengths needs the torso joints; {skeleton.name} lacks {', '.join(missing)}")
-    torso = [skeleton.index(j) for j in TORSO_JOINTS]
+    torso = torso_indices(skeleton, "taking bone lengths")
     pairs = limb_parents(skeleton)
     picks = np.random.default_rng(seed).integers(0, len(references), size=len(poses))
     ref = center_on_root(references[picks], skeleton)
