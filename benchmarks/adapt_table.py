@@ -15,13 +15,13 @@ Runs go to --jobs worker processes, one CPU thread each.
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
+
+from resumable_runs import read_rows, run_and_record
 
 PAPER = {  # SyRIP Test100 MPJPE (mm), GT 2D, the paper's Table 3
     "control": {20: 67.8, 100: 56.4, 600: 49.4},
@@ -35,11 +35,11 @@ def run_one(job: dict) -> dict:
     import torch
 
     torch.set_num_threads(1)
-    from zedo_cli.adapt import adapt_prior, default_training, select_subset, with_added_poses
+    from zedo_cli.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
     from zedo_cli.benchmark import lift_and_score, load_benchmark_inputs
     from zedo_cli.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.lifting import PRESETS
-    from zedo_cli.weights import Prior, load_prior, resolve_prior_path
+    from zedo_cli.weights import load_prior, resolve_prior_path
 
     base = load_prior(resolve_prior_path(job["base"]))
     train = load_syrip_3d(job["syrip_dir"], "train")
@@ -49,9 +49,7 @@ def run_one(job: dict) -> dict:
         data = with_added_poses(data, load_npz_poses(job["added"], train.skeleton.name))
     cfg = replace(default_training(job["strategy"]), epochs=job["epochs"], warmup_steps=job["warmup"], seed=job["seed"])
     adapted = adapt_prior(base, data, job["strategy"], cfg)
-    adapted.model.load_state_dict(adapted.result.state(job["weights"]))
-    prior = Prior(adapted.model.eval(), base.sde, base.skeleton,
-                  torch.as_tensor(data.poses[0], dtype=torch.float32), {}, "", "adapted")  # fmt: skip
+    prior = in_memory_prior(adapted, base, data, adapted.result.state(job["weights"]))
     truth, kps = load_benchmark_inputs(Path(job["syrip_dir"]))
     scores = {}
     for key in ("gt", "detected"):
@@ -108,9 +106,12 @@ def main() -> int:
     args = ap.parse_args()
     from zedo_cli.adapt import default_training
 
-    done = []
-    if args.out.exists():
-        done = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
+    def schedule(strategy: str) -> tuple[int, int]:
+        """Epochs and warm-up steps of `strategy`'s runs: its recipe's unless given."""
+        recipe = default_training(strategy)
+        return args.epochs or recipe.epochs, recipe.warmup_steps if args.warmup is None else args.warmup
+
+    done = read_rows(args.out)
     fields = ("strategy", "size", "seed", "epochs", "warmup", "weights", "base", "preset", "added")
     key = lambda r: tuple(r.get(f) for f in fields)  # noqa: E731
     have = {key(r) for r in done}
@@ -119,8 +120,7 @@ def main() -> int:
         for strategy in args.strategies:
             for seed in args.full_seeds if size >= 600 else args.seeds:
                 job = {"strategy": strategy, "size": size, "seed": seed, "base": args.base,
-                       "epochs": args.epochs or default_training(strategy).epochs,
-                       "warmup": default_training(strategy).warmup_steps if args.warmup is None else args.warmup,
+                       "epochs": schedule(strategy)[0], "warmup": schedule(strategy)[1],
                        "weights": args.weights,
                        "preset": args.preset, "syrip_dir": args.syrip_dir, "added": args.add_poses}  # fmt: skip
                 if key(job) not in have:
@@ -129,23 +129,17 @@ def main() -> int:
         jobs = []
     print(f"{len(jobs)} runs to do, {len(done)} already in {args.out}", file=sys.stderr)
     start = time.time()
-    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [pool.submit(run_one, job) for job in sorted(jobs, key=lambda j: -j["size"])]
-        for future in as_completed(futures):  # record each run as soon as it finishes
-            row = future.result()
-            done.append(row)
-            with args.out.open("a") as fh:
-                fh.write(json.dumps(row) + "\n")
-            print(f"[{time.time() - start:6.0f} s] {row['strategy']:8s} S={row['size']:<3d} "
-                  f"seed {row['seed']}: "
-                  f"GT {row['scores']['gt']['mpjpe_mm']:.1f} mm, "
-                  f"detected {row['scores']['detected']['mpjpe_mm']:.1f} mm "
-                  f"({row['train_seconds']:.0f} s training)", file=sys.stderr, flush=True)  # fmt: skip
+    for row in run_and_record(run_one, sorted(jobs, key=lambda j: -j["size"]), args.out, args.jobs):
+        done.append(row)
+        print(f"[{time.time() - start:6.0f} s] {row['strategy']:8s} S={row['size']:<3d} "
+              f"seed {row['seed']}: "
+              f"GT {row['scores']['gt']['mpjpe_mm']:.1f} mm, "
+              f"detected {row['scores']['detected']['mpjpe_mm']:.1f} mm "
+              f"({row['train_seconds']:.0f} s training)", file=sys.stderr, flush=True)  # fmt: skip
+
     def this_setting(row: dict) -> bool:  # the rows this command's settings would produce
-        recipe = default_training(row["strategy"])
         return (row["base"], row["weights"], row.get("added"), row["epochs"], row.get("warmup")) == (
-            args.base, args.weights, args.add_poses, args.epochs or recipe.epochs,
-            recipe.warmup_steps if args.warmup is None else args.warmup)  # fmt: skip
+            args.base, args.weights, args.add_poses, *schedule(row["strategy"]))  # fmt: skip
 
     print(summarise([r for r in done if this_setting(r)]))
     return 0

@@ -21,9 +21,10 @@ import json
 import statistics
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
+
+from resumable_runs import read_rows, run_and_record
 
 HELD_OUT_SEED = 1234
 
@@ -33,11 +34,11 @@ def run_one(job: dict) -> dict:
     import torch
 
     torch.set_num_threads(1)
-    from zedo_cli.adapt import adapt_prior, default_training, select_subset, with_added_poses
+    from zedo_cli.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
     from zedo_cli.benchmark import lift_and_score, load_syrip_train_inputs
     from zedo_cli.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.lifting import PRESETS
-    from zedo_cli.weights import Prior, load_prior, resolve_prior_path
+    from zedo_cli.weights import load_prior, resolve_prior_path
 
     base = load_prior(resolve_prior_path(job["base"]))
     train = load_syrip_3d(job["syrip_dir"], "train")
@@ -62,10 +63,7 @@ def run_one(job: dict) -> dict:
     adapted = adapt_prior(base, data, job["strategy"], cfg, callback=keep_snapshots)
     scores = {}
     for name, state in snapshots.items():
-        adapted.model.load_state_dict(state)
-        prior = Prior(adapted.model.eval(), base.sde, base.skeleton,
-                      torch.as_tensor(subset.poses[0], dtype=torch.float32), {}, "", "adapted")  # fmt: skip
-        score, _ = lift_and_score(prior, truth, kp, PRESETS[job["preset"]])
+        score, _ = lift_and_score(in_memory_prior(adapted, base, data, state), truth, kp, PRESETS[job["preset"]])
         scores[name] = round(score.mpjpe_mm, 2)
     return {**job, "train_seconds": round(adapted.result.seconds, 1), "held_out_mpjpe_mm": scores}
 
@@ -101,9 +99,7 @@ def main() -> int:
 
     if args.size + args.held_out > 600:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")
-    done = []
-    if args.out.exists():
-        done = [json.loads(line) for line in args.out.read_text().splitlines() if line.strip()]
+    done = read_rows(args.out)
     fields = ("strategy", "size", "subset_seed", "snapshots", "warmup", "lr", "base", "added", "held_out", "preset")
     key = lambda r: json.dumps([r.get(f) for f in fields])  # noqa: E731
     have = {key(r) for r in done}
@@ -119,14 +115,10 @@ def main() -> int:
             jobs.append(job)
     print(f"{len(jobs)} runs to do, {len(done)} already in {args.out}", file=sys.stderr)
     start = time.time()
-    with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-        for future in as_completed([pool.submit(run_one, job) for job in jobs]):
-            row = future.result()
-            done.append(row)
-            with args.out.open("a") as fh:
-                fh.write(json.dumps(row) + "\n")
-            print(f"[{time.time() - start:6.0f} s] {row['strategy']} S={row['size']} subset seed "
-                  f"{row['subset_seed']}: {row['held_out_mpjpe_mm']}", file=sys.stderr, flush=True)  # fmt: skip
+    for row in run_and_record(run_one, jobs, args.out, args.jobs):
+        done.append(row)
+        print(f"[{time.time() - start:6.0f} s] {row['strategy']} S={row['size']} subset seed "
+              f"{row['subset_seed']}: {row['held_out_mpjpe_mm']}", file=sys.stderr, flush=True)  # fmt: skip
     mine = [r for r in done if all(r.get(f) == v for f, v in settings.items())]
     print(summarise(mine))
     return 0

@@ -127,6 +127,15 @@ def adapt_prior(
     return AdaptResult(model.cpu(), result, strategy, trainable, parameter_count(model))
 
 
+def in_memory_prior(adapted: AdaptResult, base: Prior, data: PoseSet, state: dict[str, torch.Tensor]) -> Prior:
+    """The adapted network with weights `state` (e.g. `adapted.result.state("ema")` or a
+    mid-training snapshot) as a Prior, without writing a file: for scoring candidates. Its
+    template is the first adaptation pose, as in the written file."""
+    adapted.model.load_state_dict(state)
+    template = torch.as_tensor(data.poses[0], dtype=torch.float32)
+    return Prior(adapted.model.eval(), base.sde, base.skeleton, template, {}, "", "adapted")
+
+
 def write_adapted_prior(
     path: str | Path,
     adapted: AdaptResult,
