@@ -108,6 +108,16 @@ def test_conversion_is_seeded() -> None:
     assert not np.allclose(_convert(_net(), poses, seed=3), _convert(_net(), poses, seed=4))
 
 
+def test_conversion_reports_every_reverse_step(monkeypatch) -> None:
+    monkeypatch.setattr("zedo_cli.augment.CHUNK", 4)  # 10 poses: 3 chunks of reverse steps
+    calls: list[tuple[int, int]] = []
+    _convert(_net(), synthetic_poses(10, seed=8), steps=5, on_step=lambda done, total: calls.append((done, total)))
+    assert calls == [(k, 15) for k in range(1, 16)]
+    calls.clear()
+    _convert(_net(), synthetic_poses(3, seed=8), strength=0.0, on_step=lambda done, total: calls.append((done, total)))
+    assert calls == []  # strength 0: no diffusion, nothing to report
+
+
 def test_higher_strength_moves_poses_further() -> None:
     poses = synthetic_poses(16, seed=7) * 3.0
     moved = [np.abs(_convert(_net(), poses, strength=s, scale="keep") - poses).mean() for s in (0.05, 0.5)]

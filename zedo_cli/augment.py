@@ -17,6 +17,7 @@ in the infant data's camera frame.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -111,6 +112,7 @@ def convert_poses(
     domain: str = "infant",
     scale: str = "infant",
     seed: int = 0,
+    on_step: Callable[[int, int], None] | None = None,
 ) -> np.ndarray:
     """Convert root-relative poses `(N, J, 3)` (metres) towards `domain`, SDEdit-style.
 
@@ -118,6 +120,7 @@ def convert_poses(
     forward SDE, then denoised by `steps` reverse Euler-Maruyama steps from t0 to t0 / 1000
     conditioned on `domain`'s token, and finally sized by `scale` (module docstring). Strength 0
     skips the diffusion (with scale "keep" the output is the input). Seeded by `seed`.
+    `on_step(done, total)` reports progress over all reverse steps of all chunks.
     """
     check_strength(strength)
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
@@ -134,13 +137,22 @@ def convert_poses(
     if strength > 0:
         model.eval()
         chunks = []
-        for lo in range(0, len(out), CHUNK):
+        starts = range(0, len(out), CHUNK)
+        done = 0
+
+        def count_step() -> None:
+            nonlocal done
+            done += 1
+            if on_step is not None:
+                on_step(done, len(starts) * steps)
+
+        for lo in starts:
             x0 = torch.as_tensor(out[lo : lo + CHUNK], dtype=torch.float32)
             t0 = torch.full((len(x0),), float(strength))
             xt = sde.perturb(x0, t0, torch.randn(x0.shape, generator=gen))
             x = integrate_reverse_sde(
                 lambda x, t: model(x, t, label), sde, xt, t_start=float(strength), t_end=float(strength) * 1e-3,
-                steps=steps, generator=gen,
+                steps=steps, generator=gen, on_step=count_step,
             )  # fmt: skip
             chunks.append(x.double().numpy())
         out = center_on_root(np.concatenate(chunks), skeleton)  # the network does not pin the root

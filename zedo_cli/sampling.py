@@ -49,14 +49,18 @@ def integrate_reverse_sde(
     t_end: float,
     steps: int,
     generator: torch.Generator,
+    on_step: Callable[[], None] | None = None,
 ) -> torch.Tensor:
     """Integrate the reverse SDE from `t_start` down to `t_end` in `steps` Euler-Maruyama steps,
-    starting at `x`; `eps_fn(x, t)` is the noise prediction. Seeded by `generator`."""
+    starting at `x`; `eps_fn(x, t)` is the noise prediction. Seeded by `generator`; `on_step`
+    is called after every step (progress)."""
     ts = torch.linspace(t_start, t_end, steps + 1)
     dt = (t_start - t_end) / steps
     for t in ts[:-1]:
         eps = eps_fn(x, t)
         x = euler_maruyama_step(x, eps, t, sde, dt, torch.randn(x.shape, generator=generator))
+        if on_step is not None:
+            on_step()
     return x
 
 

@@ -27,7 +27,7 @@ from ..errors import ConfigError
 from ..formats.writers_common import atomic_path, check_writable
 from ..recipes import DTYPES, SYRIP_LICENSE
 from ..weights import load_prior, resolve_prior_path
-from .common import check_weights_output, epoch_progress, err_console, error_boundary
+from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
 ORIENT_MODES = ("keep", "infant")
 BONE_MODES = ("keep", "infant")
@@ -133,6 +133,7 @@ def augment_command(
     plot: Annotated[Optional[Path], typer.Option(help="Folder for PNGs: bone-length and bone-angle distributions (infant, augmented, adult) and adult/converted pairs.")] = None,
     seed: Annotated[int, typer.Option(help="Seed of the pose draw, noise, sizes, bone proportions and orientations.")] = 0,
     overwrite: Annotated[bool, typer.Option(help="Replace OUT and the PNGs if they exist.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Convert adult 3D poses into infant-like ones with a domain-conditioned diffusion model.
 
@@ -174,8 +175,9 @@ def augment_command(
         f"converting {len(rows)} of {len(adult.poses)} adult poses ({adult.source}) with {augmenter.label}: "
         f"strength {strength}, {steps} steps, scale {scale}, bones {bones}, orient {orient}, seed {seed}"
     )
-    poses = convert_poses(augmenter.model, augmenter.sde, augmenter.sizes, skel, sources, strength=strength,
-                          steps=steps, scale=scale, seed=seed)  # fmt: skip
+    with step_progress(quiet, "augment: reverse steps") as on_step:
+        poses = convert_poses(augmenter.model, augmenter.sde, augmenter.sizes, skel, sources, strength=strength,
+                              steps=steps, scale=scale, seed=seed, on_step=on_step)  # fmt: skip
     if bones == "infant":
         assert reference is not None
         poses = take_bone_lengths(poses, reference.poses, skel, seed)

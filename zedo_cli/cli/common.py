@@ -81,7 +81,7 @@ class LineProgress:
     def __exit__(self, *exc: object) -> None:
         return None
 
-    def add_task(self, description: str, total: float = 1, **fields: Any) -> int:
+    def add_task(self, description: str, total: float | None = 1, **fields: Any) -> int:
         now = time.monotonic()
         self.tasks[len(self.tasks)] = {"description": description, "total": total, "completed": 0,
                                        "start": now, "printed": now, **fields}  # fmt: skip
@@ -109,6 +109,18 @@ def epoch_progress(quiet: bool, name: str, epochs: int) -> Iterator[Callable[[Tr
             bar.update(task, completed=p.epoch, status=f"loss {p.loss:.3f}")
 
         yield on_epoch
+
+
+@contextmanager
+def step_progress(quiet: bool, name: str) -> Iterator[Callable[[int, int], None]]:
+    """A progress display for work counted in steps; yields the `on_step(done, total)` callback."""
+    with progress_bar(quiet) as bar:
+        task = bar.add_task(name, total=None, status="")
+
+        def on_step(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield on_step
 
 
 def check_weights_output(weights: str, dtype: str) -> None:
