@@ -1,6 +1,7 @@
 """Choose an adaptation schedule without looking at Test100: adapt on a seeded subset of S SyRIP
-training poses, lift 150 *other* training poses (held out of the subset, ground-truth 2D, `fast`
-preset) with snapshots of the raw and EMA weights taken during one training, and score them.
+training poses, lift 150 *other* training poses (held out of the subset; ground-truth 2D, and
+FiDIP-detected 2D too with --inputs gt detected; `fast` preset) with snapshots of the raw and EMA
+weights taken during one training, and score them.
 
     python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy scratch \\
         --size 20 --subset-seeds 100 101 102 --snapshots 1000 2000 4000 8000 --warmup 5000 --out val.jsonl
@@ -27,6 +28,7 @@ from pathlib import Path
 from resumable_runs import read_rows, run_and_record
 
 HELD_OUT_SEED = 1234
+SCORE_FIELDS = {"gt": "held_out_mpjpe_mm", "detected": "held_out_detected_mpjpe_mm"}
 
 
 def run_one(job: dict) -> dict:
@@ -46,7 +48,7 @@ def run_one(job: dict) -> dict:
     chosen = set(subset.names)
     rest = [n for n in train.names if n not in chosen]
     rows = np.sort(np.random.default_rng(HELD_OUT_SEED).choice(len(rest), job["held_out"], replace=False))
-    truth, kp = load_syrip_train_inputs(job["syrip_dir"], [rest[i] for i in rows])
+    truth, inputs = load_syrip_train_inputs(job["syrip_dir"], [rest[i] for i in rows])
     data = subset
     if job.get("added"):
         data = with_added_poses(subset, load_npz_poses(job["added"], train.skeleton.name))
@@ -61,18 +63,28 @@ def run_one(job: dict) -> dict:
     cfg = replace(default_training(job["strategy"]), epochs=max(job["snapshots"]), warmup_steps=job["warmup"],
                   lr=job["lr"], seed=job["subset_seed"])  # fmt: skip
     adapted = adapt_prior(base, data, job["strategy"], cfg, callback=keep_snapshots)
-    scores = {}
+    scores: dict[str, dict[str, float]] = {kind: {} for kind in job_inputs(job)}
     for name, state in snapshots.items():
-        score, _ = lift_and_score(in_memory_prior(adapted, base, data, state), truth, kp, PRESETS[job["preset"]])
-        scores[name] = round(score.mpjpe_mm, 2)
-    return {**job, "train_seconds": round(adapted.result.seconds, 1), "held_out_mpjpe_mm": scores}
+        prior = in_memory_prior(adapted, base, data, state)
+        for kind in scores:
+            score, _ = lift_and_score(prior, truth, inputs[kind], PRESETS[job["preset"]])
+            scores[kind][name] = round(score.mpjpe_mm, 2)
+    return {**job, "train_seconds": round(adapted.result.seconds, 1),
+            **{SCORE_FIELDS[kind]: values for kind, values in scores.items()}}  # fmt: skip
 
 
-def summarise(rows: list[dict]) -> str:
-    keys = sorted({k for r in rows for k in r["held_out_mpjpe_mm"]}, key=lambda k: (int(k.split("@")[1]), k))
-    lines = ["| snapshot | runs | held-out MPJPE (mm), mean ± sd | per subset seed |", "| --- | --- | --- | --- |"]
+def job_inputs(row: dict) -> list[str]:
+    """The 2D inputs a run scores (runs recorded before --inputs scored ground-truth 2D only)."""
+    return row.get("inputs", ["gt"])
+
+
+def summarise(rows: list[dict], kind: str) -> str:
+    field = SCORE_FIELDS[kind]
+    keys = sorted({k for r in rows for k in r[field]}, key=lambda k: (int(k.split("@")[1]), k))
+    lines = [f"| snapshot | runs | held-out MPJPE, {kind} 2D (mm), mean ± sd | per subset seed |",
+             "| --- | --- | --- | --- |"]  # fmt: skip
     for key in keys:
-        values = [r["held_out_mpjpe_mm"][key] for r in rows if key in r["held_out_mpjpe_mm"]]
+        values = [r[field][key] for r in rows if key in r[field]]
         sd = f" ± {statistics.stdev(values):.1f}" if len(values) > 1 else ""
         per_run = " / ".join(f"{v:.1f}" for v in values)
         lines.append(f"| {key} | {len(values)} | {statistics.mean(values):.1f}{sd} | {per_run} |")
@@ -92,6 +104,7 @@ def main() -> int:
     ap.add_argument("--held-out", type=int, default=150, help="training poses outside the subset to score")
     ap.add_argument("--add-poses", default=None, help="npz of poses added to the subset (e.g. zedo augment's)")
     ap.add_argument("--preset", default="fast")
+    ap.add_argument("--inputs", nargs="+", choices=tuple(SCORE_FIELDS), default=["gt"], help="2D inputs to score")
     ap.add_argument("--out", type=Path, required=True, help="JSON lines, appended (resumes)")
     ap.add_argument("--jobs", type=int, default=2)
     args = ap.parse_args()
@@ -101,13 +114,13 @@ def main() -> int:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")
     done = read_rows(args.out)
     fields = ("strategy", "size", "subset_seed", "snapshots", "warmup", "lr", "base", "added", "held_out", "preset")
-    key = lambda r: json.dumps([r.get(f) for f in fields])  # noqa: E731
+    key = lambda r: json.dumps([r.get(f) for f in fields] + [job_inputs(r)])  # noqa: E731
     have = {key(r) for r in done}
     recipe = default_training(args.strategy)
     settings = {"strategy": args.strategy, "size": args.size, "base": args.base, "added": args.add_poses,
                 "warmup": recipe.warmup_steps if args.warmup is None else args.warmup,
                 "lr": recipe.lr if args.lr is None else args.lr, "held_out": args.held_out,
-                "preset": args.preset}  # fmt: skip
+                "preset": args.preset, "inputs": sorted(set(args.inputs), key=list(SCORE_FIELDS).index)}  # fmt: skip
     jobs = []
     for seed in args.subset_seeds:
         job = {**settings, "subset_seed": seed, "snapshots": sorted(set(args.snapshots)), "syrip_dir": args.syrip_dir}
@@ -117,10 +130,12 @@ def main() -> int:
     start = time.time()
     for row in run_and_record(run_one, jobs, args.out, args.jobs):
         done.append(row)
+        scores = {kind: row[SCORE_FIELDS[kind]] for kind in job_inputs(row)}
         print(f"[{time.time() - start:6.0f} s] {row['strategy']} S={row['size']} subset seed "
-              f"{row['subset_seed']}: {row['held_out_mpjpe_mm']}", file=sys.stderr, flush=True)  # fmt: skip
-    mine = [r for r in done if all(r.get(f) == v for f, v in settings.items())]
-    print(summarise(mine))
+              f"{row['subset_seed']}: {scores}", file=sys.stderr, flush=True)  # fmt: skip
+    mine = [r for r in done if all((job_inputs(r) if f == "inputs" else r.get(f)) == v for f, v in settings.items())]
+    for kind in settings["inputs"]:
+        print(summarise(mine, kind))
     return 0
 
 

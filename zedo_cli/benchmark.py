@@ -77,18 +77,23 @@ def load_benchmark_inputs(syrip_dir: Path) -> tuple[PoseSet, dict[str, Keypoints
     truth = load_syrip_3d(syrip_dir, "test")
     gt2d = read_keypoints(syrip_dir / SYRIP_TEST100)
     gt_kp, _ = _match(gt2d, [str(n) for n in gt2d.file_names], truth, str(syrip_dir / SYRIP_TEST100))
+    return truth, {"gt": gt_kp, "detected": _detected_inputs(syrip_dir, truth)}
+
+
+def _detected_inputs(syrip_dir: Path, truth: PoseSet) -> Keypoints2D:
+    """FiDIP-detected 2D for the images of `truth`, in its order (one instance per image)."""
     det = read_keypoints(syrip_dir / SYRIP_FIDIP, images=syrip_dir / SYRIP_REAL700)
     names = syrip_original_names(syrip_dir / SYRIP_REAL700)
     det_names = [names.get(str(i), "") for i in det.image_ids]
     det_kp, _ = _match(det, det_names, truth, str(syrip_dir / SYRIP_FIDIP))
     det_kp.file_names = list(truth.names)
-    return truth, {"gt": gt_kp, "detected": det_kp}
+    return det_kp
 
 
-def load_syrip_train_inputs(syrip_dir: str | Path, names: list[str]) -> tuple[PoseSet, Keypoints2D]:
+def load_syrip_train_inputs(syrip_dir: str | Path, names: list[str]) -> tuple[PoseSet, dict[str, Keypoints2D]]:
     """Training images `names` (SyRIP names, e.g. held out of an adaptation subset): their 3D
-    ground truth and ground-truth 2D, in the same order. Used to choose settings without
-    looking at Test100."""
+    ground truth and their ground-truth and FiDIP-detected 2D ("gt", "detected"), in the same
+    order. Used to choose settings without looking at Test100."""
     syrip_dir = Path(syrip_dir)
     train = load_syrip_3d(syrip_dir, "train")
     row = {n: i for i, n in enumerate(train.names)}
@@ -101,7 +106,7 @@ def load_syrip_train_inputs(syrip_dir: str | Path, names: list[str]) -> tuple[Po
     originals = syrip_original_names(syrip_dir / SYRIP_REAL700)
     keys = [originals.get(str(i), "") for i in gt2d.image_ids]
     kp, _ = _match(gt2d, keys, truth, str(syrip_dir / SYRIP_REAL700))
-    return truth, kp
+    return truth, {"gt": kp, "detected": _detected_inputs(syrip_dir, truth)}
 
 
 def lift_and_score(
