@@ -95,7 +95,7 @@ def main() -> int:
     ap.add_argument("--strategies", nargs="+", default=list(PAPER))
     ap.add_argument("--sizes", nargs="+", type=int, default=[20, 100, 600])
     ap.add_argument("--seeds", nargs="+", type=int, default=[0, 1, 2])
-    ap.add_argument("--full-seeds", nargs="+", type=int, default=[0], help="seeds of the S=600 rows")
+    ap.add_argument("--full-seeds", nargs="+", type=int, default=[0, 1, 2], help="seeds of the S=600 rows")
     ap.add_argument("--epochs", type=int, default=None, help="default: each strategy's recipe (zedo adapt's)")
     ap.add_argument("--warmup", type=int, default=None, help="warm-up steps; default: each strategy's recipe")
     ap.add_argument("--weights", choices=("raw", "ema"), default="raw")
