@@ -63,7 +63,7 @@ def run_one(job: dict) -> dict:
     cfg = replace(default_training(job["strategy"]), epochs=max(job["snapshots"]), warmup_steps=job["warmup"],
                   lr=job["lr"], seed=job["subset_seed"])  # fmt: skip
     adapted = adapt_prior(base, data, job["strategy"], cfg, callback=keep_snapshots)
-    scores: dict[str, dict[str, float]] = {kind: {} for kind in job_inputs(job)}
+    scores: dict[str, dict[str, float]] = {kind: {} for kind in job["inputs"]}
     for name, state in snapshots.items():
         prior = in_memory_prior(adapted, base, data, state)
         for kind in scores:
@@ -71,11 +71,6 @@ def run_one(job: dict) -> dict:
             scores[kind][name] = round(score.mpjpe_mm, 2)
     return {**job, "train_seconds": round(adapted.result.seconds, 1),
             **{SCORE_FIELDS[kind]: values for kind, values in scores.items()}}  # fmt: skip
-
-
-def job_inputs(row: dict) -> list[str]:
-    """The 2D inputs a run scores (runs recorded before --inputs scored ground-truth 2D only)."""
-    return row.get("inputs", ["gt"])
 
 
 def summarise(rows: list[dict], kind: str) -> str:
@@ -113,8 +108,10 @@ def main() -> int:
     if args.size + args.held_out > 600:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")
     done = read_rows(args.out)
+    for row in done:
+        row.setdefault("inputs", ["gt"])  # runs recorded before --inputs scored ground-truth 2D only
     fields = ("strategy", "size", "subset_seed", "snapshots", "warmup", "lr", "base", "added", "held_out", "preset")
-    key = lambda r: json.dumps([r.get(f) for f in fields] + [job_inputs(r)])  # noqa: E731
+    key = lambda r: json.dumps([r.get(f) for f in fields + ("inputs",)])  # noqa: E731
     have = {key(r) for r in done}
     recipe = default_training(args.strategy)
     settings = {"strategy": args.strategy, "size": args.size, "base": args.base, "added": args.add_poses,
@@ -130,10 +127,10 @@ def main() -> int:
     start = time.time()
     for row in run_and_record(run_one, jobs, args.out, args.jobs):
         done.append(row)
-        scores = {kind: row[SCORE_FIELDS[kind]] for kind in job_inputs(row)}
+        scores = {kind: row[SCORE_FIELDS[kind]] for kind in row["inputs"]}
         print(f"[{time.time() - start:6.0f} s] {row['strategy']} S={row['size']} subset seed "
               f"{row['subset_seed']}: {scores}", file=sys.stderr, flush=True)  # fmt: skip
-    mine = [r for r in done if all((job_inputs(r) if f == "inputs" else r.get(f)) == v for f, v in settings.items())]
+    mine = [r for r in done if all(r.get(f) == v for f, v in settings.items())]
     for kind in settings["inputs"]:
         print(summarise(mine, kind))
     return 0
