@@ -7,6 +7,8 @@ weights taken during one training, and score them.
         --size 20 --subset-seeds 100 101 102 --snapshots 1000 2000 4000 8000 --warmup 5000 --out val.jsonl
     python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
         --size 450 --add-poses aug.npz --snapshots 1000 --out val.jsonl
+    python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
+        --size 450 --subset-seeds 100 --write-subsets subsets --out val.jsonl
 
 The held-out poses are drawn (seed 1234) from the training poses outside the subset, so S can be
 at most 600 - --held-out. Every run appends one JSON line to --out (an interrupted sweep resumes);
@@ -73,6 +75,24 @@ def run_one(job: dict) -> dict:
             **{SCORE_FIELDS[kind]: values for kind, values in scores.items()}}  # fmt: skip
 
 
+def write_subsets(syrip_dir: str, size: int, seeds: list[int], folder: Path) -> list[Path]:
+    """Each seed's subset of the SyRIP training poses as an npz that `zedo augment --infant` reads."""
+    import numpy as np
+
+    from zedo_cli.adapt import select_subset
+    from zedo_cli.datasets import load_syrip_3d
+
+    train = load_syrip_3d(syrip_dir, "train")
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for seed in seeds:
+        subset = select_subset(train, size, seed)
+        path = folder / f"subset-S{size}-seed{seed}.npz"
+        np.savez(path, poses=subset.poses, joint_names=np.array(subset.skeleton.joints), names=np.array(subset.names))
+        paths.append(path)
+    return paths
+
+
 def summarise(rows: list[dict], kind: str) -> str:
     field = SCORE_FIELDS[kind]
     keys = sorted({k for r in rows for k in r[field]}, key=lambda k: (int(k.split("@")[1]), k))
@@ -102,11 +122,18 @@ def main() -> int:
     ap.add_argument("--inputs", nargs="+", choices=tuple(SCORE_FIELDS), default=["gt"], help="2D inputs to score")
     ap.add_argument("--out", type=Path, required=True, help="JSON lines, appended (resumes)")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--write-subsets", type=Path, default=None, metavar="DIR",
+                    help="only write each subset's poses to DIR/subset-S<size>-seed<seed>.npz (references for "
+                         "`zedo augment --infant` that leave the held-out poses out) and stop")  # fmt: skip
     args = ap.parse_args()
     from zedo_cli.adapt import default_training
 
     if args.size + args.held_out > 600:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")
+    if args.write_subsets is not None:
+        for path in write_subsets(args.syrip_dir, args.size, args.subset_seeds, args.write_subsets):
+            print(f"wrote {path}", file=sys.stderr)
+        return 0
     done = read_rows(args.out)
     for row in done:
         row.setdefault("inputs", ["gt"])  # runs recorded before --inputs scored ground-truth 2D only
