@@ -77,14 +77,15 @@ def load_benchmark_inputs(syrip_dir: Path) -> tuple[PoseSet, dict[str, Keypoints
     truth = load_syrip_3d(syrip_dir, "test")
     gt2d = read_keypoints(syrip_dir / SYRIP_TEST100)
     gt_kp, _ = _match(gt2d, [str(n) for n in gt2d.file_names], truth, str(syrip_dir / SYRIP_TEST100))
-    return truth, {"gt": gt_kp, "detected": _detected_inputs(syrip_dir, truth)}
+    originals = syrip_original_names(syrip_dir / SYRIP_REAL700)
+    return truth, {"gt": gt_kp, "detected": _detected_inputs(syrip_dir, truth, originals)}
 
 
-def _detected_inputs(syrip_dir: Path, truth: PoseSet) -> Keypoints2D:
-    """FiDIP-detected 2D for the images of `truth`, in its order (one instance per image)."""
+def _detected_inputs(syrip_dir: Path, truth: PoseSet, originals: dict[str, str]) -> Keypoints2D:
+    """FiDIP-detected 2D for the images of `truth`, in its order (one instance per image);
+    `originals` maps real700 image ids to SyRIP names (`syrip_original_names`)."""
     det = read_keypoints(syrip_dir / SYRIP_FIDIP, images=syrip_dir / SYRIP_REAL700)
-    names = syrip_original_names(syrip_dir / SYRIP_REAL700)
-    det_names = [names.get(str(i), "") for i in det.image_ids]
+    det_names = [originals.get(str(i), "") for i in det.image_ids]
     det_kp, _ = _match(det, det_names, truth, str(syrip_dir / SYRIP_FIDIP))
     det_kp.file_names = list(truth.names)
     return det_kp
@@ -106,7 +107,7 @@ def load_syrip_train_inputs(syrip_dir: str | Path, names: list[str]) -> tuple[Po
     originals = syrip_original_names(syrip_dir / SYRIP_REAL700)
     keys = [originals.get(str(i), "") for i in gt2d.image_ids]
     kp, _ = _match(gt2d, keys, truth, str(syrip_dir / SYRIP_REAL700))
-    return truth, {"gt": kp, "detected": _detected_inputs(syrip_dir, truth)}
+    return truth, {"gt": kp, "detected": _detected_inputs(syrip_dir, truth, originals)}
 
 
 def lift_and_score(
