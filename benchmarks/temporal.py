@@ -123,8 +123,12 @@ def main() -> None:
     ap.add_argument("--warm-steps", type=int, nargs="+", default=[None], help="warm_steps to try (default: preset's)")
     ap.add_argument("--warm-t-start", type=float, nargs="+", default=[None])
     ap.add_argument("--warm-release", type=float, nargs="+", default=[None], help="warm_release_fraction to try")
-    ap.add_argument("--modes", nargs="+", default=["none", "2d-smooth", "smooth", "two-pass"],
-                    help="lift_sequence modes, and 2d-smooth: the detections smoothed, then frame-by-frame")
+    ap.add_argument(
+        "--modes",
+        nargs="+",
+        default=["none", "2d-smooth", "smooth", "two-pass"],
+        help="lift_sequence modes, and 2d-smooth: the detections smoothed, then frame-by-frame",
+    )
     args = ap.parse_args()
 
     rng = np.random.default_rng(args.seed)
@@ -165,13 +169,17 @@ def main() -> None:
                     run(label, mode, cfg, sigma=sigma if sigma is not None else 0.0)
                 if not warm:
                     break
-    print(f"truth's mean |second difference|: {rows[0]['truth_accel']:.2f} mm/frame^2; "
-          f"{int(np.isnan(data['xy']).all(-1).sum())} joints dropped")
+    print(
+        f"truth's mean |second difference|: {rows[0]['truth_accel']:.2f} mm/frame^2; "
+        f"{int(np.isnan(data['xy']).all(-1).sum())} joints dropped"
+    )
     print("| mode | MPJPE (mm) | PA-MPJPE (mm) | accel. error (mm/frame^2) | mean accel. | reproj. (px) | poses/s |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for r in rows:
-        print(f"| {r['mode']} | {r['mpjpe']:.1f} | {r['pa']:.1f} | {r['accel_err']:.2f} | {r['accel']:.2f} | "
-              f"{r['reproj']:.2f} | {r['pps']:.0f} |")
+        print(
+            f"| {r['mode']} | {r['mpjpe']:.1f} | {r['pa']:.1f} | {r['accel_err']:.2f} | {r['accel']:.2f} | "
+            f"{r['reproj']:.2f} | {r['pps']:.0f} |"
+        )
 
 
 if __name__ == "__main__":

@@ -93,15 +93,23 @@ def test_lift_never_overwrites_without_asking(tiny_prior_path: Path, tmp_path: P
         (None, [], 3, "file not found"),
         ("{not json", [], 3, "invalid JSON"),
         ('{"images": [], "annotations": [], "categories": []}', [], 3, "no instances"),
-        (json.dumps([{"image_id": 1, "keypoints": [1, 2, 1] * 14, "score": 1}]), ["--image-size", "640", "480"], 3,
-         "joint count"),
+        (
+            json.dumps([{"image_id": 1, "keypoints": [1, 2, 1] * 14, "score": 1}]),
+            ["--image-size", "640", "480"],
+            3,
+            "joint count",
+        ),
         ("coco", ["--focal", "0"], 2, "--focal"),
         ("coco", ["--focal", "-5"], 2, "--focal"),
         ("coco", ["--min-confidence", "2"], 2, "--min-confidence"),
         ("coco", ["--preset", "nope"], 2, "unknown preset"),
         (json.dumps([{"image_id": 1, "keypoints": [1, 2, 1] * 17, "score": 1}]), [], 2, "image size"),
-        (json.dumps([{"image_id": 1, "keypoints": [0, 0, 0] * 17, "score": 1}]), ["--image-size", "640", "480"], 3,
-         "no instance has 3 or more observed"),
+        (
+            json.dumps([{"image_id": 1, "keypoints": [0, 0, 0] * 17, "score": 1}]),
+            ["--image-size", "640", "480"],
+            3,
+            "no instance has 3 or more observed",
+        ),
     ],
 )
 def test_lift_errors_are_one_line_with_exit_code(

@@ -64,9 +64,7 @@ def test_pa_mpjpe_is_invariant_to_a_similarity_transform_of_the_prediction() -> 
     scale = np.array([0.3, 1.0, 2.0, 5.0, 0.8, 1.2])[:, None, None]
     moved = scale * (pred @ rot) + np.array([0.5, -1.0, 3.0])
     assert pa_mpjpe_mm(moved, target) == pytest.approx(base, rel=1e-8)
-    np.testing.assert_allclose(
-        pa_per_joint_error_mm(moved, target), pa_per_joint_error_mm(pred, target), atol=1e-8
-    )
+    np.testing.assert_allclose(pa_per_joint_error_mm(moved, target), pa_per_joint_error_mm(pred, target), atol=1e-8)
 
 
 def test_pa_mpjpe_of_a_similarity_copy_is_zero() -> None:
@@ -194,15 +192,11 @@ def test_syrip_poses_are_centred_on_the_hip_midpoint(syrip_splits: dict[str, Pos
 
 def test_syrip_poses_are_infant_sized_in_metres(syrip_splits: dict[str, PoseSet]) -> None:
     poses = syrip_splits["all"].poses
-    thigh = np.linalg.norm(
-        poses[:, SYRIP12.index("left_hip")] - poses[:, SYRIP12.index("left_knee")], axis=-1
-    )
+    thigh = np.linalg.norm(poses[:, SYRIP12.index("left_hip")] - poses[:, SYRIP12.index("left_knee")], axis=-1)
     assert 0.05 < float(np.median(thigh)) < 0.15  # ALGORITHM.md 1.1: median thigh 0.093 m
 
 
-def test_syrip_test_order_follows_the_annotation_file(
-    syrip_dir: Path, syrip_splits: dict[str, PoseSet]
-) -> None:
+def test_syrip_test_order_follows_the_annotation_file(syrip_dir: Path, syrip_splits: dict[str, PoseSet]) -> None:
     doc = json.loads((syrip_dir / "keypoints2d_gt_test100.json").read_text())
     assert syrip_splits["test"].names == [str(img["file_name"]) for img in doc["images"]]
 

@@ -88,9 +88,7 @@ def test_network_sees_scaled_time() -> None:
     a, b = _tiny_model(5, a_cfg).eval(), _tiny_model(5, b_cfg).eval()
     x = torch.randn(2, 5, 3, generator=torch.Generator().manual_seed(6))
     with torch.no_grad():
-        np.testing.assert_allclose(
-            a(x, torch.tensor(0.01)).numpy(), b(x, torch.tensor(0.1)).numpy(), atol=1e-5
-        )
+        np.testing.assert_allclose(a(x, torch.tensor(0.01)).numpy(), b(x, torch.tensor(0.1)).numpy(), atol=1e-5)
 
 
 def test_positional_embedding_sin_half_first() -> None:
@@ -125,9 +123,7 @@ def test_beta_is_linear() -> None:
     t = torch.linspace(0, 1, 11, dtype=torch.float64)
     np.testing.assert_allclose(sde.beta(t).numpy(), (0.1 + 19.9 * t).numpy(), atol=1e-12)
     np.testing.assert_allclose(sde.integrated_beta(t).numpy(), (0.1 * t + 9.95 * t**2).numpy(), atol=1e-12)
-    np.testing.assert_allclose(
-        sde.mean_coeff(t).numpy(), torch.exp(-0.5 * (0.1 * t + 9.95 * t**2)).numpy(), atol=1e-12
-    )
+    np.testing.assert_allclose(sde.mean_coeff(t).numpy(), torch.exp(-0.5 * (0.1 * t + 9.95 * t**2)).numpy(), atol=1e-12)
 
 
 def test_perturb_with_zero_noise_is_scaled_x0() -> None:
@@ -178,9 +174,7 @@ def test_probability_flow_step_is_linear_and_flow_scales_eps() -> None:
     eps = torch.randn(2, 4, 3, generator=g, dtype=torch.float64)
     t = _scalar(0.05)
     full = probability_flow_step(x, eps, t, sde, 1e-3, 1.0)
-    parts = probability_flow_step(x, 0 * eps, t, sde, 1e-3, 1.0) + probability_flow_step(
-        0 * x, eps, t, sde, 1e-3, 1.0
-    )
+    parts = probability_flow_step(x, 0 * eps, t, sde, 1e-3, 1.0) + probability_flow_step(0 * x, eps, t, sde, 1e-3, 1.0)
     np.testing.assert_allclose(full.numpy(), parts.numpy(), atol=1e-12)
     half = probability_flow_step(0 * x, eps, t, sde, 1e-3, 0.5)
     np.testing.assert_allclose(

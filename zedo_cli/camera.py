@@ -73,9 +73,7 @@ def project_onto_rays(points: torch.Tensor, unit_rays: torch.Tensor) -> torch.Te
     return (points * unit_rays).sum(-1, keepdim=True) * unit_rays
 
 
-def solve_root_translation(
-    pose: torch.Tensor, rays: torch.Tensor, weights: torch.Tensor
-) -> torch.Tensor:
+def solve_root_translation(pose: torch.Tensor, rays: torch.Tensor, weights: torch.Tensor) -> torch.Tensor:
     """Translation T `(..., 3)` that best puts each joint of `pose + T` on its ray.
 
     `pose (..., J, 3)` root-relative, `rays (..., J, 3)` with z = 1, `weights (..., J)` (0 for
@@ -86,9 +84,7 @@ def solve_root_translation(
     """
     rx, ry = rays[..., 0], rays[..., 1]
     zeros, ones = torch.zeros_like(rx), torch.ones_like(rx)
-    a = torch.cat(
-        [torch.stack([-ones, zeros, rx], -1), torch.stack([zeros, -ones, ry], -1)], dim=-2
-    )  # (..., 2J, 3)
+    a = torch.cat([torch.stack([-ones, zeros, rx], -1), torch.stack([zeros, -ones, ry], -1)], dim=-2)  # (..., 2J, 3)
     b = torch.cat([pose[..., 0] - rx * pose[..., 2], pose[..., 1] - ry * pose[..., 2]], dim=-1)
     w = torch.cat([weights, weights], dim=-1)  # (..., 2J)
     aw = a * w[..., None]

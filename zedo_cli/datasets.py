@@ -161,9 +161,7 @@ def _npz_skeleton(path: Path, data: np.lib.npyio.NpzFile, name: str | None, join
     else:
         raise DataError(f"{path}: no 'joint_names' array; pass --skeleton")
     if skel.num_joints != joints:
-        raise DataError(
-            f"{path}: 'poses' has {joints} joints but skeleton {skel.name} has {skel.num_joints}"
-        )
+        raise DataError(f"{path}: 'poses' has {joints} joints but skeleton {skel.name} has {skel.num_joints}")
     return skel
 
 

@@ -314,9 +314,7 @@ def lift(
         cam[idx] = (x + trans[:, None]).double().cpu().numpy()
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
     reproj = reprojection_error_px(cam, xy, intrinsics, obs)
-    return LiftResult(
-        cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start
-    )
+    return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start)
 
 
 def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joints: int) -> np.ndarray:

@@ -49,11 +49,7 @@ def positional_embedding(labels: torch.Tensor, dim: int) -> torch.Tensor:
     """Sinusoidal features `(B, dim)` of `labels (B,)`: [sin(l w_k), cos(l w_k)], sin half first,
     with w_k = exp(-k ln(10000) / (dim/2 - 1))."""
     half = dim // 2
-    freqs = torch.exp(
-        -math.log(10000.0)
-        * torch.arange(half, dtype=torch.float32, device=labels.device)
-        / (half - 1)
-    )
+    freqs = torch.exp(-math.log(10000.0) * torch.arange(half, dtype=torch.float32, device=labels.device) / (half - 1))
     angles = labels.float()[:, None] * freqs[None, :]
     return torch.cat([torch.sin(angles), torch.cos(angles)], dim=1)
 

@@ -243,8 +243,13 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     skel, cfg, sde = read_network_configs(meta, path)
     if skeleton is not None and skel.name != skeleton:
         raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
-    model: nn.Module = ScoreNet(cfg) if architecture == "scorenet" else ControlledScoreNet(
-        ScoreNet(cfg), prompt_generator=torch.Generator().manual_seed(0)  # overwritten by the file
+    model: nn.Module = (
+        ScoreNet(cfg)
+        if architecture == "scorenet"
+        else ControlledScoreNet(
+            ScoreNet(cfg),
+            prompt_generator=torch.Generator().manual_seed(0),  # overwritten by the file
+        )
     )
     load_model_state(model, tensors, path, other_tensors=("template",))
     template = tensors.get("template")

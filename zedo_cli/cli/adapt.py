@@ -28,23 +28,59 @@ from .fit import load_training_poses
 
 @error_boundary
 def adapt_command(
-    poses: Annotated[Optional[Path], typer.Argument(help="Infant 3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names'), in the base's joint set.")] = None,
-    base: Annotated[str, typer.Option(help="Prior to adapt: a bundled name (adult12-rotscale, syrip12-scratch) or a weights file.")] = "adult12-rotscale",
-    strategy: Annotated[str, typer.Option(help="control (frozen base + trainable branch), finetune (all weights from the base) or scratch (fresh net of the base's size).")] = "control",
-    out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors); `zedo lift --prior` loads it.")] = Path("adapted.safetensors"),
+    poses: Annotated[
+        Optional[Path],
+        typer.Argument(
+            help="Infant 3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names'), in the base's joint set."
+        ),
+    ] = None,
+    base: Annotated[
+        str, typer.Option(help="Prior to adapt: a bundled name (adult12-rotscale, syrip12-scratch) or a weights file.")
+    ] = "adult12-rotscale",
+    strategy: Annotated[
+        str,
+        typer.Option(
+            help="control (frozen base + trainable branch), finetune (all weights from the base) or scratch (fresh net of the base's size)."
+        ),
+    ] = "control",
+    out: Annotated[
+        Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors); `zedo lift --prior` loads it.")
+    ] = Path("adapted.safetensors"),
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Adapt on the SyRIP data folder instead of POSES.")] = None,
     split: Annotated[str, typer.Option(help="SyRIP side: train (600 poses), test or all.")] = "train",
     skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it.")] = None,
-    add_poses: Annotated[Optional[Path], typer.Option(help="Also train on these poses (npz, e.g. from `zedo augment`), added after the --limit subset.")] = None,
-    limit: Annotated[Optional[int], typer.Option(help="Train on a seeded, reproducible subset of N poses (default: all).")] = None,
-    epochs: Annotated[Optional[int], typer.Option(help="Passes over the data; one step each while N <= batch size. Default: 1000 (control, finetune), 8000 (scratch).")] = None,
+    add_poses: Annotated[
+        Optional[Path],
+        typer.Option(help="Also train on these poses (npz, e.g. from `zedo augment`), added after the --limit subset."),
+    ] = None,
+    limit: Annotated[
+        Optional[int], typer.Option(help="Train on a seeded, reproducible subset of N poses (default: all).")
+    ] = None,
+    epochs: Annotated[
+        Optional[int],
+        typer.Option(
+            help="Passes over the data; one step each while N <= batch size. Default: 1000 (control, finetune), 8000 (scratch)."
+        ),
+    ] = None,
     batch_size: Annotated[int, typer.Option(help="Poses per step.")] = ADAPT_TRAINING.batch_size,
     lr: Annotated[float, typer.Option(help="Adam learning rate after warm-up.")] = ADAPT_TRAINING.lr,
-    warmup_steps: Annotated[Optional[int], typer.Option(help="Linear warm-up steps. Default: 200 (control, finetune), 5000 (scratch).")] = None,
-    seed: Annotated[int, typer.Option(help="Seed of the --limit subset, new weights (prompt, scratch net), noise and shuffling.")] = 0,
-    weights: Annotated[str, typer.Option(help="Which weights to save: ema (moving average, the default: steadier on held-out poses) or raw (last step).")] = "ema",
+    warmup_steps: Annotated[
+        Optional[int], typer.Option(help="Linear warm-up steps. Default: 200 (control, finetune), 5000 (scratch).")
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help="Seed of the --limit subset, new weights (prompt, scratch net), noise and shuffling.")
+    ] = 0,
+    weights: Annotated[
+        str,
+        typer.Option(
+            help="Which weights to save: ema (moving average, the default: steadier on held-out poses) or raw (last step)."
+        ),
+    ] = "ema",
     dtype: Annotated[str, typer.Option(help="Stored precision: float16 or float32.")] = "float16",
-    license_text: Annotated[Optional[str], typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in).")] = None,
+    license_text: Annotated[
+        Optional[str],
+        typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in)."),
+    ] = None,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
@@ -77,7 +113,11 @@ def adapt_command(
     data = select_subset(load_training_poses(poses, syrip_dir, split, skeleton), limit, seed)
     if add_poses is not None:
         data = with_added_poses(data, load_npz_poses(add_poses, data.skeleton.name))
-    terms = license_text if license_text is not None else (SYRIP_LICENSE if syrip_dir is not None else "as the terms of the adaptation data")
+    terms = (
+        license_text
+        if license_text is not None
+        else (SYRIP_LICENSE if syrip_dir is not None else "as the terms of the adaptation data")
+    )
     err_console.print(
         f"adapting {prior.label} by {strategy} on {len(data.names)} poses from {data.source}: "
         f"{cfg.epochs} epochs, batch {cfg.batch_size}, lr {cfg.lr}, seed {cfg.seed}, {device}"

@@ -53,22 +53,43 @@ def load_infant_source(infant: Optional[Path], syrip_dir: Optional[Path], split:
 
 @error_boundary
 def fit_augmenter_command(
-    infant: Annotated[Optional[Path], typer.Option(help="Infant 3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")] = None,
-    syrip_dir: Annotated[Optional[Path], typer.Option(help="Take the infant poses from the SyRIP data folder instead.")] = None,
+    infant: Annotated[
+        Optional[Path], typer.Option(help="Infant 3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")
+    ] = None,
+    syrip_dir: Annotated[
+        Optional[Path], typer.Option(help="Take the infant poses from the SyRIP data folder instead.")
+    ] = None,
     split: Annotated[str, typer.Option(help="SyRIP side: train (600 poses), test or all.")] = "train",
-    adult_dir: Annotated[Optional[Path], typer.Option(help="Adult motion-capture folder (three *_h36m17.npz files).")] = None,
-    adult_poses: Annotated[Optional[Path], typer.Option(help="Adult 3D poses as an npz file, instead of --adult-dir.")] = None,
+    adult_dir: Annotated[
+        Optional[Path], typer.Option(help="Adult motion-capture folder (three *_h36m17.npz files).")
+    ] = None,
+    adult_poses: Annotated[
+        Optional[Path], typer.Option(help="Adult 3D poses as an npz file, instead of --adult-dir.")
+    ] = None,
     skeleton: Annotated[str, typer.Option(help="Joint set of the model (the infant data's).")] = "syrip12",
-    init: Annotated[str, typer.Option(help="Start from this plain prior (bundled name or file), or 'none' for fresh weights.")] = "adult12-rotscale",
-    out: Annotated[Path, typer.Option("--out", "-o", help="Augmenter weights file to write (.safetensors).")] = Path("augmenter.safetensors"),
-    epochs: Annotated[int, typer.Option(help="Passes over the balanced adult + infant set.")] = AUGMENTER_TRAINING.epochs,
-    batch_size: Annotated[int, typer.Option(help="Poses per step (half adult, half infant on average).")] = AUGMENTER_TRAINING.batch_size,
+    init: Annotated[
+        str, typer.Option(help="Start from this plain prior (bundled name or file), or 'none' for fresh weights.")
+    ] = "adult12-rotscale",
+    out: Annotated[Path, typer.Option("--out", "-o", help="Augmenter weights file to write (.safetensors).")] = Path(
+        "augmenter.safetensors"
+    ),
+    epochs: Annotated[
+        int, typer.Option(help="Passes over the balanced adult + infant set.")
+    ] = AUGMENTER_TRAINING.epochs,
+    batch_size: Annotated[
+        int, typer.Option(help="Poses per step (half adult, half infant on average).")
+    ] = AUGMENTER_TRAINING.batch_size,
     lr: Annotated[float, typer.Option(help="Adam learning rate after warm-up.")] = AUGMENTER_TRAINING.lr,
     warmup_steps: Annotated[int, typer.Option(help="Linear warm-up steps.")] = AUGMENTER_TRAINING.warmup_steps,
     seed: Annotated[int, typer.Option(help="Seed of the tokens, fresh weights, rotations, noise and shuffling.")] = 0,
-    weights: Annotated[str, typer.Option(help="Which weights to save: ema (moving average) or raw (last step).")] = "ema",
+    weights: Annotated[
+        str, typer.Option(help="Which weights to save: ema (moving average) or raw (last step).")
+    ] = "ema",
     dtype: Annotated[str, typer.Option(help="Stored precision: float16 or float32.")] = "float16",
-    license_text: Annotated[Optional[str], typer.Option("--license", help="Terms of the infant data (SyRIP's are filled in); the adult terms are added.")] = None,
+    license_text: Annotated[
+        Optional[str],
+        typer.Option("--license", help="Terms of the infant data (SyRIP's are filled in); the adult terms are added."),
+    ] = None,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
@@ -115,23 +136,71 @@ def fit_augmenter_command(
     )
 
 
-
 @error_boundary
 def augment_command(
-    adult_poses: Annotated[Optional[Path], typer.Argument(help="Adult 3D poses to convert (npz with 'poses' (N,J,3) in metres, 'joint_names').")] = None,
-    model: Annotated[Path, typer.Option(help="Augmenter weights file written by `zedo fit-augmenter`.")] = Path("augmenter.safetensors"),
-    adult_dir: Annotated[Optional[Path], typer.Option(help="Convert poses of the adult motion-capture folder instead of ADULT_POSES.")] = None,
-    count: Annotated[int, typer.Option(help="Number of poses to write, drawn from the adult poses (seeded; without repeats when there are enough).")] = 600,
-    out: Annotated[Path, typer.Option("--out", "-o", help="npz file to write: 'poses' (count, J, 3) metres, 'joint_names', 'names', 'source_poses'.")] = Path("augmented.npz"),
-    strength: Annotated[float, typer.Option(help="Noise level t0 in (0, 1]: higher changes more (proportions, then posture); 0 only resizes.")] = DEFAULT_STRENGTH,
+    adult_poses: Annotated[
+        Optional[Path],
+        typer.Argument(help="Adult 3D poses to convert (npz with 'poses' (N,J,3) in metres, 'joint_names')."),
+    ] = None,
+    model: Annotated[Path, typer.Option(help="Augmenter weights file written by `zedo fit-augmenter`.")] = Path(
+        "augmenter.safetensors"
+    ),
+    adult_dir: Annotated[
+        Optional[Path], typer.Option(help="Convert poses of the adult motion-capture folder instead of ADULT_POSES.")
+    ] = None,
+    count: Annotated[
+        int,
+        typer.Option(
+            help="Number of poses to write, drawn from the adult poses (seeded; without repeats when there are enough)."
+        ),
+    ] = 600,
+    out: Annotated[
+        Path,
+        typer.Option(
+            "--out",
+            "-o",
+            help="npz file to write: 'poses' (count, J, 3) metres, 'joint_names', 'names', 'source_poses'.",
+        ),
+    ] = Path("augmented.npz"),
+    strength: Annotated[
+        float,
+        typer.Option(help="Noise level t0 in (0, 1]: higher changes more (proportions, then posture); 0 only resizes."),
+    ] = DEFAULT_STRENGTH,
     steps: Annotated[int, typer.Option(help="Reverse diffusion steps from t0.")] = 100,
-    scale: Annotated[str, typer.Option(help="Size of the outputs: infant (drawn from the infant training sizes stored in the model) or keep (each input's own size).")] = "infant",
-    orient: Annotated[str, typer.Option(help="keep (the input's orientation) or infant (turn each pose's torso like a random pose of --infant / --syrip-dir).")] = "keep",
-    bones: Annotated[str, typer.Option(help="keep (the converted bone lengths) or infant (each pose takes the bone proportions of a random pose of --infant / --syrip-dir, keeping its joint angles and size).")] = "keep",
-    infant: Annotated[Optional[Path], typer.Option(help="Infant reference poses (npz) for --orient infant, --bones infant and --plot.")] = None,
-    syrip_dir: Annotated[Optional[Path], typer.Option(help="Use SyRIP's training poses as the infant reference.")] = None,
-    plot: Annotated[Optional[Path], typer.Option(help="Folder for PNGs: bone-length and bone-angle distributions (infant, augmented, adult) and adult/converted pairs.")] = None,
-    seed: Annotated[int, typer.Option(help="Seed of the pose draw, noise, sizes, bone proportions and orientations.")] = 0,
+    scale: Annotated[
+        str,
+        typer.Option(
+            help="Size of the outputs: infant (drawn from the infant training sizes stored in the model) or keep (each input's own size)."
+        ),
+    ] = "infant",
+    orient: Annotated[
+        str,
+        typer.Option(
+            help="keep (the input's orientation) or infant (turn each pose's torso like a random pose of --infant / --syrip-dir)."
+        ),
+    ] = "keep",
+    bones: Annotated[
+        str,
+        typer.Option(
+            help="keep (the converted bone lengths) or infant (each pose takes the bone proportions of a random pose of --infant / --syrip-dir, keeping its joint angles and size)."
+        ),
+    ] = "keep",
+    infant: Annotated[
+        Optional[Path],
+        typer.Option(help="Infant reference poses (npz) for --orient infant, --bones infant and --plot."),
+    ] = None,
+    syrip_dir: Annotated[
+        Optional[Path], typer.Option(help="Use SyRIP's training poses as the infant reference.")
+    ] = None,
+    plot: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Folder for PNGs: bone-length and bone-angle distributions (infant, augmented, adult) and adult/converted pairs."
+        ),
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help="Seed of the pose draw, noise, sizes, bone proportions and orientations.")
+    ] = 0,
     overwrite: Annotated[bool, typer.Option(help="Replace OUT and the PNGs if they exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:

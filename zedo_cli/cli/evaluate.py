@@ -31,10 +31,19 @@ from .common import err_console, error_boundary, progress_bar
 @error_boundary
 def evaluate_command(
     result: Annotated[Path, typer.Argument(help="A zedo result file (from zedo lift).")],
-    syrip_dir: Annotated[Optional[Path], typer.Option(help="Score against the SyRIP 3D ground truth in this folder.")] = None,
+    syrip_dir: Annotated[
+        Optional[Path], typer.Option(help="Score against the SyRIP 3D ground truth in this folder.")
+    ] = None,
     split: Annotated[str, typer.Option(help="SyRIP split holding the images: test, train or all.")] = "test",
-    gt: Annotated[Optional[Path], typer.Option(help="Or: ground truth npz ('poses' (N,J,3) m, 'joint_names', 'names' = file names or image ids).")] = None,
-    protocol: Annotated[str, typer.Option(help=f"Joint set scored, both sides centred on its root: {', '.join(PROTOCOLS)}.")] = "syrip12",
+    gt: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Or: ground truth npz ('poses' (N,J,3) m, 'joint_names', 'names' = file names or image ids)."
+        ),
+    ] = None,
+    protocol: Annotated[
+        str, typer.Option(help=f"Joint set scored, both sides centred on its root: {', '.join(PROTOCOLS)}.")
+    ] = "syrip12",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
 ) -> None:
     """Score lifted poses against 3D ground truth: MPJPE and PA-MPJPE in mm.
@@ -102,10 +111,20 @@ def _accuracy_deltas(rows: list[tuple[str, Score]], base: str) -> dict[str, dict
 @error_boundary
 def benchmark_command(
     syrip_dir: Annotated[Path, typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip).")],
-    prior_spec: Annotated[Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file.")] = None,
-    preset: Annotated[list[str], typer.Option(help=f"Lifting preset(s) to run, repeatable; the first is the baseline of the ratios: {', '.join(PRESETS)}.")] = ["faithful", "fast"],  # noqa: B006
+    prior_spec: Annotated[
+        Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file.")
+    ] = None,
+    preset: Annotated[
+        list[str],
+        typer.Option(
+            help=f"Lifting preset(s) to run, repeatable; the first is the baseline of the ratios: {', '.join(PRESETS)}."
+        ),
+    ] = ["faithful", "fast"],  # noqa: B006
     inputs: Annotated[str, typer.Option(help="2D inputs: gt, detected or gt,detected.")] = "gt,detected",
-    throughput: Annotated[bool, typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch.")] = True,
+    throughput: Annotated[
+        bool,
+        typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch."),
+    ] = True,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,

@@ -39,26 +39,63 @@ def load_training_poses(
 
 @error_boundary
 def fit_prior_command(
-    poses: Annotated[Optional[Path], typer.Argument(help="3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")] = None,
-    out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors).")] = Path("prior.safetensors"),
+    poses: Annotated[
+        Optional[Path], typer.Argument(help="3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")
+    ] = None,
+    out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors).")] = Path(
+        "prior.safetensors"
+    ),
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Train on the SyRIP data folder instead of POSES.")] = None,
-    split: Annotated[str, typer.Option(help="Side of the split: train, test or all (SyRIP: 600, 100, 700 poses; MINI-RGBD: see --minirgbd-split).")] = "train",
-    minirgbd_dir: Annotated[Optional[Path], typer.Option(help="Train on a local MINI-RGBD folder (holding 01 .. 12), mapped to h36m17.")] = None,
-    minirgbd_split: Annotated[str, typer.Option(help="MINI-RGBD sequences: paper (train 01-09, test 10-12) or reference (train 01-10, test 11-12).")] = "paper",
-    mapping: Annotated[str, typer.Option(help="MINI-RGBD SMIL -> h36m17 joints: reference (toes as ankles, collars as shoulders, as the authors) or anatomical.")] = "reference",
-    adult_dir: Annotated[Optional[Path], typer.Option(help="Train on the adult motion-capture folder (three *_h36m17.npz files), in --skeleton's joints (default syrip12).")] = None,
-    skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it (h36m17, syrip12, ...).")] = None,
-    recipe: Annotated[Optional[Path], typer.Option(help="TOML recipe (see weights_spec/); options below override it.")] = None,
+    split: Annotated[
+        str,
+        typer.Option(
+            help="Side of the split: train, test or all (SyRIP: 600, 100, 700 poses; MINI-RGBD: see --minirgbd-split)."
+        ),
+    ] = "train",
+    minirgbd_dir: Annotated[
+        Optional[Path], typer.Option(help="Train on a local MINI-RGBD folder (holding 01 .. 12), mapped to h36m17.")
+    ] = None,
+    minirgbd_split: Annotated[
+        str,
+        typer.Option(
+            help="MINI-RGBD sequences: paper (train 01-09, test 10-12) or reference (train 01-10, test 11-12)."
+        ),
+    ] = "paper",
+    mapping: Annotated[
+        str,
+        typer.Option(
+            help="MINI-RGBD SMIL -> h36m17 joints: reference (toes as ankles, collars as shoulders, as the authors) or anatomical."
+        ),
+    ] = "reference",
+    adult_dir: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Train on the adult motion-capture folder (three *_h36m17.npz files), in --skeleton's joints (default syrip12)."
+        ),
+    ] = None,
+    skeleton: Annotated[
+        Optional[str], typer.Option(help="Joint set of POSES when its file does not name it (h36m17, syrip12, ...).")
+    ] = None,
+    recipe: Annotated[
+        Optional[Path], typer.Option(help="TOML recipe (see weights_spec/); options below override it.")
+    ] = None,
     epochs: Annotated[Optional[int], typer.Option(help="Passes over the data (recipe: 8000).")] = None,
     batch_size: Annotated[Optional[int], typer.Option(help="Poses per step (recipe: 5000).")] = None,
     lr: Annotated[Optional[float], typer.Option(help="Adam learning rate after warm-up (2e-4).")] = None,
     warmup_steps: Annotated[Optional[int], typer.Option(help="Linear warm-up steps (5000).")] = None,
     seed: Annotated[Optional[int], typer.Option(help="Seed of initial weights, shuffling and noise (0).")] = None,
-    weights: Annotated[Optional[str], typer.Option(help="Which weights to save: raw (last step, as the reference) or ema.")] = None,
+    weights: Annotated[
+        Optional[str], typer.Option(help="Which weights to save: raw (last step, as the reference) or ema.")
+    ] = None,
     dtype: Annotated[Optional[str], typer.Option(help="Stored precision: float16 (half the size) or float32.")] = None,
-    license_text: Annotated[Optional[str], typer.Option("--license", help="Terms of the training data, stored in the file (SyRIP's are filled in).")] = None,
+    license_text: Annotated[
+        Optional[str],
+        typer.Option("--license", help="Terms of the training data, stored in the file (SyRIP's are filled in)."),
+    ] = None,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
-    ema_out: Annotated[Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")] = None,
+    ema_out: Annotated[
+        Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")
+    ] = None,
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:

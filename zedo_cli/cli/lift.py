@@ -201,27 +201,98 @@ def _check_options(st: LiftSettings) -> None:
 
 @error_boundary
 def lift_command(
-    keypoints: Annotated[list[str], typer.Argument(help="2D keypoint files, folders or glob patterns; - reads stdin. Formats: " + ", ".join(f for f in INPUT_FORMATS if f != "auto") + " (detected).", show_default=False)],
-    out: Annotated[Optional[str], typer.Option("--out", "-o", help="Output file (one input only), or - for stdout. Default: <input stem>.zedo.json beside the input (stdout for stdin).")] = None,
-    output_dir: Annotated[Optional[Path], typer.Option(help="Write every output into this folder as <input stem>.zedo.<format>.")] = None,
-    output_format: Annotated[Optional[str], typer.Option("--output-format", help=f"Output format: {', '.join(OUTPUT_FORMATS)}. Default: from the --out extension, else json.")] = None,
+    keypoints: Annotated[
+        list[str],
+        typer.Argument(
+            help="2D keypoint files, folders or glob patterns; - reads stdin. Formats: "
+            + ", ".join(f for f in INPUT_FORMATS if f != "auto")
+            + " (detected).",
+            show_default=False,
+        ),
+    ],
+    out: Annotated[
+        Optional[str],
+        typer.Option(
+            "--out",
+            "-o",
+            help="Output file (one input only), or - for stdout. Default: <input stem>.zedo.json beside the input (stdout for stdin).",
+        ),
+    ] = None,
+    output_dir: Annotated[
+        Optional[Path], typer.Option(help="Write every output into this folder as <input stem>.zedo.<format>.")
+    ] = None,
+    output_format: Annotated[
+        Optional[str],
+        typer.Option(
+            "--output-format",
+            help=f"Output format: {', '.join(OUTPUT_FORMATS)}. Default: from the --out extension, else json.",
+        ),
+    ] = None,
     units: Annotated[str, typer.Option(help=f"Units of the 3D coordinates: {', '.join(UNITS)}.")] = "m",
-    frame: Annotated[str, typer.Option(help=f"Coordinate frame: {', '.join(FRAMES)} (camera: x right, y down, z forward from the camera; root: the same axes, root joint at the origin).")] = "camera",
-    person: Annotated[str, typer.Option(help=f"Whom to lift when a frame holds several people: {', '.join(PERSON_MODES)}. auto: the most complete person, then the same person frame after frame.")] = "auto",
+    frame: Annotated[
+        str,
+        typer.Option(
+            help=f"Coordinate frame: {', '.join(FRAMES)} (camera: x right, y down, z forward from the camera; root: the same axes, root joint at the origin)."
+        ),
+    ] = "camera",
+    person: Annotated[
+        str,
+        typer.Option(
+            help=f"Whom to lift when a frame holds several people: {', '.join(PERSON_MODES)}. auto: the most complete person, then the same person frame after frame."
+        ),
+    ] = "auto",
     fps: Annotated[Optional[float], typer.Option(help="Frame rate of a video input, recorded in the output.")] = None,
-    temporal: Annotated[str, typer.Option(help=f"Sequences (instances in frame order): {', '.join(TEMPORAL_MODES)}. smooth: lift each frame, then a Gaussian filter over time (cuts jitter ~90 %, MPJPE ~4 mm on test clips; joints leave their rays by a few px); two-pass: smooth, then 3 prior steps back onto the (smoothed) rays.")] = "none",
-    sigma: Annotated[float, typer.Option(help="Width of the temporal Gaussian in frames (--temporal smooth / two-pass).")] = DEFAULT_SIGMA_FRAMES,
-    plot: Annotated[Optional[Path], typer.Option("--plot", help="Also write PNGs of the first, median and worst-reprojection 3D poses into this folder.")] = None,
-    prior_spec: Annotated[Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file. Default: the bundled syrip12-scratch.")] = None,
-    preset: Annotated[str, typer.Option(help=f"Lifting preset: {', '.join(PRESETS)}. fast: 50 prior steps, about 20x faithful's poses/s at the same accuracy; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs).")] = DEFAULT_PRESET,
-    steps: Annotated[Optional[int], typer.Option(help="Override the preset's prior iterations (fast: 50, faithful: 1000).")] = None,
+    temporal: Annotated[
+        str,
+        typer.Option(
+            help=f"Sequences (instances in frame order): {', '.join(TEMPORAL_MODES)}. smooth: lift each frame, then a Gaussian filter over time (cuts jitter ~90 %, MPJPE ~4 mm on test clips; joints leave their rays by a few px); two-pass: smooth, then 3 prior steps back onto the (smoothed) rays."
+        ),
+    ] = "none",
+    sigma: Annotated[
+        float, typer.Option(help="Width of the temporal Gaussian in frames (--temporal smooth / two-pass).")
+    ] = DEFAULT_SIGMA_FRAMES,
+    plot: Annotated[
+        Optional[Path],
+        typer.Option(
+            "--plot", help="Also write PNGs of the first, median and worst-reprojection 3D poses into this folder."
+        ),
+    ] = None,
+    prior_spec: Annotated[
+        Optional[str],
+        typer.Option("--prior", help="A bundled prior's name or a weights file. Default: the bundled syrip12-scratch."),
+    ] = None,
+    preset: Annotated[
+        str,
+        typer.Option(
+            help=f"Lifting preset: {', '.join(PRESETS)}. fast: 50 prior steps, about 20x faithful's poses/s at the same accuracy; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs)."
+        ),
+    ] = DEFAULT_PRESET,
+    steps: Annotated[
+        Optional[int], typer.Option(help="Override the preset's prior iterations (fast: 50, faithful: 1000).")
+    ] = None,
     input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
-    image_size: Annotated[Optional[tuple[float, float]], typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results, OpenPose).")] = None,
-    images: Annotated[Optional[Path], typer.Option(help="COCO annotation file giving image sizes and names for a COCO results input.")] = None,
-    focal: Annotated[Optional[float], typer.Option(help="Focal length in pixels (fx = fy). Default: the pseudo 2000 px.")] = None,
-    principal_point: Annotated[Optional[tuple[float, float]], typer.Option(help="CX CY in pixels. Default: the image centre.")] = None,
-    intrinsics: Annotated[Optional[Path], typer.Option(help="K.json: {\"K\": 3x3} or {\"fx\",\"fy\",\"cx\",\"cy\"}, and/or per image {\"images\": {id or file name: ...}}.")] = None,
-    min_confidence: Annotated[float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")] = 0.0,
+    image_size: Annotated[
+        Optional[tuple[float, float]],
+        typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results, OpenPose)."),
+    ] = None,
+    images: Annotated[
+        Optional[Path], typer.Option(help="COCO annotation file giving image sizes and names for a COCO results input.")
+    ] = None,
+    focal: Annotated[
+        Optional[float], typer.Option(help="Focal length in pixels (fx = fy). Default: the pseudo 2000 px.")
+    ] = None,
+    principal_point: Annotated[
+        Optional[tuple[float, float]], typer.Option(help="CX CY in pixels. Default: the image centre.")
+    ] = None,
+    intrinsics: Annotated[
+        Optional[Path],
+        typer.Option(
+            help='K.json: {"K": 3x3} or {"fx","fy","cx","cy"}, and/or per image {"images": {id or file name: ...}}.'
+        ),
+    ] = None,
+    min_confidence: Annotated[
+        float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")
+    ] = 0.0,
     seed: Annotated[int, typer.Option(help="Seed, recorded in the output (every preset is deterministic).")] = 0,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
