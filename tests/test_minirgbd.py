@@ -21,18 +21,8 @@ from typer.testing import CliRunner
 from zedo_cli.cli import app
 from zedo_cli.errors import ConfigError, DataError, InputFormatError, WeightsError
 from zedo_cli.lifting import get_preset
-from zedo_cli.minirgbd import (
-    DEPTH_INTRINSICS,
-    SEQUENCES,
-    SMIL25_JOINTS,
-    load_minirgbd,
-    load_minirgbd_3d,
-    protocol_joints,
-    run_minirgbd_benchmark,
-    score_minirgbd,
-    smil_to_h36m17,
-    split_sequences,
-)
+from zedo_cli.minirgbd import SEQUENCES, SMIL25_JOINTS, load_minirgbd, load_minirgbd_3d, smil_to_h36m17, split_sequences
+from zedo_cli.minirgbd_benchmark import DEPTH_INTRINSICS, protocol_joints, run_minirgbd_benchmark, score_minirgbd
 from zedo_cli.model import PriorConfig, ScoreNet
 from zedo_cli.sde import SubVPSDE
 from zedo_cli.skeleton import center_on_root, get_skeleton

@@ -1,3 +1,5 @@
 """zedo: lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i)."""
 
-__version__ = "0.1.0"
+from .version import __version__
+
+__all__ = ["__version__"]

@@ -27,7 +27,7 @@ import numpy as np
 
 from .augment import skeleton_size
 from .errors import ConfigError
-from .formats.writers_common import atomic_path, check_writable
+from .files import atomic_path, check_writable
 from .plots import CENTRE_COLOUR, LEFT_COLOUR, RIGHT_COLOUR, _side
 from .skeleton import Skeleton
 from .skeleton import bone_lengths as skeleton_bone_lengths

@@ -17,8 +17,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .files import atomic_path, check_writable
 from .formats.keypoints import Keypoints2D
-from .formats.writers_common import OutputOptions, atomic_path, check_writable, group_frames
+from .formats.writers_common import OutputOptions, group_frames
 from .lifting import LiftResult
 from .skeleton import Skeleton
 

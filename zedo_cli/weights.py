@@ -32,12 +32,12 @@ from safetensors import SafetensorError
 from safetensors.torch import load_file, save_file
 from torch import nn
 
-from . import __version__
 from .control import ControlledScoreNet
 from .errors import WeightsError
 from .model import PriorConfig, ScoreNet
 from .sde import SubVPSDE
 from .skeleton import Skeleton, get_skeleton
+from .version import __version__
 
 FORMAT = "zedo.prior"
 FORMAT_VERSION = "1"

@@ -19,7 +19,7 @@ from ..adapt import (
 )
 from ..datasets import load_npz_poses, npz_license
 from ..errors import ConfigError
-from ..formats.writers_common import check_writable
+from ..files import check_writable
 from ..recipes import DTYPES, SYRIP_LICENSE
 from ..weights import load_prior, resolve_prior_path
 from .common import check_weights_output, epoch_progress, err_console, error_boundary

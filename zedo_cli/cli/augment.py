@@ -24,7 +24,7 @@ from ..augment_plots import PLOT_NAMES
 from ..augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, train_augmenter
 from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
-from ..formats.writers_common import atomic_path, check_writable
+from ..files import atomic_path, check_writable
 from ..recipes import DTYPES, SYRIP_LICENSE
 from ..weights import load_prior, resolve_prior_path
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress

@@ -10,7 +10,6 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from .. import __version__
 from ..camera import check_focal, resolve_intrinsics
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, Keypoints2D, input_sha256, read_keypoints
@@ -18,6 +17,7 @@ from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting import DEFAULT_PRESET, PRESETS, LiftConfig, LiftProgress, LiftResult, get_preset, lift, observed_mask
 from ..people import PERSON_MODES, select_people
 from ..temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequence
+from ..version import __version__
 from ..weights import Prior, load_prior, resolve_prior_path
 from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
 from .lift_plan import STDIN, expand_inputs, plan_outputs

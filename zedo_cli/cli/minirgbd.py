@@ -13,17 +13,14 @@ from rich.console import Console
 from rich.table import Table
 
 from ..lifting import PRESETS, LiftProgress, get_preset
-from ..minirgbd import (
+from ..minirgbd import SIDES, check_stride, get_mapping, split_sequences
+from ..minirgbd_benchmark import (
     DEFAULT_DROPPED_JOINT,
     DEPTH_INTRINSICS,
-    SIDES,
     MiniScore,
-    check_stride,
-    get_mapping,
     minirgbd_lift_config,
     protocol_joints,
     run_minirgbd_benchmark,
-    split_sequences,
 )
 from ..weights import load_prior, resolve_prior_path
 from .common import err_console, error_boundary, progress_bar

@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 from .keypoints import Keypoints2D
-from .readers import INPUT_FORMATS, detect_format, read_keypoints, read_keypoints_text, read_parsed
-from .source import input_sha256
+from .readers import INPUT_FORMATS, detect_format, input_sha256, read_keypoints, read_keypoints_text, read_parsed
 
 __all__ = [
     "INPUT_FORMATS", "Keypoints2D", "detect_format", "input_sha256", "read_keypoints", "read_keypoints_text",

@@ -19,6 +19,7 @@ return every instance (person) of every frame; choosing one person is left to th
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -32,7 +33,7 @@ from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read
 from .jsonl import looks_like_jsonl, read_zedo_jsonl, read_zedo_jsonl_text
 from .keypoints import Keypoints2D
 from .mmpose import mmpose_layout, read_mmpose, read_mmpose_demo, read_mmpose_image, read_mmpose_video
-from .openpose import read_openpose, read_openpose_dir
+from .openpose import frame_files, read_openpose, read_openpose_dir
 from .source import STDIN, load_json, parse_json, read_text
 from .validate import as_dict, error, kind
 from .zedo2d import ZEDO_2D_SCHEMA, read_zedo_2d
@@ -201,3 +202,22 @@ def read_keypoints(
         sizes[np.isnan(sizes).any(axis=1)] = size
         kp = dataclasses.replace(kp, image_sizes=sizes)
     return kp
+
+
+def input_sha256(path: str | Path) -> str | None:
+    """SHA-256 (hex) of an input for the result's provenance: a file's bytes, or for a directory
+    of OpenPose frames each frame file's name and bytes in frame order; None for stdin ("-"),
+    which cannot be read twice. Unreadable inputs raise `InputFormatError`."""
+    name = str(path)
+    if name == STDIN:
+        return None
+    digest = hashlib.sha256()
+    try:
+        if Path(name).is_dir():
+            for file, _ in frame_files(Path(name)):
+                digest.update(file.name.encode() + b"\0" + hashlib.sha256(file.read_bytes()).digest())
+        else:
+            digest.update(Path(name).read_bytes())
+    except OSError as exc:
+        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+    return digest.hexdigest()

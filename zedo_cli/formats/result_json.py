@@ -22,11 +22,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import __version__
+from ..files import write_text_atomic
 from ..lifting import LiftResult
 from ..skeleton import Skeleton
+from ..version import __version__
 from .keypoints import Keypoints2D
-from .writers_common import AXES, OutputOptions, frame_origin, group_frames, output_poses, write_text_atomic
+from .writers_common import AXES, OutputOptions, frame_origin, group_frames, output_poses
 
 SCHEMA = "zedo.pose3d/1"
 __all__ = ["AXES", "SCHEMA", "build_header", "build_result_document", "build_summary", "iter_frames", "write_json"]

@@ -6,7 +6,6 @@ missing, unreadable, non-UTF-8, empty or invalid file into the same `InputFormat
 
 from __future__ import annotations
 
-import hashlib
 import json
 import sys
 from pathlib import Path
@@ -52,24 +51,3 @@ def parse_json(text: str, name: str, where: str = "") -> Any:
 def load_json(name: str) -> Any:
     """The parsed JSON of file `name` ("-" = stdin)."""
     return parse_json(read_text(name), name)
-
-
-def input_sha256(path: str | Path) -> str | None:
-    """SHA-256 (hex) of an input for the result's provenance: a file's bytes, or for a directory
-    of OpenPose frames each frame file's name and bytes in frame order; None for stdin ("-"),
-    which cannot be read twice. Unreadable inputs raise `InputFormatError`."""
-    from .openpose import frame_files  # here, not at the top: openpose imports this module
-
-    name = str(path)
-    if name == STDIN:
-        return None
-    digest = hashlib.sha256()
-    try:
-        if Path(name).is_dir():
-            for file, _ in frame_files(Path(name)):
-                digest.update(file.name.encode() + b"\0" + hashlib.sha256(file.read_bytes()).digest())
-        else:
-            digest.update(Path(name).read_bytes())
-    except OSError as exc:
-        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
-    return digest.hexdigest()

@@ -22,10 +22,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError
+from ..files import check_writable
 from ..lifting import LiftResult
 from .keypoints import Keypoints2D
 from .result_json import build_header, build_result_document, build_summary, iter_frames, write_json
-from .writers_common import FRAMES, UNITS, OutputOptions, check_writable, group_frames
+from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
 from .writers_csv import write_csv
 from .writers_jsonl import write_jsonl
 from .writers_npz import write_npz

@@ -32,9 +32,10 @@ from typing import Any
 
 import numpy as np
 
+from ..files import atomic_path, check_writable
 from ..lifting import LiftResult
 from .keypoints import Keypoints2D
-from .writers_common import OutputOptions, atomic_path, check_writable, group_frames, output_poses
+from .writers_common import OutputOptions, group_frames, output_poses
 
 
 def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:

@@ -23,7 +23,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
-from .writers_common import check_writable, open_temporary
+from ..files import check_writable, open_temporary
 
 
 def _line(obj: dict[str, Any]) -> str:

@@ -32,9 +32,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError
+from ..files import atomic_path
 from ..lifting import LiftResult
 from .keypoints import Keypoints2D
-from .writers_common import AXES, OutputOptions, atomic_path, group_frames, output_poses
+from .writers_common import AXES, OutputOptions, group_frames, output_poses
 
 
 def _ids(image_ids: list[int | str]) -> np.ndarray:
