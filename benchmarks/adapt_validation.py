@@ -38,11 +38,11 @@ def run_one(job: dict) -> dict:
     import torch
 
     torch.set_num_threads(1)
-    from zedo_cli.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
-    from zedo_cli.benchmark import lift_and_score, load_syrip_train_inputs
-    from zedo_cli.datasets import load_npz_poses, load_syrip_3d
-    from zedo_cli.lifting import PRESETS
-    from zedo_cli.weights import load_prior, resolve_prior_path
+    from zedo_cli.data.datasets import load_npz_poses, load_syrip_3d
+    from zedo_cli.evaluation.syrip_benchmark import lift_and_score, load_syrip_train_inputs
+    from zedo_cli.lifting.solver import PRESETS
+    from zedo_cli.prior.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
+    from zedo_cli.prior.weights import load_prior, resolve_prior_path
 
     base = load_prior(resolve_prior_path(job["base"]))
     train = load_syrip_3d(job["syrip_dir"], "train")
@@ -79,8 +79,8 @@ def write_subsets(syrip_dir: str, size: int, seeds: list[int], folder: Path) -> 
     """Each seed's subset of the SyRIP training poses as an npz that `zedo augment --infant` reads."""
     import numpy as np
 
-    from zedo_cli.adapt import select_subset
-    from zedo_cli.datasets import load_syrip_3d
+    from zedo_cli.data.datasets import load_syrip_3d
+    from zedo_cli.prior.adapt import select_subset
 
     train = load_syrip_3d(syrip_dir, "train")
     folder.mkdir(parents=True, exist_ok=True)
@@ -126,7 +126,7 @@ def main() -> int:
                     help="only write each subset's poses to DIR/subset-S<size>-seed<seed>.npz (references for "
                          "`zedo augment --infant` that leave the held-out poses out) and stop")  # fmt: skip
     args = ap.parse_args()
-    from zedo_cli.adapt import default_training
+    from zedo_cli.prior.adapt import default_training
 
     if args.size + args.held_out > 600:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")

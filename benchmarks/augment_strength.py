@@ -33,12 +33,12 @@ def main() -> int:
     ap.add_argument("--strengths", nargs="+", type=float, default=[0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0])
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
-    from zedo_cli.adult import load_adult_poses
-    from zedo_cli.augment import choose_sources, convert_poses
-    from zedo_cli.augment_plots import bone_fractions
-    from zedo_cli.augmenter import load_augmenter
-    from zedo_cli.datasets import load_syrip_3d
-    from zedo_cli.metrics import pa_mpjpe_mm
+    from zedo_cli.augment.augmenter import load_augmenter
+    from zedo_cli.augment.conversion import choose_sources, convert_poses
+    from zedo_cli.augment.plots import bone_fractions
+    from zedo_cli.data.adult import load_adult_poses
+    from zedo_cli.data.datasets import load_syrip_3d
+    from zedo_cli.evaluation.metrics import pa_mpjpe_mm
 
     aug = load_augmenter(args.model)
     skel = aug.skeleton

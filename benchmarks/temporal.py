@@ -26,12 +26,12 @@ from dataclasses import replace
 import numpy as np
 import torch
 
-from zedo_cli.camera import Intrinsics, project
-from zedo_cli.datasets import load_syrip_3d
-from zedo_cli.lifting import LiftConfig, LiftResult, get_preset
-from zedo_cli.metrics import mpjpe_mm, pa_mpjpe_mm
-from zedo_cli.temporal import lift_sequence, smooth_tracks_2d
-from zedo_cli.weights import load_prior, resolve_prior_path
+from zedo_cli.data.datasets import load_syrip_3d
+from zedo_cli.evaluation.metrics import mpjpe_mm, pa_mpjpe_mm
+from zedo_cli.lifting.camera import Intrinsics, project
+from zedo_cli.lifting.solver import LiftConfig, LiftResult, get_preset
+from zedo_cli.lifting.temporal import lift_sequence, smooth_tracks_2d
+from zedo_cli.prior.weights import load_prior, resolve_prior_path
 
 IMAGE_W, IMAGE_H = 1280, 720
 

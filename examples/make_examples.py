@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from zedo_cli.camera import Intrinsics, project
-from zedo_cli.sampling import sample_poses
-from zedo_cli.skeleton import center_on_root, get_skeleton
-from zedo_cli.weights import bundled_prior_path, load_prior
+from zedo_cli.data.skeleton import center_on_root, get_skeleton
+from zedo_cli.lifting.camera import Intrinsics, project
+from zedo_cli.prior.sampling import sample_poses
+from zedo_cli.prior.weights import bundled_prior_path, load_prior
 
 OUT = Path(__file__).with_name("prior_samples_coco.json")
 WIDTH, HEIGHT, DEPTH_M = 1280, 720, 1.6

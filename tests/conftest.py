@@ -8,10 +8,10 @@ import pytest
 import torch
 from helpers import SKELETON, synthetic_poses
 
-from zedo_cli.model import PriorConfig, ScoreNet
-from zedo_cli.sde import SubVPSDE
-from zedo_cli.training import TrainConfig, train_score_model
-from zedo_cli.weights import Prior, load_prior, save_prior
+from zedo_cli.prior.model import PriorConfig, ScoreNet
+from zedo_cli.prior.sde import SubVPSDE
+from zedo_cli.prior.training import TrainConfig, train_score_model
+from zedo_cli.prior.weights import Prior, load_prior, save_prior
 
 
 @pytest.fixture(scope="session")

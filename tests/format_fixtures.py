@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from zedo_cli.skeleton import SKELETONS
+from zedo_cli.data.skeleton import SKELETONS
 
 MMPOSE_COCO_NAMES = list(SKELETONS["coco17"].joints)
 MMPOSE_HALPE_NAMES = [*MMPOSE_COCO_NAMES, "head", "neck", "hip", "left_big_toe", "right_big_toe",

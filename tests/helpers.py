@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from zedo_cli.camera import project
-from zedo_cli.skeleton import center_on_root, get_skeleton
+from zedo_cli.data.skeleton import center_on_root, get_skeleton
+from zedo_cli.lifting.camera import project
 
 SYRIP_DIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "syrip"
 SKELETON = get_skeleton("syrip12")

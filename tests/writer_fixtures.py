@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 from helpers import K_TEST, SKELETON, synthetic_poses
 
-from zedo_cli.formats.keypoints import Keypoints2D
-from zedo_cli.lifting import LiftConfig, LiftResult
-from zedo_cli.skeleton import root_point
+from zedo_cli.data.keypoints import Keypoints2D
+from zedo_cli.data.skeleton import root_point
+from zedo_cli.lifting.solver import LiftConfig, LiftResult
 
 MISSING = (1, 2)  # instance 1, joint 2 (right_ankle): not observed, filled by the prior
 UNLIFTED = 3

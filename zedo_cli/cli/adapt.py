@@ -8,7 +8,10 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..adapt import (
+from ..data.datasets import load_npz_poses, npz_license
+from ..errors import ConfigError
+from ..files import check_writable
+from ..prior.adapt import (
     ADAPT_TRAINING,
     STRATEGIES,
     adapt_prior,
@@ -17,11 +20,8 @@ from ..adapt import (
     with_added_poses,
     write_adapted_prior,
 )
-from ..datasets import load_npz_poses, npz_license
-from ..errors import ConfigError
-from ..files import check_writable
-from ..recipes import DTYPES, SYRIP_LICENSE
-from ..weights import load_prior, resolve_prior_path
+from ..prior.recipes import DTYPES, SYRIP_LICENSE
+from ..prior.weights import load_prior, resolve_prior_path
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
 

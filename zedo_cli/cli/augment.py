@@ -10,8 +10,8 @@ from typing import Annotated, Optional
 import numpy as np
 import typer
 
-from ..adult import ADULT_LICENSE, load_adult_poses
-from ..augment import (
+from ..augment.augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, train_augmenter
+from ..augment.conversion import (
     SCALE_MODES,
     check_strength,
     choose_sources,
@@ -20,13 +20,13 @@ from ..augment import (
     skeleton_size,
     take_bone_lengths,
 )
-from ..augment_plots import PLOT_NAMES
-from ..augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, train_augmenter
-from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
+from ..augment.plots import PLOT_NAMES
+from ..data.adult import ADULT_LICENSE, load_adult_poses
+from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..files import atomic_path, check_writable
-from ..recipes import DTYPES, SYRIP_LICENSE
-from ..weights import load_prior, resolve_prior_path
+from ..prior.recipes import DTYPES, SYRIP_LICENSE
+from ..prior.weights import load_prior, resolve_prior_path
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
 ORIENT_MODES = ("keep", "infant")
@@ -263,7 +263,7 @@ def augment_command(
     err_console.print(f"wrote {out}: {len(poses)} {skel.name} poses, median skeleton size {size:.3f} m")
     if plot is not None:
         assert reference is not None
-        from ..augment_plots import write_augmentation_plots
+        from ..augment.plots import write_augmentation_plots
 
         # Bone lengths and angles do not depend on orientation; pairs are drawn in the source's.
         paths = write_augmentation_plots(plot, skel, reference.poses, converted, sources, overwrite=overwrite)

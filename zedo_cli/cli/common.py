@@ -21,8 +21,8 @@ from rich.progress import (
 )
 
 from ..errors import ConfigError, ZedoError
-from ..recipes import DTYPES, WEIGHT_CHOICES
-from ..training import TrainProgress
+from ..prior.recipes import DTYPES, WEIGHT_CHOICES
+from ..prior.training import TrainProgress
 
 # Data goes to stdout; progress, logs and errors to stderr.
 err_console = Console(stderr=True, highlight=False)

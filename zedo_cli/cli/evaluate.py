@@ -11,7 +11,10 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from ..benchmark import (
+from ..data.datasets import load_npz_poses, load_syrip_3d
+from ..errors import ConfigError
+from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
+from ..evaluation.syrip_benchmark import (
     PAPER_FIGURES,
     Score,
     Throughput,
@@ -20,11 +23,8 @@ from ..benchmark import (
     run_syrip_benchmark,
     score_poses,
 )
-from ..datasets import load_npz_poses, load_syrip_3d
-from ..errors import ConfigError
-from ..evaluation import PROTOCOLS, align_to_truth, read_result_file
-from ..lifting import PRESETS, LiftProgress, get_preset
-from ..weights import load_prior, resolve_prior_path
+from ..lifting.solver import PRESETS, LiftProgress, get_preset
+from ..prior.weights import load_prior, resolve_prior_path
 from .common import err_console, error_boundary, progress_bar
 
 

@@ -7,12 +7,20 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..adult import ADULT_LICENSE, load_adult_poses
-from ..datasets import PoseSet, load_npz_poses, load_syrip_3d
+from ..data.adult import ADULT_LICENSE, load_adult_poses
+from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
+from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
-from ..minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
-from ..recipes import SYRIP_LICENSE, Recipe, fit_prior, load_recipe, with_output, with_overrides, write_fitted_prior
+from ..prior.recipes import (
+    SYRIP_LICENSE,
+    Recipe,
+    fit_prior,
+    load_recipe,
+    with_output,
+    with_overrides,
+    write_fitted_prior,
+)
 from .common import epoch_progress, err_console, error_boundary
 
 

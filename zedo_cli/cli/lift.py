@@ -10,15 +10,25 @@ import numpy as np
 import typer
 from rich.table import Table
 
-from ..camera import check_focal, resolve_intrinsics
+from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
-from ..formats import INPUT_FORMATS, Keypoints2D, input_sha256, read_keypoints
+from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
-from ..lifting import DEFAULT_PRESET, PRESETS, LiftConfig, LiftProgress, LiftResult, get_preset, lift, observed_mask
-from ..people import PERSON_MODES, select_people
-from ..temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequence
+from ..lifting.camera import check_focal, resolve_intrinsics
+from ..lifting.people import PERSON_MODES, select_people
+from ..lifting.solver import (
+    DEFAULT_PRESET,
+    PRESETS,
+    LiftConfig,
+    LiftProgress,
+    LiftResult,
+    get_preset,
+    lift,
+    observed_mask,
+)
+from ..lifting.temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequence
+from ..prior.weights import Prior, load_prior, resolve_prior_path
 from ..version import __version__
-from ..weights import Prior, load_prior, resolve_prior_path
 from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
 from .lift_plan import STDIN, expand_inputs, plan_outputs
 
@@ -143,7 +153,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
 
 
 def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings) -> list[Path]:
-    from ..plots import write_pose_plots  # matplotlib loads only when plots are asked for
+    from ..formats.plots import write_pose_plots  # matplotlib loads only when plots are asked for
 
     return write_pose_plots(prefix, kp, res, units=st.units, overwrite=st.overwrite)
 

@@ -12,9 +12,8 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from ..lifting import PRESETS, LiftProgress, get_preset
-from ..minirgbd import SIDES, check_stride, get_mapping, split_sequences
-from ..minirgbd_benchmark import (
+from ..data.minirgbd import SIDES, check_stride, get_mapping, split_sequences
+from ..evaluation.minirgbd_benchmark import (
     DEFAULT_DROPPED_JOINT,
     DEPTH_INTRINSICS,
     MiniScore,
@@ -22,7 +21,8 @@ from ..minirgbd_benchmark import (
     protocol_joints,
     run_minirgbd_benchmark,
 )
-from ..weights import load_prior, resolve_prior_path
+from ..lifting.solver import PRESETS, LiftProgress, get_preset
+from ..prior.weights import load_prior, resolve_prior_path
 from .common import err_console, error_boundary, progress_bar
 
 

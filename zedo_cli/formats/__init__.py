@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .keypoints import Keypoints2D
+from ..data.keypoints import Keypoints2D
 from .readers import INPUT_FORMATS, detect_format, input_sha256, read_keypoints, read_keypoints_text, read_parsed
 
 __all__ = [

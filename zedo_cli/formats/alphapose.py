@@ -20,8 +20,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..skeleton import SKELETONS, Skeleton
-from .keypoints import Keypoints2D
+from ..data.keypoints import Keypoints2D
+from ..data.skeleton import SKELETONS, Skeleton
 from .validate import (
     NAN_SIZE,
     Row,

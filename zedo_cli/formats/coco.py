@@ -16,8 +16,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from ..skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
-from .keypoints import Keypoints2D
+from ..data.keypoints import Keypoints2D
+from ..data.skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
 from .validate import (
     NAN_SIZE,
     ImageId,

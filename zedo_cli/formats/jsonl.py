@@ -21,9 +21,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..data.keypoints import Keypoints2D
+from ..data.skeleton import Skeleton
 from ..errors import InputFormatError
-from ..skeleton import Skeleton
-from .keypoints import Keypoints2D
 from .source import parse_json
 from .validate import (
     NAN_SIZE,

@@ -25,8 +25,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
-from .keypoints import Keypoints2D
+from ..data.keypoints import Keypoints2D
+from ..data.skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
 from .validate import (
     NAN_SIZE,
     ImageId,

@@ -27,11 +27,11 @@ from typing import Any
 
 import numpy as np
 
+from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from .alphapose import is_alphapose_entry, read_alphapose
 from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read_coco_results
 from .jsonl import looks_like_jsonl, read_zedo_jsonl, read_zedo_jsonl_text
-from .keypoints import Keypoints2D
 from .mmpose import mmpose_layout, read_mmpose, read_mmpose_demo, read_mmpose_image, read_mmpose_video
 from .openpose import frame_files, read_openpose, read_openpose_dir
 from .source import STDIN, load_json, parse_json, read_text

@@ -22,11 +22,11 @@ from typing import Any
 
 import numpy as np
 
+from ..data.keypoints import Keypoints2D
+from ..data.skeleton import Skeleton
 from ..files import write_text_atomic
-from ..lifting import LiftResult
-from ..skeleton import Skeleton
+from ..lifting.solver import LiftResult
 from ..version import __version__
-from .keypoints import Keypoints2D
 from .writers_common import AXES, OutputOptions, frame_origin, group_frames, output_poses
 
 SCHEMA = "zedo.pose3d/1"

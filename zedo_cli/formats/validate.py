@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from ..data.keypoints import Keypoints2D
+from ..data.skeleton import Skeleton, joint_count_names, skeleton_for_joint_count
 from ..errors import InputFormatError
-from ..skeleton import Skeleton, joint_count_names, skeleton_for_joint_count
-from .keypoints import Keypoints2D
 
 ImageId = int | str
 NAN_SIZE = (math.nan, math.nan)

@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
+from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import check_writable
-from ..lifting import LiftResult
-from .keypoints import Keypoints2D
+from ..lifting.solver import LiftResult
 from .result_json import build_header, build_result_document, build_summary, iter_frames, write_json
 from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
 from .writers_csv import write_csv

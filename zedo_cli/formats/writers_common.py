@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConfigError
-from ..lifting import LiftResult
+from ..lifting.solver import LiftResult
 
 UNITS = ("m", "mm")
 FRAMES = ("camera", "root")

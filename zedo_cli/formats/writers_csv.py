@@ -32,9 +32,9 @@ from typing import Any
 
 import numpy as np
 
+from ..data.keypoints import Keypoints2D
 from ..files import atomic_path, check_writable
-from ..lifting import LiftResult
-from .keypoints import Keypoints2D
+from ..lifting.solver import LiftResult
 from .writers_common import OutputOptions, group_frames, output_poses
 
 

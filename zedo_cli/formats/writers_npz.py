@@ -31,10 +31,10 @@ from typing import Any
 
 import numpy as np
 
+from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import atomic_path
-from ..lifting import LiftResult
-from .keypoints import Keypoints2D
+from ..lifting.solver import LiftResult
 from .writers_common import AXES, OutputOptions, group_frames, output_poses
 
 

@@ -1,0 +1,89 @@
+"""Weights files: round trip, strict loading, and the bundled prior's contract."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import torch
+from safetensors.torch import load_file, save_file
+
+from zedo_cli.errors import WeightsError
+from zedo_cli.prior.weights import BUNDLED_PRIORS, DEFAULT_PRIOR, bundled_prior_path, load_prior, resolve_prior_path
+
+
+def _rewrite(src: Path, dst: Path, *, meta: dict[str, str] | None = None, drop: str | None = None,
+             add: str | None = None) -> Path:  # fmt: skip
+    from safetensors import safe_open
+
+    with safe_open(str(src), framework="pt") as fh:
+        metadata = dict(fh.metadata())
+    tensors = load_file(str(src))
+    metadata.update(meta or {})
+    if drop:
+        tensors.pop(drop)
+    if add:
+        tensors[add] = torch.zeros(2)
+    save_file(tensors, str(dst), metadata=metadata)
+    return dst
+
+
+def test_round_trip_keeps_metadata_and_weights(tiny_prior_path: Path) -> None:
+    prior = load_prior(tiny_prior_path)
+    assert prior.skeleton.name == "syrip12" and prior.template.shape == (12, 3)
+    assert prior.metadata["model_config"]["hidden"] == 128
+    assert prior.metadata["license"] == "test only" and len(prior.sha256) == 64
+    assert not prior.model.training  # loaded in eval mode
+
+
+def test_loading_for_another_skeleton_is_an_error(tiny_prior_path: Path) -> None:
+    with pytest.raises(WeightsError, match="skeleton 'syrip12', not 'h36m17'"):
+        load_prior(tiny_prior_path, skeleton="h36m17")
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"meta": {"format_version": "99"}}, "format_version '99' is not supported"),
+        ({"meta": {"format": "other"}}, "metadata 'format'"),
+        ({"meta": {"skeleton": "h36m17"}}, "joints"),
+        ({"meta": {"model_config": "{not json"}}, "not valid JSON"),
+        ({"meta": {"model_config": json.dumps({"num_joints": 12, "hidden": 128, "bogus": 1})}}, "unknown fields"),
+        ({"drop": "model.head.bias"}, "do not match the model"),
+        ({"drop": "template"}, "template"),
+        ({"add": "surprise"}, "unexpected tensors"),
+    ],
+)
+def test_strict_loading_rejects_altered_files(
+    tiny_prior_path: Path, tmp_path: Path, change: dict, message: str
+) -> None:
+    bad = _rewrite(tiny_prior_path, tmp_path / "bad.safetensors", **change)
+    with pytest.raises(WeightsError, match=message):
+        load_prior(bad)
+
+
+def test_unreadable_or_missing_files_are_errors(tmp_path: Path) -> None:
+    with pytest.raises(WeightsError, match="not found"):
+        load_prior(tmp_path / "none.safetensors")
+    junk = tmp_path / "junk.safetensors"
+    junk.write_bytes(b"not a safetensors file")
+    with pytest.raises(WeightsError, match="not a readable safetensors file"):
+        load_prior(junk)
+
+
+def test_resolve_prior_path() -> None:
+    assert resolve_prior_path("some/file.safetensors") == Path("some/file.safetensors")
+    with pytest.raises(WeightsError, match="unknown bundled prior"):
+        bundled_prior_path("nope")
+
+
+def test_bundled_default_prior_is_shipped_and_loads_strictly() -> None:
+    path = bundled_prior_path(DEFAULT_PRIOR)
+    assert path.name == BUNDLED_PRIORS[DEFAULT_PRIOR]
+    prior = load_prior(path, skeleton="syrip12")
+    assert prior.metadata["model_config"]["hidden"] == 1024  # the paper's size
+    assert sum(p.numel() for p in prior.model.parameters()) == 7_172_644
+    assert "non-commercial" in prior.metadata["license"]
+    assert prior.metadata["data"]["count"] == 600
+    assert all(v.dtype == torch.float16 for k, v in load_file(str(path)).items() if k.startswith("model."))

@@ -1,0 +1,320 @@
+"""Named joint sets and conversions between them, by joint name.
+
+This is the only module where joint indices are written. Every other module asks a
+`Skeleton` for names, bones, root rule and left/right pairs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ConfigError
+
+
+@dataclass(frozen=True)
+class Skeleton:
+    """A joint set: ordered joint names, bones as index pairs, and the root rule.
+
+    The root point of a pose is the mean of the `root` joints (e.g. the hip midpoint for
+    `syrip12`, the pelvis joint for `h36m17`).
+    """
+
+    name: str
+    joints: tuple[str, ...]
+    bones: tuple[tuple[int, int], ...]
+    root: tuple[str, ...]
+
+    @property
+    def num_joints(self) -> int:
+        return len(self.joints)
+
+    def index(self, joint: str) -> int:
+        return self.joints.index(joint)
+
+    @property
+    def root_indices(self) -> list[int]:
+        return [self.index(j) for j in self.root]
+
+    @property
+    def flip_permutation(self) -> list[int]:
+        """Index permutation that swaps every left joint with its right twin."""
+        perm = []
+        for joint in self.joints:
+            if joint.startswith("left_"):
+                twin = "right_" + joint[len("left_") :]
+            elif joint.startswith("right_"):
+                twin = "left_" + joint[len("right_") :]
+            else:
+                twin = joint
+            perm.append(self.index(twin))
+        return perm
+
+
+def _bones(joints: tuple[str, ...], pairs: list[tuple[str, str]]) -> tuple[tuple[int, int], ...]:
+    return tuple((joints.index(a), joints.index(b)) for a, b in pairs)
+
+
+_H36M17_JOINTS = (
+    "pelvis", "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle",
+    "spine", "thorax", "neck", "head", "left_shoulder", "left_elbow", "left_wrist",
+    "right_shoulder", "right_elbow", "right_wrist",
+)  # fmt: skip
+_LIMBS = [
+    ("right_hip", "right_knee"), ("right_knee", "right_ankle"),
+    ("left_hip", "left_knee"), ("left_knee", "left_ankle"),
+    ("left_shoulder", "left_elbow"), ("left_elbow", "left_wrist"),
+    ("right_shoulder", "right_elbow"), ("right_elbow", "right_wrist"),
+]  # fmt: skip
+
+# H36M order without pelvis, spine, thorax, neck and head: the paper's SyRIP-12 order.
+_SYRIP12_JOINTS = tuple(j for j in _H36M17_JOINTS if j not in ("pelvis", "spine", "thorax", "neck", "head"))
+_COCO17_JOINTS = (
+    "nose", "left_eye", "right_eye", "left_ear", "right_ear", "left_shoulder", "right_shoulder",
+    "left_elbow", "right_elbow", "left_wrist", "right_wrist", "left_hip", "right_hip",
+    "left_knee", "right_knee", "left_ankle", "right_ankle",
+)  # fmt: skip
+# SyRIP's 3D order (LSP-14), as in Infant-Postural-Symmetry's correct_3D.npy.
+_LSP14_JOINTS = (
+    "right_ankle", "right_knee", "right_hip", "left_hip", "left_knee", "left_ankle",
+    "right_wrist", "right_elbow", "right_shoulder", "left_shoulder", "left_elbow", "left_wrist",
+    "neck", "head",
+)  # fmt: skip
+
+# OpenPose BODY_25 (openpose:doc/02_output.md). OpenPose's "Neck" is the midpoint of the
+# shoulders, which H36M calls the thorax, and its "MidHip" is H36M's pelvis (FORMATS.md 3.4), so
+# they carry those names here and convert to h36m17 by name.
+_BODY25_JOINTS = (
+    "nose", "thorax", "right_shoulder", "right_elbow", "right_wrist", "left_shoulder", "left_elbow",
+    "left_wrist", "pelvis", "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee",
+    "left_ankle", "right_eye", "left_eye", "right_ear", "left_ear", "left_big_toe", "left_small_toe",
+    "left_heel", "right_big_toe", "right_small_toe", "right_heel",
+)  # fmt: skip
+# OpenPose's 18-joint "COCO" model: BODY_25 without the mid-hip and the feet, eyes and ears last.
+_COCO18_JOINTS = (
+    "nose", "thorax", "right_shoulder", "right_elbow", "right_wrist", "left_shoulder", "left_elbow",
+    "left_wrist", "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle",
+    "right_eye", "left_eye", "right_ear", "left_ear",
+)  # fmt: skip
+# Halpe-26 (AlphaPose, RTMPose "body with feet"): COCO-17, then head top, neck (= thorax), hip
+# (= pelvis) and the feet (Fang-Haoshu/Halpe-FullBody README).
+_HALPE26_JOINTS = (
+    *_COCO17_JOINTS, "head", "thorax", "pelvis", "left_big_toe", "right_big_toe", "left_small_toe",
+    "right_small_toe", "left_heel", "right_heel",
+)  # fmt: skip
+_FACE = [("nose", "left_eye"), ("nose", "right_eye"), ("left_eye", "left_ear"), ("right_eye", "right_ear")]
+_FEET = [
+    ("left_ankle", "left_heel"), ("left_ankle", "left_big_toe"), ("left_big_toe", "left_small_toe"),
+    ("right_ankle", "right_heel"), ("right_ankle", "right_big_toe"), ("right_big_toe", "right_small_toe"),
+]  # fmt: skip
+_TRUNK = [
+    ("thorax", "left_shoulder"), ("thorax", "right_shoulder"), ("thorax", "pelvis"),
+    ("pelvis", "left_hip"), ("pelvis", "right_hip"), ("thorax", "nose"),
+]  # fmt: skip
+
+SKELETONS: dict[str, Skeleton] = {
+    "h36m17": Skeleton(
+        "h36m17",
+        _H36M17_JOINTS,
+        _bones(
+            _H36M17_JOINTS,
+            [
+                ("pelvis", "right_hip"),
+                ("pelvis", "left_hip"),
+                ("pelvis", "spine"),
+                ("spine", "thorax"),
+                ("thorax", "neck"),
+                ("neck", "head"),
+                ("thorax", "left_shoulder"),
+                ("thorax", "right_shoulder"),
+                *_LIMBS,
+            ],
+        ),  # fmt: skip
+        ("pelvis",),
+    ),
+    "syrip12": Skeleton(
+        "syrip12",
+        _SYRIP12_JOINTS,
+        _bones(
+            _SYRIP12_JOINTS,
+            [
+                ("right_hip", "left_hip"),
+                ("right_shoulder", "left_shoulder"),
+                ("right_hip", "right_shoulder"),
+                ("left_hip", "left_shoulder"),
+                *_LIMBS,
+            ],
+        ),  # fmt: skip
+        ("right_hip", "left_hip"),
+    ),
+    "coco17": Skeleton(
+        "coco17",
+        _COCO17_JOINTS,
+        _bones(
+            _COCO17_JOINTS,
+            [
+                ("left_hip", "right_hip"),
+                ("left_shoulder", "right_shoulder"),
+                ("left_hip", "left_shoulder"),
+                ("right_hip", "right_shoulder"),
+                ("nose", "left_eye"),
+                ("nose", "right_eye"),
+                ("left_eye", "left_ear"),
+                ("right_eye", "right_ear"),
+                *_LIMBS,
+            ],
+        ),  # fmt: skip
+        ("right_hip", "left_hip"),
+    ),
+    "lsp14": Skeleton(
+        "lsp14",
+        _LSP14_JOINTS,
+        _bones(_LSP14_JOINTS, [("neck", "head"), *_LIMBS]),
+        ("right_hip", "left_hip"),
+    ),
+    "body25": Skeleton(
+        "body25", _BODY25_JOINTS, _bones(_BODY25_JOINTS, [*_TRUNK, *_FACE, *_FEET, *_LIMBS]), ("pelvis",)
+    ),
+    "coco18": Skeleton(
+        "coco18",
+        _COCO18_JOINTS,
+        _bones(
+            _COCO18_JOINTS,
+            [
+                ("thorax", "left_shoulder"),
+                ("thorax", "right_shoulder"),
+                ("thorax", "left_hip"),
+                ("thorax", "right_hip"),
+                ("thorax", "nose"),
+                *_FACE,
+                *_LIMBS,
+            ],
+        ),  # fmt: skip
+        ("right_hip", "left_hip"),
+    ),
+    "halpe26": Skeleton(
+        "halpe26",
+        _HALPE26_JOINTS,
+        _bones(_HALPE26_JOINTS, [*_TRUNK, ("nose", "head"), *_FACE, *_FEET, *_LIMBS]),
+        ("pelvis",),
+    ),
+}
+
+# Joints that a source skeleton lacks but can derive as the mean of others it has, as
+# alternatives in order of preference. A derived joint is missing when any of its sources is,
+# with the lowest source confidence (FORMATS.md 3.4; MMPose and MotionBERT average the scores).
+DERIVED_JOINTS: dict[str, tuple[tuple[str, ...], ...]] = {
+    "pelvis": (("left_hip", "right_hip"),),
+    "thorax": (("left_shoulder", "right_shoulder"),),
+    # (pelvis + thorax) / 2 as in MMPose's COCO -> H36M rule; with a detected pelvis and thorax
+    # (BODY_25, Halpe-26: MotionBERT's (Neck + Hip) / 2) those are used, not the four corners.
+    "spine": (("pelvis", "thorax"), ("left_hip", "right_hip", "left_shoulder", "right_shoulder")),
+    "head": (("left_eye", "right_eye"),),
+}
+# Joints taken from a differently named joint when the source lacks the exact one
+# (COCO has no neck base; MMPose and MotionBERT use the nose for H36M joint 9).
+ALIASES: dict[str, str] = {"neck": "nose"}
+
+# Joint counts of detector outputs that carry no joint names (FORMATS.md 3.7). K = 17 is also
+# H36M-17, but detectors emit COCO-17; readers prefer names or meta data where a file has them.
+_BY_COUNT = {17: "coco17", 18: "coco18", 25: "body25", 26: "halpe26"}
+# Other tools' names for joints, per skeleton (MMPose configs/_base_/datasets/{h36m,halpe26}.py).
+_TOOL_JOINT_NAMES: dict[str, dict[str, str]] = {
+    "h36m17": {"root": "pelvis", "right_foot": "right_ankle", "left_foot": "left_ankle", "neck_base": "neck"},
+    "halpe26": {"neck": "thorax", "hip": "pelvis"},
+    "body25": {"neck": "thorax", "mid_hip": "pelvis"},
+    "coco18": {"neck": "thorax"},
+}
+
+
+def skeleton_for_joint_count(count: int) -> Skeleton | None:
+    """The skeleton a detector output with `count` unnamed joints uses (17 -> coco17,
+    18 -> coco18, 25 -> body25, 26 -> halpe26), or None."""
+    name = _BY_COUNT.get(count)
+    return SKELETONS[name] if name is not None else None
+
+
+def joint_count_names() -> str:
+    """The supported unnamed joint counts, for messages: "17 (coco17), 18 (coco18), ..."."""
+    return ", ".join(f"{count} ({name})" for count, name in sorted(_BY_COUNT.items()))
+
+
+def skeleton_from_joint_names(names: tuple[str, ...] | list[str]) -> Skeleton | None:
+    """The skeleton whose joints are exactly `names`, in order, in zedo's names or a tool's
+    (MMPose's ``root``/``neck_base`` for H36M, ``neck``/``hip`` for Halpe-26); else None."""
+    for skeleton in SKELETONS.values():
+        aliases = _TOOL_JOINT_NAMES.get(skeleton.name, {})
+        if tuple(aliases.get(name, name) for name in names) == skeleton.joints:
+            return skeleton
+    return None
+
+
+def get_skeleton(name: str) -> Skeleton:
+    try:
+        return SKELETONS[name]
+    except KeyError:
+        known = ", ".join(sorted(SKELETONS))
+        raise ConfigError(f"unknown skeleton {name!r}; known skeletons: {known}") from None
+
+
+def conversion_sources(src: Skeleton, dst: Skeleton) -> list[list[int]]:
+    """For each joint of `dst`, the indices of `src` whose mean gives it.
+
+    An empty list means `dst` joint cannot be obtained from `src` at all.
+    """
+    sources: list[list[int]] = []
+    for joint in dst.joints:
+        if joint in src.joints:
+            sources.append([src.index(joint)])
+            continue
+        usable = [names for names in DERIVED_JOINTS.get(joint, ()) if all(j in src.joints for j in names)]
+        if usable:
+            sources.append([src.index(j) for j in usable[0]])
+        elif joint in ALIASES and ALIASES[joint] in src.joints:
+            sources.append([src.index(ALIASES[joint])])
+        else:
+            sources.append([])
+    return sources
+
+
+def convert_points(
+    points: np.ndarray, confidence: np.ndarray, src: Skeleton, dst: Skeleton
+) -> tuple[np.ndarray, np.ndarray]:
+    """Convert points `(..., J_src, D)` with confidences `(..., J_src)` to the `dst` joint set.
+
+    A derived joint is the mean of its sources, with the lowest source confidence; it is
+    missing (NaN, confidence 0) when any source is missing (confidence 0 or NaN coordinates) or
+    unavailable.
+    """
+    if points.shape[-2] != src.num_joints:
+        raise ConfigError(f"expected {src.num_joints} joints for skeleton {src.name}, got {points.shape[-2]}")
+    lead = points.shape[:-2]
+    out = np.full((*lead, dst.num_joints, points.shape[-1]), np.nan, dtype=np.float64)
+    out_conf = np.zeros((*lead, dst.num_joints), dtype=np.float64)
+    for j, idx in enumerate(conversion_sources(src, dst)):
+        if not idx:
+            continue
+        conf = confidence[..., idx].min(axis=-1)
+        mean = points[..., idx, :].mean(axis=-2)
+        # A NaN source with a confidence (never from the readers) is missing too, not a NaN "position".
+        present = (conf > 0) & np.isfinite(mean).all(axis=-1)
+        out[..., j, :] = np.where(present[..., None], mean, np.nan)
+        out_conf[..., j] = np.where(present, conf, 0.0)
+    return out, out_conf
+
+
+def root_point(points: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """Root point `(..., D)` of points `(..., J, D)`: the mean of the skeleton's root joints."""
+    return points[..., skeleton.root_indices, :].mean(axis=-2)
+
+
+def center_on_root(points: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """Points `(..., J, D)` translated so that the skeleton's root point is the origin."""
+    return points - root_point(points, skeleton)[..., None, :]
+
+
+def bone_lengths(poses: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """Length of every bone of `skeleton.bones` per pose: `(N, J, 3)` -> `(N, B)`, input units."""
+    a, b = np.asarray(skeleton.bones, dtype=np.int64).reshape(-1, 2).T
+    return np.linalg.norm(poses[:, a] - poses[:, b], axis=-1)

@@ -1,0 +1,182 @@
+"""Pinhole intrinsics, projection, pixel rays, projection onto rays, least-squares translation.
+
+Camera frame: x right, y down, z forward (OpenCV), metres. Batched over leading dims:
+points `(..., J, 3)`, pixels `(..., J, 2)`, matrices `(..., 3, 3)`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from ..errors import IntrinsicsError
+
+PSEUDO_FOCAL_PX = 2000.0  # the paper's pseudo focal length when the camera is unknown
+
+
+@dataclass(frozen=True)
+class Intrinsics:
+    """fx, fy, cx, cy in pixels; `source` says where they came from (pseudo, cli, file)."""
+
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    source: str = "cli"
+
+    def __post_init__(self) -> None:
+        values = (self.fx, self.fy, self.cx, self.cy)
+        if not all(np.isfinite(v) for v in values):
+            raise IntrinsicsError(f"intrinsics must be finite numbers, got {values}")
+        if self.fx <= 0 or self.fy <= 0:
+            raise IntrinsicsError(f"focal length must be > 0 px, got fx={self.fx}, fy={self.fy}")
+
+    @classmethod
+    def pseudo(cls, width: float, height: float, focal: float = PSEUDO_FOCAL_PX) -> Intrinsics:
+        """The paper's pseudo intrinsics: f = 2000 px, principal point at the image centre."""
+        return cls(focal, focal, width / 2.0, height / 2.0, "pseudo")
+
+    @classmethod
+    def from_matrix(cls, k: np.ndarray, source: str) -> Intrinsics:
+        k = np.asarray(k, dtype=np.float64)
+        if k.shape != (3, 3):
+            raise IntrinsicsError(f"K must be a 3x3 matrix, got shape {k.shape}")
+        if k[0, 1] != 0 or k[1, 0] != 0 or k[2, 0] != 0 or k[2, 1] != 0 or k[2, 2] != 1:
+            raise IntrinsicsError("K must be [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] (no skew)")
+        return cls(float(k[0, 0]), float(k[1, 1]), float(k[0, 2]), float(k[1, 2]), source)
+
+    def matrix(self) -> np.ndarray:
+        return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
+
+
+def pixel_rays(xy: torch.Tensor, k: torch.Tensor) -> torch.Tensor:
+    """Rays `(..., J, 3)` = K^-1 [u, v, 1] through pixels `xy (..., J, 2)`; their z is 1."""
+    fx, fy = k[..., 0, 0, None], k[..., 1, 1, None]
+    cx, cy = k[..., 0, 2, None], k[..., 1, 2, None]
+    x = (xy[..., 0] - cx) / fx
+    y = (xy[..., 1] - cy) / fy
+    return torch.stack([x, y, torch.ones_like(x)], dim=-1)
+
+
+def project(points: torch.Tensor, k: torch.Tensor, min_depth: float = 1e-6) -> torch.Tensor:
+    """Pixels `(..., J, 2)` of camera-frame points `(..., J, 3)`; depth clamped to `min_depth`."""
+    z = points[..., 2].clamp_min(min_depth)
+    u = k[..., 0, 0, None] * points[..., 0] / z + k[..., 0, 2, None]
+    v = k[..., 1, 1, None] * points[..., 1] / z + k[..., 1, 2, None]
+    return torch.stack([u, v], dim=-1)
+
+
+def project_onto_rays(points: torch.Tensor, unit_rays: torch.Tensor) -> torch.Tensor:
+    """Orthogonal projection of camera-frame points `(..., J, 3)` onto their unit rays."""
+    return (points * unit_rays).sum(-1, keepdim=True) * unit_rays
+
+
+def solve_root_translation(pose: torch.Tensor, rays: torch.Tensor, weights: torch.Tensor) -> torch.Tensor:
+    """Translation T `(..., 3)` that best puts each joint of `pose + T` on its ray.
+
+    `pose (..., J, 3)` root-relative, `rays (..., J, 3)` with z = 1, `weights (..., J)` (0 for
+    missing joints). Per joint, X + T on ray r gives two linear equations:
+    -T_x + r_x T_z = X_x - r_x X_z and -T_y + r_y T_z = X_y - r_y X_z, solved in weighted least
+    squares via the 3x3 normal equations. A solution behind the camera (T_z < 0) is negated,
+    as in the reference.
+    """
+    rx, ry = rays[..., 0], rays[..., 1]
+    zeros, ones = torch.zeros_like(rx), torch.ones_like(rx)
+    a = torch.cat([torch.stack([-ones, zeros, rx], -1), torch.stack([zeros, -ones, ry], -1)], dim=-2)  # (..., 2J, 3)
+    b = torch.cat([pose[..., 0] - rx * pose[..., 2], pose[..., 1] - ry * pose[..., 2]], dim=-1)
+    w = torch.cat([weights, weights], dim=-1)  # (..., 2J)
+    aw = a * w[..., None]
+    normal = aw.transpose(-1, -2) @ a  # (..., 3, 3)
+    rhs = (aw * b[..., None]).sum(-2)  # (..., 3)
+    t = torch.linalg.solve(normal, rhs)
+    return torch.where(t[..., 2:3] < 0, -t, t)
+
+
+def _intrinsics_entry(entry: object, where: str) -> Intrinsics:
+    """One intrinsics entry of a K.json file: {"K": 3x3} or {"fx", "fy", "cx", "cy"}."""
+    if not isinstance(entry, dict):
+        raise IntrinsicsError(f"{where}: expected an object with 'K' or 'fx', 'fy', 'cx', 'cy'")
+    try:
+        if "K" in entry:
+            return Intrinsics.from_matrix(np.asarray(entry["K"], dtype=np.float64), "file")
+        return Intrinsics(*(float(entry[key]) for key in ("fx", "fy", "cx", "cy")), source="file")
+    except KeyError as exc:
+        raise IntrinsicsError(f"{where}: missing field {exc.args[0]!r}") from None
+    except (TypeError, ValueError) as exc:
+        raise IntrinsicsError(f"{where}: {exc}") from None
+    except IntrinsicsError as exc:
+        raise IntrinsicsError(f"{where}: {exc}") from None
+
+
+def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrinsics]]:
+    """A K.json file: a global entry (`{"K": ...}` or `{"fx": ...}`), and/or per-image entries
+    `{"images": {"<image_id or file_name>": entry}}`. Returns (global or None, per image)."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+    except FileNotFoundError:
+        raise IntrinsicsError(f"{path}: intrinsics file not found") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise IntrinsicsError(f"{path}: not a readable JSON file ({exc})") from None
+    if not isinstance(doc, dict):
+        raise IntrinsicsError(f"{path}: expected a JSON object")
+    per_image: dict[str, Intrinsics] = {}
+    images = doc.get("images", {})
+    if not isinstance(images, dict):
+        raise IntrinsicsError(f"{path}: 'images' must map image ids or file names to intrinsics")
+    for key, entry in images.items():
+        per_image[str(key)] = _intrinsics_entry(entry, f"{path}: images[{key!r}]")
+    has_global = "K" in doc or "fx" in doc
+    glob = _intrinsics_entry(doc, path) if has_global else None
+    if glob is None and not per_image:
+        raise IntrinsicsError(f"{path}: no intrinsics found (expected 'K', 'fx'... or 'images')")
+    return glob, per_image
+
+
+def check_focal(focal: float | None) -> None:
+    """A focal length given on the command line must be a finite positive number of pixels."""
+    if focal is not None and not (np.isfinite(focal) and focal > 0):
+        raise IntrinsicsError(f"--focal must be a positive number of pixels, got {focal}")
+
+
+def resolve_intrinsics(
+    image_sizes: np.ndarray,
+    image_ids: list[int | str],
+    file_names: list[str | None],
+    *,
+    focal: float | None = None,
+    principal_point: tuple[float, float] | None = None,
+    intrinsics_file: str | None = None,
+) -> tuple[np.ndarray, list[str]]:
+    """Intrinsics `(N, 3, 3)` and their source per instance.
+
+    Precedence: a K.json entry for the image (by image id, then file name), the file's global
+    entry, then `focal` / `principal_point` from the command line, else the pseudo intrinsics
+    (f = 2000 px at the image centre). A centre needs the image size: an instance without
+    one and without a principal point is an error.
+    """
+    check_focal(focal)
+    glob, per_image = read_intrinsics_file(intrinsics_file) if intrinsics_file else (None, {})
+    mats, sources = [], []
+    for i, (size, image_id, name) in enumerate(zip(image_sizes, image_ids, file_names, strict=True)):
+        entry = per_image.get(str(image_id)) or (per_image.get(name) if name else None) or glob
+        if entry is None:
+            if principal_point is not None:
+                cx, cy = principal_point
+            elif np.isfinite(size).all() and (size > 0).all():
+                cx, cy = size[0] / 2.0, size[1] / 2.0
+            else:
+                raise IntrinsicsError(
+                    f"instance {i} (image_id {image_id!r}) has no image size: pass --image-size W H, "
+                    "--principal-point CX CY or --intrinsics K.json"
+                )
+            f = PSEUDO_FOCAL_PX if focal is None else focal
+            source = "pseudo" if focal is None and principal_point is None else "cli"
+            entry = Intrinsics(f, f, float(cx), float(cy), source)
+        mats.append(entry.matrix())
+        sources.append(entry.source)
+    return np.array(mats).reshape(-1, 3, 3), sources

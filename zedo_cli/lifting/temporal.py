@@ -1,0 +1,191 @@
+"""Temporal mode: lifting video sequences (one person per frame per track, frames in order).
+
+Frame-by-frame lifting treats every frame alone, so the 3D poses of a video jitter: the depth
+of each joint, which one image constrains least, is re-guessed in every frame. The temporal
+modes (`TEMPORAL_MODES`) use the neighbouring frames:
+
+- `none`: frame-by-frame, the preset as is (batched over all frames).
+- `smooth`: frame-by-frame, then the smoothing filter (`smooth_sequence`) over time, applied
+  per track to the root-relative poses and to the root translations. Cheapest; the joints
+  leave their rays by the amount the filter moves them.
+- `two-pass`: `smooth`, then a short warm-started refinement (batched over all frames, see
+  `lifting.lift(start_poses=...)`) from the smoothed poses, which puts the observed joints
+  back on the rays of the smoothed detections while the prior keeps the pose plausible:
+  closer to the 2D than `smooth`, a little more jitter and error, ~25 % slower.
+
+Tried and dropped (benchmarks, notes): a sequential warm start (frame t from frame t-1's
+result, a few prior steps): no batching across frames and the pose drifts, since a short loop
+at low noise cannot follow large changes (worse than frame-by-frame).
+
+Frames whose person is not lifted (too few observed joints) stay NaN, and the filter ignores
+them (NaN-aware): a gap never spreads into its neighbours. Measured against frame-by-frame in
+`benchmarks/temporal.py`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..prior.weights import Prior
+from .solver import LiftConfig, LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
+
+TEMPORAL_MODES = ("none", "smooth", "two-pass")
+DEFAULT_TEMPORAL_MODE = "smooth"  # measured best (benchmarks/temporal.py): lowest MPJPE and jitter, cheapest
+DEFAULT_SIGMA_FRAMES = 2.0
+
+
+def gaussian_kernel(sigma: float, truncate: float = 3.0) -> np.ndarray:
+    """Normalised Gaussian weights `(2r+1,)` of standard deviation `sigma` frames, r = ceil(truncate sigma)."""
+    radius = max(1, int(np.ceil(truncate * sigma)))
+    offsets = np.arange(-radius, radius + 1, dtype=np.float64)
+    kernel = np.exp(-0.5 * (offsets / sigma) ** 2)
+    return kernel / kernel.sum()
+
+
+def smooth_sequence(values: np.ndarray, sigma: float, *, truncate: float = 3.0) -> np.ndarray:
+    """NaN-aware Gaussian smoothing of `values (T, ...)` over time (axis 0), `sigma` in frames.
+
+    y_t = sum_s w(s - t) m_s x_s / sum_s w(s - t) m_s, with w a Gaussian of `sigma` frames
+    truncated at `truncate` sigma and m_s = 1 where x_s is finite, else 0 (per element).
+    Properties: a constant is unchanged; the kernel is symmetric, so inside a sequence there
+    is no lag (offline filter, zero phase) and a straight-line motion passes unchanged; motion
+    faster than about 1 / (2 pi sigma) cycles per frame is damped (sigma = 2 at 30 fps: the
+    gain is 1/2 at about 2.8 Hz). Near an edge or a gap the window is one-sided and renormalised,
+    so a moving joint is pulled back towards the frames that exist (a lag of up to
+    sigma * sqrt(2/pi) ~ 0.8 sigma frames for a constant velocity at the very first/last frame).
+    NaN entries stay NaN and never reach their neighbours. `sigma = 0` returns a copy.
+    """
+    if sigma < 0 or not np.isfinite(sigma):
+        raise ConfigError(f"sigma must be a finite number of frames >= 0, got {sigma}")
+    values = np.asarray(values, dtype=np.float64)
+    if sigma == 0 or len(values) < 2:
+        return values.copy()
+    kernel = gaussian_kernel(sigma, truncate)
+    radius = len(kernel) // 2
+    finite = np.isfinite(values)
+    x = np.where(finite, values, 0.0)
+    m = finite.astype(np.float64)
+    pad = [(radius, radius)] + [(0, 0)] * (values.ndim - 1)
+    xp, mp = np.pad(x, pad), np.pad(m, pad)
+    num = np.zeros_like(x)
+    den = np.zeros_like(x)
+    n = len(values)
+    for i, w in enumerate(kernel):  # a banded sum: O(T r), fine for long videos
+        num += w * xp[i : i + n]
+        den += w * mp[i : i + n]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = num / den
+    return np.where(finite, out, np.nan)
+
+
+def _track_slices(tracks: np.ndarray | None, n: int) -> list[np.ndarray]:
+    """Indices of each track's frames, in the given (time) order."""
+    if tracks is None:
+        return [np.arange(n)]
+    tracks = np.asarray(tracks)
+    if tracks.shape != (n,):
+        raise ConfigError(f"tracks must have one label per instance ({n}), got shape {tracks.shape}")
+    _, first = np.unique(tracks, return_index=True)
+    return [np.flatnonzero(tracks == tracks[i]) for i in np.sort(first)]
+
+
+def smooth_tracks(
+    poses_root_relative: np.ndarray, root_translation: np.ndarray, sigma: float, tracks: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """`smooth_sequence` per track over root-relative poses `(N, J, 3)` and translations `(N, 3)`.
+
+    Root-relative poses and translations are smoothed apart: the body's motion in the camera
+    and its articulation are different signals, and the root stays at the origin (the filter
+    is linear).
+    """
+    rel, trans = poses_root_relative.copy(), root_translation.copy()
+    for idx in _track_slices(tracks, len(rel)):
+        rel[idx] = smooth_sequence(poses_root_relative[idx], sigma)
+        trans[idx] = smooth_sequence(root_translation[idx], sigma)
+    return rel, trans
+
+
+class _Progress:
+    """Progress over several `lift` calls: their steps add up to one known total."""
+
+    def __init__(self, total: int, callback: Callable[[LiftProgress], None] | None) -> None:
+        self.total, self.offset, self.callback = total, 0, callback
+
+    def part(self) -> Callable[[LiftProgress], None] | None:
+        if self.callback is None:
+            return None
+        offset, callback = self.offset, self.callback
+        return lambda p: callback(LiftProgress(offset + p.done, self.total))
+
+    def advance(self, steps: int) -> None:
+        self.offset += steps
+
+
+def _chunks(count: int, size: int) -> int:
+    return -(-count // size)
+
+
+def lift_sequence(
+    xy: np.ndarray,
+    confidence: np.ndarray,
+    intrinsics: np.ndarray,
+    prior: Prior,
+    config: LiftConfig,
+    *,
+    mode: str = DEFAULT_TEMPORAL_MODE,
+    sigma: float = DEFAULT_SIGMA_FRAMES,
+    tracks: np.ndarray | None = None,
+    min_confidence: float = 0.0,
+    device: str = "cpu",
+    callback: Callable[[LiftProgress], None] | None = None,
+) -> LiftResult:
+    """Lift a video: `xy (N, J, 2)`, `confidence (N, J)`, `intrinsics (N, 3, 3)` as for `lift`,
+    the instances being frames in time order (per track: `tracks (N,)` labels one person
+    across frames; None is one track). `mode` in `TEMPORAL_MODES`; `sigma` is the smoothing
+    filter's width in frames (modes `smooth` and `two-pass`). `config` is the preset; its
+    `warm_*` fields set the warm-started loops. Unlifted frames are NaN, as with `lift`.
+    """
+    if mode not in TEMPORAL_MODES:
+        raise ConfigError(f"unknown temporal mode {mode!r}; modes: {', '.join(TEMPORAL_MODES)}")
+    if sigma < 0 or not np.isfinite(sigma):
+        raise ConfigError(f"sigma must be a finite number of frames >= 0, got {sigma}")
+    start = time.perf_counter()
+    n = len(xy)
+    _track_slices(tracks, n)  # validates the labels early
+    lifted = observed_mask(xy, confidence, min_confidence).sum(1) >= config.min_observed
+    cold_cost = config.init_steps + config.steps
+    passes = 2 if mode == "two-pass" else 1
+    batches = _chunks(int(lifted.sum()), config.chunk_size)
+    progress = _Progress(batches * cold_cost + (passes - 1) * batches * config.warm_steps, callback)
+    first = lift(xy, confidence, intrinsics, prior, config, callback=progress.part(),
+                 min_confidence=min_confidence, device=device)  # fmt: skip
+    progress.advance(batches * cold_cost)
+    if mode == "none":
+        return replace(first, seconds=time.perf_counter() - start)
+    rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks)
+    if mode == "smooth":
+        cam = rel + trans[:, None]
+        reproj = reprojection_error_px(cam, xy, intrinsics, first.observed)
+        return replace(first, poses_camera=cam, poses_root_relative=rel, root_translation=trans,
+                       reprojection_error_px=reproj, seconds=time.perf_counter() - start)  # fmt: skip
+    # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
+    # go through the detections smoothed by the same filter: rays through the raw pixels would bring
+    # back their noise, one pixel being ~0.5 mm at 1 m with f = 2000 px (measured: jitter x3).
+    xy_smooth = smooth_tracks_2d(xy, sigma, tracks)
+    second = lift(xy_smooth, confidence, intrinsics, prior, config, callback=progress.part(), start_poses=rel,
+                  start_translation=trans, min_confidence=min_confidence, device=device)  # fmt: skip
+    reproj = reprojection_error_px(second.poses_camera, xy, intrinsics, second.observed)
+    return replace(second, reprojection_error_px=reproj, seconds=time.perf_counter() - start)
+
+
+def smooth_tracks_2d(xy: np.ndarray, sigma: float, tracks: np.ndarray | None = None) -> np.ndarray:
+    """`smooth_sequence` per track over pixels `(N, J, 2)`; missing (NaN) joints stay NaN."""
+    out = xy.astype(np.float64, copy=True)
+    for idx in _track_slices(tracks, len(xy)):
+        out[idx] = smooth_sequence(xy[idx], sigma)
+    return out

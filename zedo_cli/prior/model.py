@@ -1,0 +1,122 @@
+"""The score network: an MLP over a flattened pose plus a positional time embedding.
+
+ALGORITHM.md section 2.1 (the reference's `ScoreModelFC_Adv` with two residual blocks). The
+network predicts the noise eps; it knows nothing of the SDE, data sets or camera.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import torch
+from torch import nn
+
+
+@dataclass(frozen=True)
+class PriorConfig:
+    """Score network size. Defaults are the paper's (hidden 1024, embed 512, 2 blocks)."""
+
+    num_joints: int
+    hidden: int = 1024
+    embed: int = 512
+    num_blocks: int = 2
+    groups: int = 32
+    dropout: float = 0.25  # the reference hard-codes 0.25 (its config's 0.1 is ignored)
+    time_scale: float = 999.0  # the network sees 999 * t
+
+    def __post_init__(self) -> None:
+        from ..errors import ConfigError
+
+        for name in ("num_joints", "hidden", "embed", "num_blocks", "groups"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+                raise ConfigError(f"model {name} must be a positive integer, got {value!r}")
+        if self.hidden % self.groups:
+            raise ConfigError(f"model hidden ({self.hidden}) must be divisible by groups ({self.groups})")
+        if self.embed % 2 or self.embed < 4:
+            raise ConfigError(f"model embed must be an even number >= 4, got {self.embed}")
+        if not isinstance(self.dropout, (int, float)) or not 0 <= self.dropout < 1:
+            raise ConfigError(f"model dropout must be in [0, 1), got {self.dropout!r}")
+        if not isinstance(self.time_scale, (int, float)) or not self.time_scale > 0:
+            raise ConfigError(f"model time_scale must be > 0, got {self.time_scale!r}")
+
+    def to_dict(self) -> dict[str, float | int]:
+        return asdict(self)
+
+
+def positional_embedding(labels: torch.Tensor, dim: int) -> torch.Tensor:
+    """Sinusoidal features `(B, dim)` of `labels (B,)`: [sin(l w_k), cos(l w_k)], sin half first,
+    with w_k = exp(-k ln(10000) / (dim/2 - 1))."""
+    half = dim // 2
+    freqs = torch.exp(-math.log(10000.0) * torch.arange(half, dtype=torch.float32, device=labels.device) / (half - 1))
+    angles = labels.float()[:, None] * freqs[None, :]
+    return torch.cat([torch.sin(angles), torch.cos(angles)], dim=1)
+
+
+class DenseBlock(nn.Module):
+    """Dropout(SiLU(GN(Linear(h) + Linear(temb)))): one dense layer with its own time projection."""
+
+    def __init__(self, cfg: PriorConfig, in_features: int) -> None:
+        super().__init__()
+        self.dense = nn.Linear(in_features, cfg.hidden)
+        self.time_proj = nn.Linear(cfg.embed, cfg.hidden)
+        self.norm = nn.GroupNorm(cfg.groups, cfg.hidden)
+        self.dropout = nn.Dropout(cfg.dropout)
+
+    def pre_norm(self, h: torch.Tensor, temb: torch.Tensor) -> torch.Tensor:
+        return self.dense(h) + self.time_proj(temb)
+
+    def post_norm(self, pre: torch.Tensor) -> torch.Tensor:
+        return self.dropout(nn.functional.silu(self.norm(pre)))
+
+    def forward(self, h: torch.Tensor, temb: torch.Tensor) -> torch.Tensor:
+        return self.post_norm(self.pre_norm(h, temb))
+
+
+class ResidualBlock(nn.Module):
+    """h + Dense2(Dense1(h)): two dense layers and one skip."""
+
+    def __init__(self, cfg: PriorConfig) -> None:
+        super().__init__()
+        self.first = DenseBlock(cfg, cfg.hidden)
+        self.second = DenseBlock(cfg, cfg.hidden)
+
+    def forward(self, h: torch.Tensor, temb: torch.Tensor) -> torch.Tensor:
+        return h + self.second(self.first(h, temb), temb)
+
+
+class ScoreNet(nn.Module):
+    """Noise-prediction network eps_theta(x, t) for poses `x (B, J, 3)` and times `t`.
+
+    `t` is either `(B,)` or a scalar shared by the batch; a shared time computes the time
+    path (embedding MLP and projections) once for the batch instead of once per pose.
+    """
+
+    def __init__(self, cfg: PriorConfig) -> None:
+        super().__init__()
+        self.cfg = cfg
+        dim = 3 * cfg.num_joints
+        self.time_mlp = nn.Sequential(nn.Linear(cfg.embed, cfg.embed), nn.SiLU())
+        self.stem = DenseBlock(cfg, dim)
+        self.blocks = nn.ModuleList(ResidualBlock(cfg) for _ in range(cfg.num_blocks))
+        self.head = nn.Linear(cfg.hidden, dim)
+
+    def time_embedding(self, t: torch.Tensor) -> torch.Tensor:
+        labels = self.cfg.time_scale * t.reshape(-1)
+        return self.time_mlp(positional_embedding(labels, self.cfg.embed))
+
+    def forward(self, x: torch.Tensor, t: torch.Tensor) -> torch.Tensor:
+        return self.denoise(x, self.time_embedding(t.to(x.dtype)))  # temb (B, E) or (1, E) when t is shared
+
+    def denoise(self, x: torch.Tensor, temb: torch.Tensor) -> torch.Tensor:
+        """The noise prediction given an already computed embedding (time, plus any condition)."""
+        batch = x.shape[0]
+        h = self.stem(x.reshape(batch, -1), temb)
+        for block in self.blocks:
+            h = block(h, temb)
+        return self.head(h).reshape(x.shape)
+
+
+def parameter_count(model: nn.Module) -> int:
+    return sum(p.numel() for p in model.parameters())

@@ -1,0 +1,279 @@
+"""Priors as safetensors files with self-describing metadata; strict loading; bundled priors.
+
+File contract (format version 1), also stated in weights_spec/README.md:
+- tensors `model.<parameter name>` (float16 or float32) for every entry of the score network's
+  state dict, and `template` (J, 3) float32: the pose used to initialise lifting (metres,
+  root-relative);
+- metadata (all strings): `format` = "zedo.prior", `format_version` = "1", `skeleton`,
+  `joints` (JSON list), `model_config`, `sde_config`, `training`, `data` (JSON objects),
+  `license`, `zedo_version`, `created`.
+
+Format version 2 adds one kind of network, written only for it: metadata `architecture` =
+"control" (a frozen base plus the controllable branch of `control.py`, tensors under
+`model.base.*`, `model.branch_*`, `model.zero_*`, `model.prompt`) and `adapted_from` (JSON: the
+base prior's file name and sha256). Plain priors are still written as version 1, so older
+zedo versions read them; a version-2 file gives those a clear "not supported" error.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import torch
+from safetensors import SafetensorError
+from safetensors.torch import load_file, save_file
+from torch import nn
+
+from ..data.skeleton import Skeleton, get_skeleton
+from ..errors import WeightsError
+from ..version import __version__
+from .control import ControlledScoreNet
+from .model import PriorConfig, ScoreNet
+from .sde import SubVPSDE
+
+FORMAT = "zedo.prior"
+FORMAT_VERSION = "1"
+CONTROL_FORMAT_VERSION = "2"
+READABLE_VERSIONS = (FORMAT_VERSION, CONTROL_FORMAT_VERSION)
+ARCHITECTURES = ("scorenet", "control")
+MODEL_PREFIX = "model."
+
+# Priors shipped inside the package: name -> file in zedo_cli/weights/.
+BUNDLED_PRIORS: dict[str, str] = {
+    "syrip12-scratch": "syrip12-scratch.safetensors",  # the default for lifting
+    "adult12-rotscale": "adult12-rotscale.safetensors",  # the default base of `zedo adapt`
+}
+DEFAULT_PRIOR = "syrip12-scratch"
+
+
+@dataclass
+class Prior:
+    """A loaded prior: the network (eval mode, float32), its SDE, skeleton and template.
+
+    `model` is a ScoreNet, or a ControlledScoreNet for an adapted prior that carries its branch.
+    """
+
+    model: ScoreNet | ControlledScoreNet
+    sde: SubVPSDE
+    skeleton: Skeleton
+    template: torch.Tensor  # (J, 3) metres, root-relative
+    metadata: dict[str, Any]
+    sha256: str
+    path: str
+
+    @property
+    def label(self) -> str:
+        return f"{Path(self.path).name} (sha256 {self.sha256[:12]})"
+
+
+def file_sha256(path: str | Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+def save_prior(
+    path: str | Path,
+    state: dict[str, torch.Tensor],
+    cfg: PriorConfig,
+    sde: SubVPSDE,
+    skeleton: Skeleton,
+    template: torch.Tensor,
+    *,
+    training: dict[str, Any],
+    data: dict[str, Any],
+    license_text: str,
+    dtype: torch.dtype = torch.float16,
+    architecture: str = "scorenet",
+    adapted_from: dict[str, Any] | None = None,
+) -> str:
+    """Write a prior atomically (temporary file then rename) and return its sha256.
+
+    `architecture` "control" marks a controlled network's state (format version 2);
+    `adapted_from` names the base prior (file name, sha256) an adapted prior came from.
+    """
+    if architecture not in ARCHITECTURES:
+        raise WeightsError(f"unknown architecture {architecture!r}; known: {', '.join(ARCHITECTURES)}")
+    if template.shape != (skeleton.num_joints, 3):
+        raise WeightsError(f"template must have shape ({skeleton.num_joints}, 3)")
+    tensors = model_tensors(state, dtype)
+    tensors["template"] = template.detach().to("cpu", torch.float32).contiguous()
+    metadata = network_metadata(FORMAT, FORMAT_VERSION, skeleton, cfg, sde, training=training, data=data,
+                                license_text=license_text)  # fmt: skip
+    if adapted_from is not None:
+        metadata["adapted_from"] = json.dumps(adapted_from)
+    if architecture == "control":
+        metadata["format_version"] = CONTROL_FORMAT_VERSION
+        metadata["architecture"] = architecture
+    return write_safetensors_atomic(path, tensors, metadata)
+
+
+def model_tensors(state: dict[str, torch.Tensor], dtype: torch.dtype) -> dict[str, torch.Tensor]:
+    """A network's state dict as `model.*` tensors of `dtype`, ready to write."""
+    return {MODEL_PREFIX + k: v.detach().to("cpu", dtype).contiguous() for k, v in state.items()}
+
+
+def network_metadata(
+    fmt: str,
+    version: str,
+    skeleton: Skeleton,
+    cfg: PriorConfig,
+    sde: SubVPSDE,
+    *,
+    training: dict[str, Any],
+    data: dict[str, Any],
+    license_text: str,
+) -> dict[str, str]:
+    """The metadata every zedo weights file carries (format, joint set, configs, provenance)."""
+    return {
+        "format": fmt,
+        "format_version": version,
+        "skeleton": skeleton.name,
+        "joints": json.dumps(list(skeleton.joints)),
+        "model_config": json.dumps(cfg.to_dict()),
+        "sde_config": json.dumps(sde.to_dict()),
+        "training": json.dumps(training),
+        "data": json.dumps(data),
+        "license": license_text,
+        "zedo_version": __version__,
+        "created": datetime.now(UTC).isoformat(timespec="seconds"),
+    }
+
+
+def write_safetensors_atomic(path: str | Path, tensors: dict[str, torch.Tensor], metadata: dict[str, str]) -> str:
+    """Write a safetensors file atomically (temporary file then rename); return its sha256."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".safetensors", dir=path.parent or ".")
+    os.close(fd)
+    try:
+        save_file(tensors, tmp, metadata=metadata)
+        os.chmod(tmp, 0o644)  # mkstemp creates 0600; a weights file is meant to be shared
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return file_sha256(path)
+
+
+def read_safetensors(path: Path) -> tuple[dict[str, str], dict[str, torch.Tensor]]:
+    """Metadata and tensors of a safetensors file, with a WeightsError naming the file on failure."""
+    if not path.is_file():
+        raise WeightsError(f"{path}: weights file not found")
+    try:
+        from safetensors import safe_open
+
+        with safe_open(str(path), framework="pt") as fh:
+            meta = fh.metadata() or {}
+        return meta, load_file(str(path))
+    except (SafetensorError, OSError, ValueError) as exc:
+        raise WeightsError(f"{path}: not a readable safetensors file ({exc})") from None
+
+
+def json_field(meta: dict[str, str], key: str, path: Path) -> Any:
+    if key not in meta:
+        raise WeightsError(f"{path}: metadata field {key!r} is missing")
+    try:
+        return json.loads(meta[key])
+    except json.JSONDecodeError:
+        raise WeightsError(f"{path}: metadata field {key!r} is not valid JSON") from None
+
+
+def read_network_configs(meta: dict[str, str], path: Path) -> tuple[Skeleton, PriorConfig, SubVPSDE]:
+    """The skeleton, network and SDE configs a weights file's metadata declares, checked."""
+    skel = get_skeleton(meta.get("skeleton", ""))
+    if json_field(meta, "joints", path) != list(skel.joints):
+        raise WeightsError(f"{path}: metadata 'joints' do not match skeleton {skel.name}")
+    try:
+        cfg = PriorConfig(**json_field(meta, "model_config", path))
+        sde_cfg = dict(json_field(meta, "sde_config", path))
+        if sde_cfg.pop("type", None) != "subvp":
+            raise WeightsError(f"{path}: only subVP SDE priors are supported")
+        sde = SubVPSDE(**sde_cfg)
+    except TypeError as exc:
+        raise WeightsError(f"{path}: metadata config has unknown fields ({exc})") from None
+    if cfg.num_joints != skel.num_joints:
+        raise WeightsError(f"{path}: model has {cfg.num_joints} joints, skeleton {skel.num_joints}")
+    return skel, cfg, sde
+
+
+def load_model_state(
+    model: nn.Module, tensors: dict[str, torch.Tensor], path: Path, *, other_tensors: tuple[str, ...] = ()
+) -> None:
+    """Load the `model.*` tensors strictly into `model` (float32); any tensor that is neither
+    the model's nor one of `other_tensors` is an error."""
+    state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
+    try:
+        model.load_state_dict(state, strict=True)
+    except RuntimeError as exc:
+        first = str(exc).splitlines()[0]
+        raise WeightsError(f"{path}: tensors do not match the model ({first})") from None
+    extra = set(tensors) - {MODEL_PREFIX + k for k in state} - set(other_tensors)
+    if extra:
+        raise WeightsError(f"{path}: unexpected tensors {sorted(extra)[:3]}")
+
+
+def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "cpu") -> Prior:
+    """Load a prior strictly: format and version, skeleton, configs and every tensor must match.
+
+    `skeleton`, when given, is the joint set the caller needs; a prior of another is an error.
+    """
+    path = Path(path)
+    meta, tensors = read_safetensors(path)
+    if meta.get("format") != FORMAT:
+        raise WeightsError(f"{path}: metadata 'format' is {meta.get('format')!r}, not {FORMAT!r}")
+    if meta.get("format_version") not in READABLE_VERSIONS:
+        raise WeightsError(
+            f"{path}: format_version {meta.get('format_version')!r} is not supported "
+            f"(this zedo reads versions {', '.join(READABLE_VERSIONS)})"
+        )
+    architecture = "scorenet" if meta["format_version"] == FORMAT_VERSION else meta.get("architecture")
+    if architecture not in ARCHITECTURES:
+        known = ", ".join(ARCHITECTURES)
+        raise WeightsError(f"{path}: metadata 'architecture' is {architecture!r}, not one of {known}")
+    skel, cfg, sde = read_network_configs(meta, path)
+    if skeleton is not None and skel.name != skeleton:
+        raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
+    model: nn.Module = (
+        ScoreNet(cfg)
+        if architecture == "scorenet"
+        else ControlledScoreNet(
+            ScoreNet(cfg),
+            prompt_generator=torch.Generator().manual_seed(0),  # overwritten by the file
+        )
+    )
+    load_model_state(model, tensors, path, other_tensors=("template",))
+    template = tensors.get("template")
+    if template is None or tuple(template.shape) != (skel.num_joints, 3):
+        raise WeightsError(f"{path}: tensor 'template' missing or not of shape ({skel.num_joints}, 3)")
+    model.to(device).eval()
+    metadata = {k: (json.loads(v) if k in ("model_config", "sde_config", "training", "data", "adapted_from") else v)
+                for k, v in meta.items()}  # fmt: skip
+    return Prior(model, sde, skel, template.float().to(device), metadata, file_sha256(path), str(path))
+
+
+def bundled_prior_path(name: str = DEFAULT_PRIOR) -> Path:
+    if name not in BUNDLED_PRIORS:
+        raise WeightsError(f"unknown bundled prior {name!r}; bundled: {', '.join(BUNDLED_PRIORS)}")
+    path = Path(str(resources.files("zedo_cli") / "weights" / BUNDLED_PRIORS[name]))
+    if not path.is_file():
+        raise WeightsError(f"bundled prior {name!r} is not installed ({path} missing)")
+    return path
+
+
+def resolve_prior_path(spec: str | None) -> Path:
+    """A bundled prior's name (None = the default) or a path to a weights file."""
+    if spec is None:
+        return bundled_prior_path(DEFAULT_PRIOR)
+    if spec in BUNDLED_PRIORS:
+        return bundled_prior_path(spec)
+    return Path(spec)
