@@ -1,0 +1,130 @@
+"""The package's layering rule (docs/ARCHITECTURE.md): each subpackage imports only from the
+layers below it, modules never import each other in a cycle, and `zedo_cli` itself stays light."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "zedo_cli"
+
+# Lowest first. A module may import from its own group and from any group of a lower layer.
+LAYERS: list[set[str]] = [
+    {"errors", "version"},
+    {"files", "rotation"},
+    {"data"},
+    {"prior"},
+    {"lifting"},
+    {"formats"},
+    {"augment", "evaluation"},
+    {"cli"},
+]
+LAYER_OF = {group: level for level, groups in enumerate(LAYERS) for group in groups}
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def imported_modules(path: Path) -> set[str]:
+    """Every zedo_cli module `path` imports, at the top or inside a function."""
+    name = module_name(path)
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.split(".")[0] == "zedo_cli":
+                # `from .pkg import module` imports the module itself
+                for alias in node.names:
+                    sub = f"{target}.{alias.name}"
+                    found.add(sub if _is_module(sub) else target)
+        elif isinstance(node, ast.Import):
+            found |= {a.name for a in node.names if a.name.split(".")[0] == "zedo_cli"}
+    return found
+
+
+def _is_module(dotted: str) -> bool:
+    rel = Path(*dotted.split(".")[1:])
+    return (PACKAGE / rel).with_suffix(".py").is_file() or (PACKAGE / rel / "__init__.py").is_file()
+
+
+def group_of(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else None  # None: the top package (its lazy public API)
+
+
+def import_graph() -> dict[str, set[str]]:
+    return {module_name(p): imported_modules(p) for p in sorted(PACKAGE.rglob("*.py"))}
+
+
+def test_every_group_is_assigned_a_layer():
+    groups = {group_of(m) for m in import_graph()} - {None}
+    assert groups == set(LAYER_OF), "a new subpackage or top-level module needs a layer here and in ARCHITECTURE.md"
+
+
+def test_imports_go_down_the_layers_only():
+    upward = []
+    for module, targets in import_graph().items():
+        source = group_of(module)
+        if source is None:
+            continue
+        for target in targets:
+            dest = group_of(target)
+            if dest is None:
+                upward.append(f"{module} -> {target} (the top package is for users, not for zedo_cli itself)")
+            elif dest != source and LAYER_OF[dest] >= LAYER_OF[source]:
+                upward.append(f"{module} -> {target}")
+    assert not upward, "imports against the layering rule:\n" + "\n".join(sorted(upward))
+
+
+def test_no_import_cycles():
+    graph = import_graph()
+    # a package's __init__ importing its own modules is how it exports them, not a cycle
+    edges = {m: {t for t in ts if t in graph and not m.startswith(t + ".")} for m, ts in graph.items()}
+    state: dict[str, int] = {}
+    cycles: list[str] = []
+
+    def visit(node: str, stack: list[str]) -> None:
+        state[node] = 1
+        for nxt in edges[node]:
+            if state.get(nxt) == 1:
+                cycles.append(
+                    " -> ".join(stack[stack.index(nxt) :] + [node, nxt]) if nxt in stack else f"{node} -> {nxt}"
+                )
+            elif nxt not in state:
+                visit(nxt, stack + [node])
+        state[node] = 2
+
+    for node in edges:
+        if node not in state:
+            visit(node, [])
+    assert not cycles, "import cycles:\n" + "\n".join(cycles)
+
+
+def test_the_top_package_stays_light_and_exports_the_api():
+    code = (
+        "import sys, zedo_cli\n"
+        "heavy = sorted(m for m in ('torch', 'matplotlib', 'scipy', 'typer') if m in sys.modules)\n"
+        "assert not heavy, heavy\n"
+        "from zedo_cli import lift, load_prior, read_keypoints, write_result\n"
+        "assert callable(lift) and callable(load_prior) and callable(read_keypoints) and callable(write_result)\n"
+        "assert set(zedo_cli.__all__) <= set(dir(zedo_cli))\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_unknown_api_name_is_an_attribute_error():
+    import zedo_cli
+
+    with pytest.raises(AttributeError, match="no_such_name"):
+        zedo_cli.no_such_name  # noqa: B018
