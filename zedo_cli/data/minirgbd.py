@@ -1,6 +1,6 @@
 """MINI-RGBD (Hesse et al., 2018): the data set's own layout, its SMIL joints, the two
 mappings to H36M-17 and the two train / test splits (the benchmark on it, with the depth
-camera's intrinsics: `minirgbd_benchmark`).
+camera's intrinsics: `evaluation.minirgbd_benchmark`).
 
 Layout (ALGORITHM.md 1.1, 1.2, 1.5): `DIR/NN/joints_3D/syn_joints_3D_XXXXX.txt` and
 `DIR/NN/joints_2Ddep/syn_joints_2Ddep_XXXXX.txt` for sequences NN = 01..12 of 1000 frames

@@ -1,4 +1,4 @@
-"""What every 3D result writer shares: the units/frame options, frame grouping, atomic files.
+"""What every 3D result writer shares: the units/frame options and frame grouping.
 
 Options (FORMATS.md 3.8a), the same for every format:
 
