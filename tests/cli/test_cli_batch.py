@@ -116,5 +116,7 @@ def test_missing_image_size_names_the_input(tiny_prior_path: Path, tmp_path: Pat
     src = tmp_path / "op_000000000000_keypoints.json"
     src.write_text(json.dumps(frame))
     result = runner.invoke(app, lift_args(tiny_prior_path, str(src)))
-    assert result.exit_code == 2 and "op_000000000000_keypoints.json" in result.output
+    # The input lacks what lifting needs (an image size for the principal point): exit 3, as for
+    # any input that cannot work, naming the input and the options that would supply it.
+    assert result.exit_code == 3 and "op_000000000000_keypoints.json" in result.output
     assert "--image-size" in result.output

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Annotated, Any, Optional
@@ -14,14 +15,17 @@ from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
-from ..lifting.camera import check_focal, resolve_intrinsics
+from ..lifting.camera import check_focal, check_image_size, check_principal_point, resolve_intrinsics
 from ..lifting.people import PERSON_MODES, select_people
 from ..lifting.solver import (
     DEFAULT_PRESET,
+    LIFTED,
+    NOT_LIFTED,
     PRESETS,
     LiftConfig,
     LiftProgress,
     LiftResult,
+    geometry_status,
     get_preset,
     lift,
     observed_mask,
@@ -123,19 +127,28 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
             kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
             intrinsics_file=str(st.intrinsics) if st.intrinsics else None,
         )  # fmt: skip
-    except IntrinsicsError as exc:  # name the input whose camera could not be settled
-        raise IntrinsicsError(f"{source}: {exc}") from None
-    usable = observed_mask(kp.xy, kp.confidence, st.min_confidence).sum(1) >= st.cfg.min_observed
-    if not usable.any():
+    except IntrinsicsError as exc:  # name the input whose camera could not be settled (same type: exit code)
+        raise type(exc)(f"{source}: {exc}") from None
+    obs = observed_mask(kp.xy, kp.confidence, st.min_confidence)
+    status = geometry_status(kp.xy, mats, obs, st.cfg.min_observed)  # cheap: before any lifting
+    if (status == "too_few_observed_joints").all():
         raise InputFormatError(
             f"{source}: no instance has {st.cfg.min_observed} or more observed {prior.skeleton.name} joints "
             f"(all missing, or below --min-confidence {st.min_confidence})"
         )
+    if not (status == LIFTED).any():
+        first = str(Counter(str(s) for s in status).most_common(1)[0][0])
+        raise InputFormatError(f"{source}: no instance can be lifted ({_reason_counts(status)}; "
+                               f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     if not st.quiet:
         err_console.print(f"lifting {len(kp)} instances from {source} ({kp.format}) with {prior.label}, "
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None)  # fmt: skip
+    if not res.lifted.any():  # nothing but flags to write: fail loudly instead
+        first = str(Counter(str(s) for s in res.status).most_common(1)[0][0])
+        raise InputFormatError(f"{source}: no instance could be lifted ({_not_lifted_counts(res)}; "
+                               f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
     params.update(person=st.person, fps=st.fps, temporal={"mode": st.temporal, "sigma_frames": st.sigma})
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
@@ -166,8 +179,17 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
                           f"mean reprojection error {reproj:.2f} px"
                           + ("" if output == STDIN else f"; wrote {output}"), markup=False)  # fmt: skip
     if lifted < len(kp):
-        err_console.print(f"zedo: warning: {source}: {len(kp) - lifted} instances had too few observed joints "
-                          "and were not lifted (null in the output)", markup=False)  # fmt: skip
+        err_console.print(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
+                          "(null in the output, flagged not_lifted_<reason>)", markup=False, soft_wrap=True)  # fmt: skip
+
+
+def _not_lifted_counts(res: LiftResult) -> str:
+    """Why instances were not lifted, most common first ("2 too_few_observed_joints, 1 poor_fit")."""
+    return _reason_counts(res.status[~res.lifted])
+
+
+def _reason_counts(status: np.ndarray) -> str:
+    return ", ".join(f"{c} {reason}" for reason, c in Counter(str(s) for s in status).most_common())
 
 
 def _summary_table(outcomes: list[FileOutcome]) -> Table:
@@ -330,6 +352,8 @@ def lift_command(
       zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
     """
     check_focal(focal)  # usage errors fail before the prior is loaded
+    check_principal_point(principal_point)
+    check_image_size(image_size)
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, image_size, images, focal,
