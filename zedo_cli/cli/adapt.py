@@ -22,6 +22,7 @@ from ..prior.adapt import (
 )
 from ..prior.recipes import DTYPES, SYRIP_LICENSE
 from ..prior.weights import load_prior, resolve_prior_path
+from .checks import check_device, check_seed, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
 
@@ -105,6 +106,9 @@ def adapt_command(
     if strategy not in STRATEGIES:
         raise ConfigError(f"--strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
     check_weights_output(weights, dtype)
+    check_syrip_split(split)
+    check_seed(seed)
+    check_device(device)
     check_writable(out, overwrite)
     recipe = default_training(strategy)
     cfg = replace(recipe, epochs=recipe.epochs if epochs is None else epochs, batch_size=batch_size, lr=lr,

@@ -25,6 +25,7 @@ from ..evaluation.syrip_benchmark import (
 )
 from ..lifting.solver import PRESETS, LiftProgress, get_preset
 from ..prior.weights import load_prior, resolve_prior_path
+from .checks import check_device, check_syrip_split
 from .common import err_console, error_boundary, progress_bar
 
 
@@ -56,6 +57,7 @@ def evaluate_command(
     """
     if (syrip_dir is None) == (gt is None):
         raise ConfigError("give the ground truth as either --syrip-dir or --gt")
+    check_syrip_split(split)
     truth = load_syrip_3d(syrip_dir, split) if syrip_dir is not None else load_npz_poses(gt)  # type: ignore[arg-type]
     pred = read_result_file(result)
     p, t, skel = align_to_truth(pred, truth, protocol)
@@ -146,6 +148,7 @@ def benchmark_command(
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
     configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
+    check_device(device)
     prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
     rows: list[tuple[str, Score]] = []
     rates: dict[str, Throughput] = {}

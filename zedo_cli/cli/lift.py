@@ -33,6 +33,7 @@ from ..lifting.solver import (
 from ..lifting.temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequence
 from ..prior.weights import Prior, load_prior, resolve_prior_path
 from ..version import __version__
+from .checks import MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
 from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
 from .lift_plan import STDIN, expand_inputs, plan_outputs
 
@@ -225,10 +226,8 @@ def _check_options(st: LiftSettings) -> None:
         raise ConfigError(f"--person must be one of {', '.join(PERSON_MODES)}, got {st.person!r}")
     if st.temporal not in TEMPORAL_MODES:
         raise ConfigError(f"--temporal must be one of {', '.join(TEMPORAL_MODES)}, got {st.temporal!r}")
-    if not st.sigma > 0:
-        raise ConfigError(f"--sigma must be > 0 frames, got {st.sigma}")
-    if st.fps is not None and not st.fps > 0:
-        raise ConfigError(f"--fps must be > 0, got {st.fps}")
+    check_range("--sigma", st.sigma, 0, MAX_SIGMA_FRAMES, low_open=True, unit=" frames")
+    check_range("--fps", st.fps, 0, MAX_FPS, low_open=True)
 
 
 @error_boundary
@@ -352,6 +351,9 @@ def lift_command(
       zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
     """
     check_focal(focal)  # usage errors fail before the prior is loaded
+    check_steps(steps)
+    check_seed(seed)
+    check_device(device)
     check_principal_point(principal_point)
     check_image_size(image_size)
     cfg = get_preset(preset)

@@ -23,6 +23,7 @@ from ..evaluation.minirgbd_benchmark import (
 )
 from ..lifting.solver import PRESETS, LiftProgress, get_preset
 from ..prior.weights import load_prior, resolve_prior_path
+from .checks import check_device, check_steps
 from .common import err_console, error_boundary, progress_bar
 
 
@@ -75,8 +76,10 @@ def benchmark_minirgbd_command(
     """
     # Option errors before the prior and the data are read.
     cfg = get_preset(preset)
+    check_steps(steps)
     if steps is not None:
         cfg = replace(cfg, steps=steps)
+    check_device(device)
     sequences = split_sequences(split, side)
     protocol_joints(protocol, drop_joint)
     get_mapping(mapping)
