@@ -107,7 +107,7 @@ def test_batch_exit_codes() -> None:
     assert batch_exit_code([ok, ok]) == 0
     assert batch_exit_code([ok, bad_input]) == 4
     assert batch_exit_code([bad_input, bad_input]) == 3
-    assert batch_exit_code([bad_input, bad_usage]) == 1
+    assert batch_exit_code([bad_input, bad_usage]) == 4  # mixed failure codes: 4, the table says which
 
 
 def test_missing_image_size_names_the_input(tiny_prior_path: Path, tmp_path: Path) -> None:

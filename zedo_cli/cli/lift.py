@@ -10,6 +10,7 @@ from typing import Annotated, Any, Optional
 import numpy as np
 import typer
 from rich.table import Table
+from rich.text import Text
 
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
@@ -34,8 +35,8 @@ from ..lifting.temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequen
 from ..prior.weights import Prior, load_prior, resolve_prior_path
 from ..version import __version__
 from .checks import MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
-from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
-from .lift_plan import STDIN, expand_inputs, plan_outputs
+from .common import EXIT_PARTIAL, err_console, error_boundary, one_line, progress_bar
+from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
 
 
 def run_lift(
@@ -156,9 +157,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
                   "sha256": input_sha256(source), "zedo_version": __version__}  # fmt: skip
     write_result(output, kp, res, mats, sources, params, input_info, fmt=st.output_format, units=st.units,
                  frame=st.frame, overwrite=st.overwrite)  # fmt: skip
-    if st.plot_dir is not None:
-        stem = Path(output).name.split(".zedo.")[0] if output != STDIN else "stdin"
-        written = write_plots(st.plot_dir / stem, kp, res, st)
+    if st.plot_dir is not None:  # its paths were checked before any work (lift_plan.check_plot_paths)
+        written = write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
         if not st.quiet and written:
             err_console.print(f"plots: {', '.join(str(p) for p in written)}", markup=False)
     lifted = int(res.lifted.sum())
@@ -197,22 +197,28 @@ def _summary_table(outcomes: list[FileOutcome]) -> Table:
     table = Table(title=f"zedo lift: {len(outcomes)} inputs")
     for col in ("input", "instances", "lifted", "s", "output / error"):
         table.add_column(col, justify="right" if col in ("instances", "lifted", "s") else "left")
-    for o in outcomes:
-        result = f"[red]{o.error}[/red]" if o.error else o.output
-        table.add_row(o.source, str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
+    for o in outcomes:  # Text: names and messages are shown as they are, never read as rich markup
+        result = Text(one_line(str(o.error)), style="red") if o.error else Text(one_line(o.output))
+        table.add_row(Text(one_line(o.source)), str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
     return table
 
 
 def batch_exit_code(outcomes: list[FileOutcome]) -> int:
-    """0 when every input was lifted, EXIT_PARTIAL when some were, else the failures' common
-    exit code (1 when they differ)."""
+    """0 when every input was lifted; EXIT_PARTIAL when some failed and others were written, or
+    when all failed for different reasons (e.g. 2 and 3: the table says which); else the
+    failures' common exit code."""
     failed = [o.error for o in outcomes if o.error is not None]
     if not failed:
         return 0
-    if len(failed) < len(outcomes):
-        return EXIT_PARTIAL
     codes = {e.exit_code for e in failed}
-    return codes.pop() if len(codes) == 1 else EXIT_RUNTIME
+    if len(failed) < len(outcomes) or len(codes) > 1:
+        return EXIT_PARTIAL
+    return codes.pop()
+
+
+def internal_error(source: str, exc: Exception) -> ZedoError:
+    """An unexpected exception of one input, as that input's error (exit 1)."""
+    return ZedoError(f"{source}: internal error: {type(exc).__name__}: {exc}")
 
 
 def _check_options(st: LiftSettings) -> None:
@@ -365,6 +371,7 @@ def lift_command(
     sources = expand_inputs(keypoints)
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
     if plot is not None:
+        check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
     if len(sources) == 1:  # one input: its error is the command's error
@@ -374,9 +381,12 @@ def lift_command(
     for source, output in zip(sources, outputs, strict=True):
         try:
             outcomes.append(lift_file(source, output, prior, st))
-        except ZedoError as exc:
-            err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
-            outcomes.append(FileOutcome(source, output, error=exc))
+        except BrokenPipeError:  # stdout went away: the run ends (quietly, in the error boundary)
+            raise
+        except Exception as exc:  # any failure of one input is that input's alone
+            error = exc if isinstance(exc, ZedoError) else internal_error(source, exc)
+            err_console.print(f"zedo: error: {one_line(str(error))}", markup=False, soft_wrap=True)
+            outcomes.append(FileOutcome(source, output, error=error))
     if not quiet:
         err_console.print(_summary_table(outcomes))
     code = batch_exit_code(outcomes)
