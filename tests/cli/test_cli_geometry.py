@@ -99,3 +99,26 @@ def test_a_bad_intrinsics_file_is_an_input_error(tiny_prior_path: Path, tmp_path
     result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--intrinsics", str(k_file)))
     assert result.exit_code == 3, result.output
     assert str(k_file) in result.output and len(result.output.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("where", ["tensor", "sde_config"])
+def test_a_prior_holding_nan_is_refused_up_front(tiny_prior_path: Path, tmp_path: Path, where: str) -> None:
+    """Today's bug: exit 0, "lifted 3/3", every coordinate null. Now: exit 3 before any lifting."""
+    from safetensors import safe_open
+    from safetensors.torch import load_file, save_file
+
+    with safe_open(str(tiny_prior_path), framework="pt") as fh:
+        meta = dict(fh.metadata())
+    tensors = load_file(str(tiny_prior_path))
+    if where == "tensor":
+        tensors["model.head.bias"] = tensors["model.head.bias"].clone().fill_(float("nan"))
+    else:
+        meta["sde_config"] = json.dumps({"type": "subvp", "beta_min": float("nan"), "beta_max": 20.0,
+                                         "num_scales": 1000})  # fmt: skip
+    bad = tmp_path / "nan.safetensors"
+    save_file(tensors, str(bad), metadata=meta)
+    src = write_coco(tmp_path / "kp.json")
+    result = runner.invoke(app, ["lift", "--prior", str(bad), "--steps", "30", "-q", str(src)])
+    assert result.exit_code == 3, result.output
+    assert str(bad) in result.output and len(result.output.strip().splitlines()) == 1
+    assert not (tmp_path / "kp.zedo.json").exists()

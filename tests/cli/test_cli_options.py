@@ -54,8 +54,6 @@ def test_cuda_without_a_gpu_is_a_usage_error(tiny_prior_path: Path, tmp_path: Pa
     "args",
     [
         ["fit-prior", "--syrip-dir", "nowhere", "--split", "bogus", "--out", "p.safetensors"],
-        ["fit-prior", "--minirgbd-dir", "nowhere", "--minirgbd-split", "bogus", "--out", "p.safetensors"],
-        ["fit-prior", "--minirgbd-dir", "nowhere", "--mapping", "bogus", "--out", "p.safetensors"],
         ["fit-prior", "--syrip-dir", "nowhere", "--seed", "-3", "--out", "p.safetensors"],
         ["fit-prior", "--syrip-dir", "nowhere", "--device", "tpu", "--out", "p.safetensors"],
         ["adapt", "--syrip-dir", "nowhere", "--split", "bogus", "--out", "a.safetensors"],
@@ -74,7 +72,7 @@ def test_cuda_without_a_gpu_is_a_usage_error(tiny_prior_path: Path, tmp_path: Pa
 def test_bad_options_of_every_command_are_usage_errors_before_any_data_is_read(tmp_path: Path, args: list[str]) -> None:
     result = runner.invoke(app, args)
     assert result.exit_code == 2, result.output
-    assert result.output.startswith("zedo: error: --") and len(result.output.strip().splitlines()) == 1
+    assert result.output.startswith("zedo: error:") and len(result.output.strip().splitlines()) == 1
 
 
 def test_messages_stay_on_one_line_with_control_characters_escaped(tiny_prior_path: Path, tmp_path: Path) -> None:

@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 import torch
 from helpers import K_TEST, project_poses, synthetic_poses
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from zedo_cli.lifting.camera import solve_root_translation, solve_root_translation_ex
 from zedo_cli.lifting.solver import (
@@ -133,3 +135,36 @@ def test_small_low_confidence_partial_detections_are_never_placed_behind_the_cam
     centre = np.nanmean(np.where(obs[..., None], pix, np.nan), 1, keepdims=True)
     radius = np.sqrt(np.nanmean(np.where(obs, ((pix - centre) ** 2).sum(-1), np.nan), 1))
     assert (np.nanmean(res.reprojection_error_px[lifted], 1) <= MAX_REPROJECTION_RATIO * radius).all()
+
+
+# A value of every kind the geometry checks must survive: ordinary pixels, the principal point,
+# tiny and absurd magnitudes, NaN and infinities.
+_PIXELS = [0.0, 320.0, 240.0, 1e-30, -5.0, 1e6, 1e200, -1e200, float("nan"), float("inf")]
+_FOCALS = [1e-30, 1.0, 1000.0, 1e6, 1e30, float("nan")]
+
+
+@given(seed=st.integers(0, 2**32 - 1))
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+def test_fuzzed_pixels_and_cameras_never_raise_and_never_lift_nonsense(tiny_prior: Prior, seed: int) -> None:
+    """Batches of generated poses with random corruptions (pixels, focal lengths, principal
+    points, confidences): the lifting never raises; every instance is lifted with a finite pose
+    in front of the camera, or is NaN with its reason."""
+    rng = np.random.default_rng(seed)
+    xy, conf, k = _batch(4)
+    for _ in range(rng.integers(1, 6)):
+        i, j = rng.integers(0, 4), rng.integers(0, 12)
+        kind = rng.integers(0, 4)
+        if kind == 0:
+            xy[i, j, rng.integers(0, 2)] = rng.choice(_PIXELS)
+        elif kind == 1:
+            k[i, 0, 0] = k[i, 1, 1] = rng.choice(_FOCALS)
+        elif kind == 2:
+            k[i, rng.integers(0, 2), 2] = rng.choice(_PIXELS)
+        else:
+            conf[i, rng.integers(0, 12, 10)] = 0.0
+    res = lift(xy, conf, k, tiny_prior, QUICK)
+    assert set(res.status) <= {LIFTED, *NOT_LIFTED}
+    assert np.array_equal(res.lifted, res.status == LIFTED)
+    ok = res.lifted
+    assert np.isfinite(res.poses_camera[ok]).all() and np.isnan(res.poses_camera[~ok]).all()
+    assert (res.poses_camera[ok][..., 2] >= MIN_JOINT_DEPTH_M).all()

@@ -9,8 +9,7 @@ import typer
 
 from ..data.adult import ADULT_LICENSE, load_adult_poses
 from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
-from ..data.minirgbd import MAPPINGS, MINIRGBD_LICENSE, load_minirgbd_3d
-from ..data.minirgbd import SPLITS as MINIRGBD_SPLITS
+from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
 from ..prior.recipes import (
@@ -22,7 +21,7 @@ from ..prior.recipes import (
     with_overrides,
     write_fitted_prior,
 )
-from .checks import check_choice, check_device, check_seed, check_syrip_split
+from .checks import check_device, check_seed, check_syrip_split
 from .common import epoch_progress, err_console, error_boundary
 
 
@@ -122,8 +121,6 @@ def fit_prior_command(
       zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
     """
     check_syrip_split(split)  # option errors before any data is read
-    check_choice("--minirgbd-split", minirgbd_split, MINIRGBD_SPLITS)
-    check_choice("--mapping", mapping, MAPPINGS)
     check_seed(seed)
     check_device(device)
     check_writable(out, overwrite)

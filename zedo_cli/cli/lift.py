@@ -330,7 +330,10 @@ def lift_command(
     min_confidence: Annotated[
         float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")
     ] = 0.0,
-    seed: Annotated[int, typer.Option(help="Seed, recorded in the output (every preset is deterministic).")] = 0,
+    seed: Annotated[
+        int,
+        typer.Option(help="Seed, recorded in the output. Lifting has no randomness: the poses do not depend on it."),
+    ] = 0,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
