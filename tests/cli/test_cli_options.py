@@ -31,6 +31,13 @@ REPO = Path(__file__).resolve().parents[2]
         (["--sigma", "1e300", "--temporal", "smooth"], "--sigma"),
         (["--device", "bogus"], "--device"),
         (["--device", "cuda:99"], "--device"),
+        # Cameras that can never work (issue 16, item 2).
+        (["--focal", "1e30"], "--focal"),
+        (["--focal", "1e-30"], "--focal"),
+        (["--principal-point", "1e9", "1e9"], "--principal-point"),
+        (["--principal-point", "nan", "3"], "--principal-point"),
+        (["--image-size", "1e300", "1e300"], "--image-size"),
+        (["--image-size", "0", "480"], "--image-size"),
     ],
 )
 def test_lift_options_out_of_range_are_usage_errors(
