@@ -5,6 +5,7 @@ ALGORITHM.md section 2.4. No prints and no paths: progress goes through a callba
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass, field
@@ -47,8 +48,8 @@ class TrainConfig:
             raise ConfigError(f"epochs must be >= 1, got {self.epochs}")
         if self.batch_size < 1:
             raise ConfigError(f"batch size must be >= 1, got {self.batch_size}")
-        if not self.lr > 0:
-            raise ConfigError(f"learning rate must be > 0, got {self.lr}")
+        if not (math.isfinite(self.lr) and self.lr > 0):  # inf trains to NaN weights, silently
+            raise ConfigError(f"learning rate must be a finite number > 0, got {self.lr}")
         if self.warmup_steps < 0:
             raise ConfigError(f"warm-up steps must be >= 0, got {self.warmup_steps}")
 
