@@ -40,7 +40,7 @@ def run_one(job: dict) -> dict:
     torch.set_num_threads(1)
     from zedo_cli.data.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.evaluation.syrip_benchmark import lift_and_score, load_syrip_train_inputs
-    from zedo_cli.lifting.solver import PRESETS
+    from zedo_cli.lifting.config import PRESETS
     from zedo_cli.prior.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
     from zedo_cli.prior.weights import load_prior, resolve_prior_path
 

@@ -11,7 +11,8 @@ from helpers import K_TEST, SKELETON, project_poses, synthetic_poses
 from zedo_cli.data.skeleton import center_on_root
 from zedo_cli.errors import ConfigError
 from zedo_cli.evaluation.metrics import mpjpe_mm
-from zedo_cli.lifting.solver import LiftConfig, get_preset, lift
+from zedo_cli.lifting.config import LiftConfig, get_preset
+from zedo_cli.lifting.solver import lift
 from zedo_cli.prior.weights import Prior
 
 FAST = LiftConfig(steps=200, init_steps=200)

@@ -23,7 +23,8 @@ from ..evaluation.syrip_benchmark import (
     run_syrip_benchmark,
     score_poses,
 )
-from ..lifting.solver import PRESETS, LiftProgress, get_preset
+from ..lifting.config import PRESETS, get_preset
+from ..lifting.solver import LiftProgress
 from ..prior.weights import load_prior, resolve_prior_path
 from .common import err_console, error_boundary, progress_bar
 

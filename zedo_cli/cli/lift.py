@@ -15,18 +15,10 @@ from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting.camera import check_focal, resolve_intrinsics
+from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
 from ..lifting.people import PERSON_MODES, select_people
-from ..lifting.solver import (
-    DEFAULT_PRESET,
-    PRESETS,
-    LiftConfig,
-    LiftProgress,
-    LiftResult,
-    get_preset,
-    lift,
-    observed_mask,
-)
-from ..lifting.temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequence
+from ..lifting.solver import LiftProgress, LiftResult, lift, observed_mask
+from ..lifting.temporal import lift_sequence
 from ..prior.weights import Prior, load_prior, resolve_prior_path
 from ..version import __version__
 from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar

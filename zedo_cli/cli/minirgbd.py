@@ -21,7 +21,8 @@ from ..evaluation.minirgbd_benchmark import (
     protocol_joints,
     run_minirgbd_benchmark,
 )
-from ..lifting.solver import PRESETS, LiftProgress, get_preset
+from ..lifting.config import PRESETS, get_preset
+from ..lifting.solver import LiftProgress
 from ..prior.weights import load_prior, resolve_prior_path
 from .common import err_console, error_boundary, progress_bar
 

@@ -15,7 +15,8 @@ from ..data.minirgbd import MiniFrames, load_minirgbd, split_sequences
 from ..data.skeleton import center_on_root, get_skeleton
 from ..errors import ConfigError, WeightsError
 from ..lifting.camera import Intrinsics
-from ..lifting.solver import LiftConfig, LiftProgress, LiftResult, lift
+from ..lifting.config import LiftConfig
+from ..lifting.solver import LiftProgress, LiftResult, lift
 from ..prior.weights import Prior
 from .syrip_benchmark import score_poses
 

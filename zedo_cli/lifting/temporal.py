@@ -32,11 +32,8 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..prior.weights import Prior
-from .solver import LiftConfig, LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
-
-TEMPORAL_MODES = ("none", "smooth", "two-pass")
-DEFAULT_TEMPORAL_MODE = "smooth"  # measured best (benchmarks/temporal.py): lowest MPJPE and jitter, cheapest
-DEFAULT_SIGMA_FRAMES = 2.0
+from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
+from .solver import LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
 
 
 def gaussian_kernel(sigma: float, truncate: float = 3.0) -> np.ndarray:
