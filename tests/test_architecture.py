@@ -22,6 +22,7 @@ LAYERS: list[set[str]] = [
     {"formats"},
     {"augment", "evaluation"},
     {"cli"},
+    {"__main__"},
 ]
 LAYER_OF = {group: level for level, groups in enumerate(LAYERS) for group in groups}
 

@@ -10,23 +10,10 @@ from typing import Annotated, Optional
 import numpy as np
 import typer
 
-from ..augment.augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, train_augmenter
-from ..augment.conversion import (
-    SCALE_MODES,
-    check_strength,
-    choose_sources,
-    convert_poses,
-    orient_like,
-    skeleton_size,
-    take_bone_lengths,
-)
-from ..augment.plots import PLOT_NAMES
-from ..data.adult import ADULT_LICENSE, load_adult_poses
 from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..files import atomic_path, check_writable
-from ..prior.recipes import DTYPES, SYRIP_LICENSE
-from ..prior.weights import load_prior, resolve_prior_path
+from ..prior.schedules import AUGMENTER_TRAINING
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
 ORIENT_MODES = ("keep", "infant")
@@ -38,6 +25,8 @@ def load_adult_source(adult_poses: Optional[Path], adult_dir: Optional[Path], sk
     if (adult_poses is None) == (adult_dir is None):
         raise ConfigError("give exactly one adult source: ADULT_POSES (an npz file) or --adult-dir")
     if adult_dir is not None:
+        from ..data.adult import load_adult_poses  # torch (its augmentation): not for --help
+
         return load_adult_poses(adult_dir, skeleton)
     assert adult_poses is not None
     return load_npz_poses(adult_poses, skeleton)
@@ -106,6 +95,11 @@ def fit_augmenter_command(
 
       zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 --out aug.npz
     """
+    from ..augment.augmenter import save_augmenter, train_augmenter  # torch from here on
+    from ..data.adult import ADULT_LICENSE
+    from ..prior.recipes import DTYPES, SYRIP_LICENSE
+    from ..prior.weights import load_prior, resolve_prior_path
+
     check_weights_output(weights, dtype)
     check_writable(out, overwrite)
     cfg = replace(AUGMENTER_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
@@ -217,6 +211,18 @@ def augment_command(
 
       zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune --out ft_aug.safetensors
     """
+    from ..augment.augmenter import load_augmenter  # torch from here on
+    from ..augment.conversion import (
+        SCALE_MODES,
+        check_strength,
+        choose_sources,
+        convert_poses,
+        orient_like,
+        skeleton_size,
+        take_bone_lengths,
+    )
+    from ..augment.plots import PLOT_NAMES
+
     check_strength(strength)
     if scale not in SCALE_MODES:
         raise ConfigError(f"--scale must be one of {', '.join(SCALE_MODES)}, got {scale!r}")

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import numpy as np
 import typer
@@ -14,15 +15,18 @@ from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
-from ..lifting.camera import check_focal, resolve_intrinsics
 from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
 from ..lifting.people import PERSON_MODES, select_people
-from ..lifting.solver import LiftProgress, LiftResult, lift, observed_mask
-from ..lifting.temporal import lift_sequence
-from ..prior.weights import Prior, load_prior, resolve_prior_path
 from ..version import __version__
-from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
+from .common import COMMAND_START, EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
 from .lift_plan import STDIN, expand_inputs, plan_outputs
+
+if TYPE_CHECKING:
+    from ..lifting.solver import LiftProgress, LiftResult
+    from ..prior.weights import Prior
+
+# torch and the network code are imported inside the functions that lift, so that `zedo lift
+# --help` and option errors answer at once (tests/cli/test_startup.py).
 
 
 def run_lift(
@@ -31,6 +35,9 @@ def run_lift(
     tracks: np.ndarray | None = None,
 ) -> LiftResult:  # fmt: skip
     """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`)."""
+    from ..lifting.solver import lift
+    from ..lifting.temporal import lift_sequence
+
     with progress_bar(quiet) as bar:
         task = bar.add_task(label, total=1, status=f"{len(kp)} poses")
 
@@ -109,6 +116,9 @@ def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoint
 
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
     """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
+    from ..lifting.camera import resolve_intrinsics
+    from ..lifting.solver import observed_mask
+
     kp, places = read_selected(source, prior, st)
     try:
         mats, sources = resolve_intrinsics(
@@ -154,7 +164,7 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
     if not quiet:
         rate = lifted / res.seconds if res.seconds > 0 else float("nan")
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
-        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.1f} s ({rate:.1f} poses/s), "
+        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.2f} s of lifting ({rate:.1f} poses/s), "
                           f"mean reprojection error {reproj:.2f} px"
                           + ("" if output == STDIN else f"; wrote {output}"), markup=False)  # fmt: skip
     if lifted < len(kp):
@@ -321,7 +331,6 @@ def lift_command(
 
       zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
     """
-    check_focal(focal)  # usage errors fail before the prior is loaded
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, image_size, images, focal,
@@ -330,9 +339,16 @@ def lift_command(
     _check_options(st)
     sources = expand_inputs(keypoints)
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
+    from ..lifting.camera import check_focal  # torch loads here: help and the errors above answer at once
+    from ..prior.weights import load_prior, resolve_prior_path
+
+    check_focal(focal)  # usage errors fail before the prior is loaded
     if plot is not None:
         plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
+    if not quiet:
+        err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
+                          markup=False)  # fmt: skip
     if len(sources) == 1:  # one input: its error is the command's error
         lift_file(sources[0], outputs[0], prior, st)
         return

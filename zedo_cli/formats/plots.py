@@ -20,8 +20,10 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..files import atomic_path, check_writable
-from ..lifting.solver import LiftResult
 from .writers_common import OutputOptions, group_frames
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -17,19 +17,21 @@ and never replace an existing file unless `overwrite=True`.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import check_writable
-from ..lifting.solver import LiftResult
 from .result_json import build_header, build_result_document, build_summary, iter_frames, write_json
 from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
 from .writers_csv import write_csv
 from .writers_jsonl import write_jsonl
 from .writers_npz import write_npz
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz")
 _EXTENSIONS = {".json": "json", ".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv", ".npz": "npz"}

@@ -15,11 +15,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ConfigError
-from ..lifting.solver import LiftResult
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 UNITS = ("m", "mm")
 FRAMES = ("camera", "root")

@@ -28,14 +28,16 @@ import json
 import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..files import atomic_path, check_writable
-from ..lifting.solver import LiftResult
 from .writers_common import OutputOptions, group_frames, output_poses
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 
 def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:

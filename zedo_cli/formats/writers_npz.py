@@ -27,15 +27,17 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import atomic_path
-from ..lifting.solver import LiftResult
 from .writers_common import AXES, OutputOptions, group_frames, output_poses
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 
 def _ids(image_ids: list[int | str]) -> np.ndarray:

@@ -81,6 +81,34 @@ def _root_pixels(xy: torch.Tensor, w: torch.Tensor, root_idx: list[int]) -> torc
     return torch.where(root_ok, root_mean, obs_mean)
 
 
+class _Adam:
+    """Adam (Kingma & Ba 2015; betas 0.9 / 0.999, eps 1e-8) for the two tensors of the rotation fit.
+
+    Written out instead of `torch.optim.Adam` because importing torch.optim loads torch's
+    compiler stack (about 0.8 s of start-up for every `zedo lift`). The operations and their
+    order are those of torch's single-tensor CPU Adam, so results are the same to the bit
+    (tests/lifting/test_lifting.py compares them).
+    """
+
+    def __init__(self, params: list[torch.Tensor], lr: float, betas: tuple[float, float] = (0.9, 0.999),
+                 eps: float = 1e-8) -> None:  # fmt: skip
+        self.params, self.lr, self.betas, self.eps, self.steps = params, lr, betas, eps, 0
+        self.m = [torch.zeros_like(p) for p in params]
+        self.v = [torch.zeros_like(p) for p in params]
+
+    @torch.no_grad()
+    def step(self) -> None:
+        beta1, beta2 = self.betas
+        self.steps += 1
+        step_size = self.lr / (1 - beta1**self.steps)
+        correction2_sqrt = (1 - beta2**self.steps) ** 0.5
+        for p, m, v in zip(self.params, self.m, self.v, strict=True):
+            g = p.grad
+            m.lerp_(g, 1 - beta1)
+            v.mul_(beta2).addcmul_(g, g, value=1 - beta2)
+            p.addcdiv_(m, (v.sqrt() / correction2_sqrt).add_(self.eps), value=-step_size)
+
+
 def fit_rotation_depth(
     template: torch.Tensor, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor,
     root_dir: torch.Tensor, cfg: LiftConfig,
@@ -97,7 +125,7 @@ def fit_rotation_depth(
     s = torch.ones(batch, 1, dtype=xy.dtype, device=xy.device)
     q.requires_grad_(True)
     s.requires_grad_(True)
-    opt = torch.optim.Adam([q, s], lr=cfg.init_lr)
+    opt = _Adam([q, s], lr=cfg.init_lr)
     count = 2.0 * w.sum(1)
     with torch.enable_grad():
         for _ in range(cfg.init_steps):
@@ -105,7 +133,7 @@ def fit_rotation_depth(
             cam = template @ rot.transpose(1, 2) + (s.clamp(cfg.scale_min, cfg.scale_max) * root_dir)[:, None]
             err = (project(cam, k) - xy).abs().sum(-1)  # (B, J)
             loss = ((err * w).sum(1) / count).sum()
-            opt.zero_grad(set_to_none=True)
+            q.grad = s.grad = None
             loss.backward()
             opt.step()
     with torch.no_grad():

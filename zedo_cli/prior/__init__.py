@@ -13,13 +13,14 @@ __getattr__, __dir__, __all__ = lazy_exports(
     __name__,
     globals(),
     {
-        ".adapt": ["AdaptResult", "STRATEGIES", "adapt_prior", "write_adapted_prior"],
+        ".adapt": ["AdaptResult", "adapt_prior", "write_adapted_prior"],
         ".control": ["ControlledScoreNet"],
         ".model": ["PriorConfig", "ScoreNet"],
         ".recipes": ["Recipe", "fit_prior", "load_recipe", "write_fitted_prior"],
         ".sampling": ["sample_poses"],
         ".sde": ["SubVPSDE"],
-        ".training": ["TrainConfig", "TrainResult", "train_score_model"],
+        ".schedules": ["STRATEGIES", "TrainConfig"],
+        ".training": ["TrainResult", "train_score_model"],
         ".weights": ["BUNDLED_PRIORS", "DEFAULT_PRIOR", "Prior", "load_prior", "resolve_prior_path", "save_prior"],
     },
 )
