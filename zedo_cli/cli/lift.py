@@ -211,6 +211,42 @@ def _check_options(st: LiftSettings) -> None:
         raise ConfigError(f"--fps must be > 0, got {st.fps}")
 
 
+ENGINES = ("local", "ray")
+
+
+def _check_engine(engine: str, inputs: list[str], out: Optional[str], workers: Optional[int]) -> None:
+    if engine not in ENGINES:
+        raise ConfigError(f"--engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+    if workers is not None and workers < 1:
+        raise ConfigError(f"--workers must be >= 1, got {workers}")
+    if engine == "ray" and (STDIN in inputs or out == STDIN):
+        raise ConfigError("--engine ray reads and writes files: stdin (-) and -o - need --engine local")
+
+
+def _lift_on_ray(
+    sources: list[str],
+    outputs: list[str],
+    prior: Prior,
+    st: LiftSettings,
+    address: Optional[str],
+    workers: Optional[int],
+) -> list[FileOutcome]:
+    """Every input on Ray; the per-input lines the local engine prints, printed when the batch returns."""
+    from .ray_engine import lift_files_on_ray
+
+    outcomes = lift_files_on_ray(sources, outputs, str(prior.path), st, address=address, workers=workers)
+    if len(outcomes) == 1 and outcomes[0].error is not None:
+        raise outcomes[0].error  # one input: its error is the command's error, as locally
+    for o in outcomes:
+        if o.error is not None:
+            err_console.print(f"zedo: error: {o.error}", markup=False, soft_wrap=True)
+        elif not st.quiet:
+            rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
+            err_console.print(f"lifted {o.lifted}/{o.instances} instances from {o.source} in {o.seconds:.2f} s of "
+                              f"lifting ({rate:.1f} poses/s); wrote {o.output}", markup=False)  # fmt: skip
+    return outcomes
+
+
 @error_boundary
 def lift_command(
     keypoints: Annotated[
@@ -309,6 +345,23 @@ def lift_command(
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
+    engine: Annotated[
+        str,
+        typer.Option(
+            help="local: this process. ray: the same batch over a Ray cluster, one prior load per worker, the same "
+            "outputs (pip install 'zedo[ray]'; inputs and outputs on a file system every node sees)."
+        ),
+    ] = "local",
+    ray_address: Annotated[
+        Optional[str],
+        typer.Option(
+            help="With --engine ray: the cluster to join (else RAY_ADDRESS; else Ray starts on this machine)."
+        ),
+    ] = None,
+    workers: Annotated[
+        Optional[int],
+        typer.Option(help="With --engine ray: workers (prior loads). Default: one per CPU of the cluster."),
+    ] = None,
 ) -> None:
     """Lift 2D keypoints to 3D poses, in the camera frame (x right, y down, z forward).
 
@@ -337,6 +390,7 @@ def lift_command(
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
                       plot, seed, device, overwrite, quiet)  # fmt: skip
     _check_options(st)
+    _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
     from ..lifting.camera import check_focal  # torch loads here: help and the errors above answer at once
@@ -349,16 +403,19 @@ def lift_command(
     if not quiet:
         err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
                           markup=False)  # fmt: skip
-    if len(sources) == 1:  # one input: its error is the command's error
+    if engine == "ray":
+        outcomes = _lift_on_ray(sources, outputs, prior, st, ray_address, workers)
+    elif len(sources) == 1:  # one input: its error is the command's error
         lift_file(sources[0], outputs[0], prior, st)
         return
-    outcomes = []
-    for source, output in zip(sources, outputs, strict=True):
-        try:
-            outcomes.append(lift_file(source, output, prior, st))
-        except ZedoError as exc:
-            err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
-            outcomes.append(FileOutcome(source, output, error=exc))
+    else:
+        outcomes = []
+        for source, output in zip(sources, outputs, strict=True):
+            try:
+                outcomes.append(lift_file(source, output, prior, st))
+            except ZedoError as exc:
+                err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
+                outcomes.append(FileOutcome(source, output, error=exc))
     if not quiet:
         err_console.print(_summary_table(outcomes))
     code = batch_exit_code(outcomes)
