@@ -360,7 +360,10 @@ def lift_command(
     ] = None,
     workers: Annotated[
         Optional[int],
-        typer.Option(help="With --engine ray: workers (prior loads). Default: one per CPU of the cluster."),
+        typer.Option(
+            help="With --engine ray: workers (prior loads), sharing the cluster's CPUs. Default: as many as leave "
+            "each worker the local engine's torch threads, which keeps the outputs equal to its to the last digit."
+        ),
     ] = None,
 ) -> None:
     """Lift 2D keypoints to 3D poses, in the camera frame (x right, y down, z forward).

@@ -1,9 +1,9 @@
 """`zedo lift --engine ray`: the same batch over a Ray cluster, one prior load per worker.
 
 Each worker is a Ray Data actor that loads the prior once and runs the local engine's per-file
-function (`cli.lift.lift_file`) on the inputs it is given, so the outputs are exactly those of
-`--engine local` (same names, same content apart from timestamps, written atomically by the
-worker). Outputs were checked before any work by the driver (`lift_plan.plan_outputs`); an
+function (`cli.lift.lift_file`) on the inputs it is given with the local engine's torch thread
+count, so the outputs are exactly those of `--engine local` on the same kind of machine (same
+names, same content apart from timestamps, written atomically by the worker). Outputs were checked before any work by the driver (`lift_plan.plan_outputs`); an
 input's error comes back as data and is reported and counted as in the local engine.
 
 Inputs and outputs must be on a file system every node sees (one machine, or a shared mount);
@@ -99,12 +99,22 @@ def lift_files_on_ray(
     """Lift every input on a Ray cluster; the outcomes come back in input order."""
     connect(address)
     import ray
+    import torch
 
     from .lift import FileOutcome
 
+    # Each worker gets the local engine's torch thread count: matrix products sum in an order
+    # that depends on it, so only then are the outputs the local engine's to the last digit.
+    # `--workers` trades that for more, thinner workers (differences of a micrometre).
     cpus = int(ray.cluster_resources().get("CPU", 1))
-    size = max(1, min(workers or cpus, len(sources)))
-    threads = max(1, cpus // size) if address is None and not os.environ.get("RAY_ADDRESS") else 1
+    local_threads = torch.get_num_threads()
+    if workers is None:
+        threads = min(local_threads, cpus)
+        size = max(1, cpus // threads)
+    else:
+        size = workers
+        threads = max(1, cpus // workers)
+    size = min(size, len(sources))
     context = ray.data.DataContext.get_current()
     context.enable_progress_bars = not settings.quiet
     context.print_on_execution_start = False
