@@ -20,6 +20,7 @@ LAYERS: list[set[str]] = [
     {"prior"},
     {"lifting"},
     {"formats"},
+    {"analysis"},
     {"augment", "evaluation"},
     {"cli"},
 ]
