@@ -155,7 +155,9 @@ def analyse(result: ResultPoses, settings: AnalysisSettings | None = None) -> An
     if fps is None:
         a.notes.append("no fps (neither --fps nor recorded by zedo lift --fps): frames are analysed as separate "
                        "images, without movement features")  # fmt: skip
-    a.rows = _frame_rows(a) + (_clip_rows(a) if fps is not None else [])
+    a.rows = _frame_rows(a)
+    if fps is not None:
+        a.rows += _clip_rows(a)  # reads the frame rows' calls
     return a
 
 

@@ -188,30 +188,36 @@ def analyze_command(
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No summary on stderr.")] = False,
 ) -> None:
-    """Clinical measures of lifted poses: postural symmetry, joint angles, movement features.
+    """Clinical measures of lifted poses: symmetry, joint angles, movement.
 
-    Per frame and person: the symmetry angle of upper arm, forearm, thigh and shank (Huang et
-    al. 2022: the left segment against the right one mirrored through the body's mid-plane;
-    symmetric at <= --symmetry-threshold, 28 degrees by default) with the paper's bands
-    (< 30, 30-60, >= 60), and knee / elbow flexion and hip / shoulder flexion and abduction in
-    a trunk frame (conventions: README, "zedo analyze"). For a video (--fps, or the fps given
-    to zedo lift): per person, median and IQR of |angular velocity|, range of motion and
-    left-right correlation of every angle. Where the result carries per-joint uncertainty
-    (uncertainty_m), every measure gets a 90 % interval and a call straddling the threshold is
-    "uncertain"; otherwise every output says that none was available.
+    Per frame and person: the symmetry angle of upper arm, forearm, thigh
+    and shank (Huang et al. 2022: the left segment against the right one
+    mirrored through the body's mid-plane), called symmetric at most
+    --symmetry-threshold degrees (28), with the paper's bands (< 30, 30-60,
+    >= 60); knee and elbow flexion, hip and shoulder flexion and abduction
+    in a trunk frame (conventions: README, "zedo analyze").
 
-    Outputs: a tidy CSV (frame_index, image_id, file_name, person, measure, value, unit,
-    low_90, high_90, call, interval) and a JSON with the same rows, the settings and a
-    summary; --report DIR adds an HTML report (no network needed). Existing files are replaced
-    only with --overwrite. A file that is not a zedo result exits with code 3.
+    For a video (--fps, or the fps given to zedo lift), per person: median
+    and IQR of |angular velocity|, range of motion and the left-right
+    correlation of every angle.
+
+    Where the result carries per-joint uncertainty (uncertainty_m), every
+    measure gets a 90 % interval and a call whose interval straddles the
+    threshold is "uncertain"; otherwise every output says none was there.
+
+    Outputs: a tidy CSV (frame_index, image_id, file_name, person, measure,
+    value, unit, low_90, high_90, call, interval), a JSON with the same rows,
+    the settings and a summary, and with --report DIR a self-contained HTML
+    report. Files are replaced only with --overwrite. A file that is not a
+    zedo result, or has no lifted person, exits with code 3.
 
     Examples:
 
-      zedo analyze test100.zedo.json                    # test100.analysis.csv and .json beside it
+      zedo analyze test100.zedo.json      # test100.analysis.csv + .json
 
-      zedo lift kp.json -o - -q | zedo analyze -        # 2D keypoints -> measures, CSV on stdout
+      zedo lift kp.json -o - -q | zedo analyze -      # CSV on stdout
 
-      zedo analyze clip.zedo.csv --fps 30 --report report/ --overwrite
+      zedo analyze clip.zedo.csv --fps 30 --report report/
 
       zedo analyze results/ --output-dir analysis/ --symmetry-threshold 30
     """
@@ -274,17 +280,20 @@ def benchmark_symmetry_command(
     as_json: Annotated[bool, typer.Option("--json", help="Print the figures as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
-    """How accurate zedo analyze's measures are: SyRIP Test100, lifted and analysed.
+    """How accurate zedo analyze's measures are, on SyRIP Test100.
 
-    Lifts the 100 test images from ground-truth and FiDIP-detected 2D (pseudo camera, the
-    chosen preset), computes the symmetry angles and joint angles, and compares them with the
-    same measures on the weak 3D ground truth: per pair the mean absolute symmetry-angle error
-    and Cohen's kappa of the symmetric / asymmetric calls at the threshold (each cell:
-    error / kappa), pooled kappa over the four pairs, and the mean absolute error of every
-    joint angle. HW-HuP's 3D predictions, from which the ground truth was hand-corrected, are
-    scored too as a reference (an upper bound more than a competitor).
+    Lifts the 100 test images from ground-truth and FiDIP-detected 2D
+    (pseudo camera, the chosen preset), measures symmetry and joint angles,
+    and compares them with the same measures on the weak 3D ground truth:
+    per pair the mean absolute symmetry-angle error and Cohen's kappa of the
+    symmetric / asymmetric calls at the threshold, the kappa pooled over the
+    four pairs, and the mean absolute error of every joint angle. HW-HuP's
+    3D predictions, from which the ground truth was hand-corrected, are
+    scored too, as a reference (an upper bound more than a competitor).
 
-    Example: zedo benchmark-symmetry --syrip-dir ../shared/data/syrip
+    Example:
+
+      zedo benchmark-symmetry --syrip-dir ../shared/data/syrip
     """
     chosen = tuple(i.strip() for i in inputs.split(","))
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
