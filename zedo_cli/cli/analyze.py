@@ -243,17 +243,21 @@ def analyze_command(
 
 
 def _benchmark_tables(bench: SymmetryBenchmark) -> list[Table]:
-    labels = {"gt": "zedo, GT 2D", "detected": "zedo, FiDIP 2D", "hwhup": "HW-HuP (ref.)"}
+    labels = {"gt": "GT 2D", "detected": "FiDIP 2D", "hwhup": "HW-HuP"}
     sym = Table(title=f"SyRIP Test100 symmetry vs weak 3D truth, threshold {bench.threshold_deg:g} deg "
                 f"(truth: {100 * bench.truth_asymmetric_share:.0f}% asymmetric)")  # fmt: skip
-    pairs = [measure_name(p) for p in PAIRS]
-    sym.add_column("3D poses (err deg / kappa)", justify="left")
-    for col in ("UA", "FA", "TH", "SH", "err", "kappa", "agree", "asym"):
-        sym.add_column(col, justify="right")
+    sym.add_column("pair", justify="left")
     for s in bench.scores:
-        cells = [f"{s.angle_error_deg[n]:.1f}/{s.kappa[n]:.2f}" for n in pairs]
-        sym.add_row(labels.get(s.source, s.source), *cells, f"{s.mean_angle_error_deg:.1f}", f"{s.pooled_kappa:.2f}",
-                    f"{100 * s.agreement:.0f}%", f"{100 * s.asymmetric_share:.0f}%")  # fmt: skip
+        sym.add_column(f"{labels.get(s.source, s.source)} err", justify="right")
+        sym.add_column("kappa", justify="right")
+    for pair in PAIRS:
+        n = measure_name(pair)
+        cells = [c for s in bench.scores for c in (f"{s.angle_error_deg[n]:.1f}", f"{s.kappa[n]:.2f}")]
+        sym.add_row(pair.replace("_", " "), *cells)
+    pooled = [c for s in bench.scores for c in (f"{s.mean_angle_error_deg:.1f}", f"{s.pooled_kappa:.2f}")]
+    sym.add_row("[b]all (pooled)[/b]", *(f"[b]{c}[/b]" for c in pooled))
+    sym.add_row("equal calls", *(c for s in bench.scores for c in (f"{100 * s.agreement:.0f}%", "")))
+    sym.add_row("asymmetric", *(c for s in bench.scores for c in (f"{100 * s.asymmetric_share:.0f}%", "")))
     ang = Table(title="Joint-angle error vs the weak 3D ground truth (mean |difference|, deg)")
     ang.add_column("angle", justify="left")
     for s in bench.scores:
@@ -316,7 +320,7 @@ def benchmark_symmetry_command(
     console = Console()
     for table in _benchmark_tables(bench):
         console.print(table)
-    console.print("UA upper arm, FA forearm, TH thigh, SH shank: mean |symmetry-angle error| / Cohen's kappa of the "
-                  "calls; err: mean over pairs; kappa: pooled over the 4 pairs; agree: equal calls; asym: asymmetric "
-                  "calls", markup=False)  # fmt: skip
+    console.print("err: mean |symmetry-angle error| (deg); kappa: Cohen's kappa of the symmetric / asymmetric "
+                  "calls against the truth's; HW-HuP: the image model the weak truth was corrected from (reference)",
+                  markup=False)  # fmt: skip
     err_console.print(f"prior {prior.label}; preset {preset}; device {device}", markup=False)
