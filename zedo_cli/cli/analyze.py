@@ -3,7 +3,6 @@ accuracy on SyRIP Test100)."""
 
 from __future__ import annotations
 
-import glob
 import json
 import sys
 from dataclasses import asdict
@@ -26,8 +25,8 @@ from ..formats.result_reader import read_result
 from ..lifting.solver import DEFAULT_PRESET, PRESETS, LiftProgress, get_preset
 from ..prior.weights import load_prior, resolve_prior_path
 from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
+from .lift_plan import STDIN, expand_inputs
 
-STDIN = "-"
 _RESULT_SUFFIXES = (".json", ".jsonl", ".ndjson", ".csv", ".npz")
 
 
@@ -35,31 +34,17 @@ def _is_result_name(path: Path) -> bool:
     return ".zedo." in path.name and path.suffix in _RESULT_SUFFIXES and not path.name.endswith(".meta.json")
 
 
+def _result_files(folder: Path) -> list[str]:
+    found = sorted(str(p) for p in folder.iterdir() if _is_result_name(p))
+    if not found:
+        raise InputFormatError(f"{folder}: folder holds no zedo results (*.zedo.json/.jsonl/.csv/.npz)")
+    return found
+
+
 def expand_results(args: list[str]) -> list[str]:
     """Result paths in the order given: `-`, files, folders (their `*.zedo.*` results) and glob
-    patterns the shell did not expand. Duplicates are dropped."""
-    out: list[str] = []
-    for arg in args:
-        path = Path(arg)
-        if arg == STDIN:
-            out.append(arg)
-        elif path.is_dir():
-            found = sorted(str(p) for p in path.iterdir() if _is_result_name(p))
-            if not found:
-                raise InputFormatError(f"{arg}: folder holds no zedo results (*.zedo.json/.jsonl/.csv/.npz)")
-            out += found
-        elif path.exists():
-            out.append(arg)
-        elif set("*?[") & set(arg):
-            matches = sorted(m for m in glob.glob(arg, recursive=True) if not m.endswith(".meta.json"))
-            if not matches:
-                raise InputFormatError(f"{arg}: no file matches this pattern")
-            out += matches
-        else:
-            raise InputFormatError(f"{arg}: file not found")
-    if out.count(STDIN) > 1:
-        raise ConfigError("stdin (-) can be read only once")
-    return list(dict.fromkeys(out))
+    patterns the shell did not expand (sidecars left out). Duplicates are dropped."""
+    return expand_inputs(args, folder=_result_files, keep=lambda p: not p.name.endswith(".meta.json"))
 
 
 def output_stem(source: str) -> str:
