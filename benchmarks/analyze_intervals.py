@@ -5,9 +5,9 @@ level sigma, `--repeats` noisy copies of every pose are made (independent isotro
 joint errors of sigma per axis: the error model the intervals assume) and given the radius
 uncertainty_m = 2.5003 sigma (the true 90 % ball). The intervals of `analysis.uncertainty`
 are computed around each noisy pose, and the share that holds the measure of the true pose is
-reported per symmetry pair, for the reflected interval zedo uses and, for comparison, for the
-plain percentile interval. Also: the share of true calls at 28 degrees reproduced
-(calls equal, or "uncertain").
+reported per symmetry pair, for zedo's interval (the percentile interval and its reflection
+about the reported value, together) and, for comparison, for the plain percentile interval;
+also the mean width and the share of true calls at 28 degrees kept (equal, or "uncertain").
 
     .venv/bin/python benchmarks/analyze_intervals.py --syrip-dir ../shared/data/syrip
 """
@@ -38,7 +38,7 @@ def main() -> None:
     names = [measure_name(p) for p in PAIRS]
     true = symmetry_angles(truth.poses, skel)
     ranges = measure_ranges()
-    print("| sigma (mm) | radius (mm) | pair | coverage, reflected (zedo) | coverage, percentile | "
+    print("| sigma (mm) | radius (mm) | pair | coverage, zedo | coverage, percentile only | "
           "mean width (deg) | true call kept or uncertain |")  # fmt: skip
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for sigma_mm in args.sigmas_mm:
@@ -47,11 +47,11 @@ def main() -> None:
         noisy = poses + rng.normal(0.0, sigma, poses.shape)
         radii = np.full(noisy.shape[:2], sigma * CHI3_Q90)
         f = lambda p: symmetry_angles(p, skel)  # noqa: E731
-        reflected = sample_intervals(noisy, radii, f, ranges=ranges, samples=args.samples, seed=args.seed)
+        intervals = sample_intervals(noisy, radii, f, ranges=ranges, samples=args.samples, seed=args.seed)
         reported = f(noisy)
         for name in names:
             t = np.concatenate([true[name]] * args.repeats)
-            low, high = reflected[name]
+            low, high = intervals[name]
             cov = ((low <= t) & (t <= high)).mean()
             p_low, p_high = _percentile(noisy, radii, f, name, args.samples, args.seed)
             pcov = ((p_low <= t) & (t <= p_high)).mean()

@@ -98,3 +98,12 @@ def test_the_interval_covers_the_true_measure_about_90_percent_of_the_time(bend:
     covered = ((low <= true) & (true <= high)).mean()
     assert 0.8 <= covered <= 0.96, covered
     assert (low >= 0).all()
+
+
+def test_a_reported_zero_keeps_a_real_interval() -> None:
+    """A perfectly symmetric reported pose: the reflected interval alone would be [0, 0]."""
+    pose = _pose_with_bent_knee(0.0)[None]
+    out = sample_intervals(pose, np.full((1, 12), 0.01), lambda p: symmetry_angles(p, SKEL), samples=500,
+                           ranges={"symmetry_shank_deg": (0.0, 180.0)})  # fmt: skip
+    low, high = out["symmetry_shank_deg"]
+    assert low[0] == 0.0 and 5.0 < high[0] < 40.0
