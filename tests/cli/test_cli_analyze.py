@@ -154,3 +154,23 @@ def test_benchmark_symmetry_without_data_exits_3(tmp_path: Path) -> None:
     assert result.exit_code == 3 and "file not found" in result.stderr
     result = runner.invoke(app, ["benchmark-symmetry", "--syrip-dir", str(tmp_path), "--inputs", "x"])
     assert result.exit_code == 2
+
+
+def test_evaluate_reads_every_result_format_through_the_shared_reader(tiny_prior_path: Path, tmp_path: Path) -> None:
+    import numpy as np
+    from helpers import synthetic_poses
+
+    from zedo_cli.data.skeleton import get_skeleton
+
+    src = write_coco(tmp_path / "kp.json", n=3)
+    gt = tmp_path / "gt.npz"
+    np.savez(gt, poses=synthetic_poses(3, seed=3), joint_names=np.array(get_skeleton("syrip12").joints),
+             names=np.array([f"img{i}.jpg" for i in range(3)]))  # fmt: skip
+    scores = {}
+    for fmt in ("json", "csv", "npz"):
+        out = tmp_path / f"r.zedo.{fmt}"
+        assert runner.invoke(app, lift_args(tiny_prior_path, str(src), "-o", str(out), "--units", "mm")).exit_code == 0
+        result = runner.invoke(app, ["evaluate", str(out), "--gt", str(gt), "--json"])
+        assert result.exit_code == 0, result.output
+        scores[fmt] = json.loads(result.stdout)["mpjpe_mm"]
+    assert scores["csv"] == pytest.approx(scores["json"], abs=0.01) and scores["npz"] == pytest.approx(scores["json"])
