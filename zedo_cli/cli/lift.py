@@ -234,7 +234,11 @@ def _lift_on_ray(
     """Every input on Ray; the per-input lines the local engine prints, printed when the batch returns."""
     from .ray_engine import lift_files_on_ray
 
-    outcomes = lift_files_on_ray(sources, outputs, str(prior.path), st, address=address, workers=workers)
+    done = lift_files_on_ray(sources, outputs, str(prior.path), st, lift_file, address=address, workers=workers)
+    outcomes = [
+        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error)
+        for source, output, d in zip(sources, outputs, done, strict=True)
+    ]
     if len(outcomes) == 1 and outcomes[0].error is not None:
         raise outcomes[0].error  # one input: its error is the command's error, as locally
     for o in outcomes:

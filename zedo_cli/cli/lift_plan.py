@@ -4,6 +4,7 @@ one output path per input, all checked before anything is lifted."""
 from __future__ import annotations
 
 import glob
+from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
@@ -29,20 +30,26 @@ def _folder_inputs(folder: Path) -> list[str]:
     return [str(p) for p in files]
 
 
-def expand_inputs(args: list[str]) -> list[str]:
-    """Input paths in the order given: `-` (stdin), files, folders, and glob patterns the
-    shell did not expand (quoted, or on Windows). Duplicates are dropped."""
+def expand_inputs(
+    args: list[str],
+    *,
+    folder: Callable[[Path], list[str]] = _folder_inputs,
+    keep: Callable[[Path], bool] = lambda p: not _is_zedo_output(p),
+) -> list[str]:
+    """Input paths in the order given: `-` (stdin), files, folders (`folder(path)` lists what a
+    folder stands for) and glob patterns the shell did not expand (quoted, or on Windows; the
+    matches that `keep` accepts). Duplicates are dropped. The defaults are `zedo lift`'s."""
     out: list[str] = []
     for arg in args:
         path = Path(arg)
         if arg == STDIN:
             out.append(arg)
         elif path.is_dir():
-            out += _folder_inputs(path)
+            out += folder(path)
         elif path.exists():
             out.append(arg)
         elif _GLOB_CHARS & set(arg):
-            matches = sorted(m for m in glob.glob(arg, recursive=True) if not _is_zedo_output(Path(m)))
+            matches = sorted(m for m in glob.glob(arg, recursive=True) if keep(Path(m)))
             if not matches:
                 raise InputFormatError(f"{arg}: no file matches this pattern")
             out += matches

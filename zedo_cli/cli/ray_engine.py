@@ -15,7 +15,8 @@ from __future__ import annotations
 import logging
 import os
 import warnings
-from dataclasses import replace
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -24,7 +25,10 @@ from .. import errors
 from ..errors import ConfigError, ZedoError
 
 if TYPE_CHECKING:
-    from .lift import FileOutcome, LiftSettings
+    from .lift import LiftSettings
+
+# lift_file(source, output, prior, settings) -> an outcome with .instances, .lifted, .seconds
+LiftOne = Callable[[str, str, Any, Any], Any]
 
 RAY_MISSING = "--engine ray needs Ray, an optional extra: pip install 'zedo[ray]'"
 
@@ -38,7 +42,7 @@ class InternalError(ZedoError):
 class LiftWorker:
     """A Ray Data actor: loads the prior once, then lifts one input per call."""
 
-    def __init__(self, prior_path: str, settings: LiftSettings, threads: int) -> None:
+    def __init__(self, prior_path: str, settings: LiftSettings, threads: int, lift_one: LiftOne) -> None:
         import torch
 
         from ..prior.weights import load_prior
@@ -46,15 +50,14 @@ class LiftWorker:
         torch.set_num_threads(threads)  # one worker per CPU by default: no oversubscription
         self.prior = load_prior(prior_path, device=settings.device)
         self.settings = replace(settings, quiet=True)  # the driver reports each input
+        self.lift_one = lift_one
 
     def __call__(self, batch: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        from .lift import lift_file
-
         rows: list[dict[str, Any]] = []
         for index, source, output in zip(batch["index"], batch["source"], batch["output"], strict=True):
             row = {"index": int(index), "instances": 0, "lifted": 0, "seconds": 0.0, "error_type": "", "error": ""}
             try:
-                outcome = lift_file(str(source), str(output), self.prior, self.settings)
+                outcome = self.lift_one(str(source), str(output), self.prior, self.settings)
                 row.update(instances=outcome.instances, lifted=outcome.lifted, seconds=outcome.seconds)
             except ZedoError as exc:
                 row.update(error_type=type(exc).__name__, error=str(exc))
@@ -87,21 +90,31 @@ def connect(address: str | None) -> None:
         raise ConfigError(f"--ray-address {address}: cannot connect to a Ray cluster ({exc})") from None
 
 
+@dataclass(frozen=True)
+class RayOutcome:
+    """What a worker reports for one input: counts, or the error (as the same ZedoError class)."""
+
+    instances: int
+    lifted: int
+    seconds: float
+    error: ZedoError | None
+
+
 def lift_files_on_ray(
     sources: list[str],
     outputs: list[str],
     prior_path: str,
     settings: LiftSettings,
+    lift_one: LiftOne,
     *,
     address: str | None = None,
     workers: int | None = None,
-) -> list[FileOutcome]:
-    """Lift every input on a Ray cluster; the outcomes come back in input order."""
+) -> list[RayOutcome]:
+    """Lift every input with `lift_one` (the local engine's per-file function) on a Ray
+    cluster; the outcomes come back in input order."""
     connect(address)
     import ray
     import torch
-
-    from .lift import FileOutcome
 
     # Each worker gets the local engine's torch thread count: matrix products sum in an order
     # that depends on it, so only then are the outputs the local engine's to the last digit.
@@ -129,7 +142,12 @@ def lift_files_on_ray(
         warnings.filterwarnings("ignore", message=".*ray_remote_args.*deprecated")
         mapped = dataset.map_batches(
             LiftWorker,
-            fn_constructor_kwargs={"prior_path": prior_path, "settings": settings, "threads": threads},
+            fn_constructor_kwargs={
+                "prior_path": prior_path,
+                "settings": settings,
+                "threads": threads,
+                "lift_one": lift_one,
+            },
             batch_size=1,
             compute=ray.data.ActorPoolStrategy(size=size),
             num_cpus=threads,
@@ -137,9 +155,9 @@ def lift_files_on_ray(
         )
     results = mapped.take_all()
     by_index = {int(r["index"]): r for r in results}
-    outcomes = []
-    for i, (source, output) in enumerate(zip(sources, outputs, strict=True)):
-        r = by_index[i]
-        error = _error(str(r["error_type"]), str(r["error"])) if r["error_type"] else None
-        outcomes.append(FileOutcome(source, output, int(r["instances"]), int(r["lifted"]), float(r["seconds"]), error))
-    return outcomes
+    rows = [by_index[i] for i in range(len(sources))]
+    return [
+        RayOutcome(int(r["instances"]), int(r["lifted"]), float(r["seconds"]),
+                   _error(str(r["error_type"]), str(r["error"])) if r["error_type"] else None)
+        for r in rows
+    ]  # fmt: skip

@@ -1,6 +1,6 @@
 """Files in and out: the readers of every 2D detector layout (into `data.Keypoints2D`), the
-writers of 3D results (JSON, JSON Lines, CSV, NPZ) and the pose plots (`formats.plots`, not
-imported here so that matplotlib loads only when a plot is asked for).
+writers of 3D results (JSON, JSON Lines, CSV, NPZ), their reader (`result_reader`) and the
+pose plots (`formats.plots`, not imported here so that matplotlib loads only when a plot is asked for).
 
 Builds on `lifting` (the `LiftResult` a writer writes) and `data`.
 """
@@ -22,6 +22,7 @@ __getattr__, __dir__, __all__ = lazy_exports(
             "read_keypoints_text",
             "read_parsed",
         ],
+        ".result_reader": ["ResultPoses", "read_result"],
         ".writers": ["OUTPUT_FORMATS", "default_output_name", "write_result"],
     },
 )
