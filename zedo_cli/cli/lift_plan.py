@@ -7,6 +7,7 @@ import glob
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
+from ..formats.openpose import is_openpose_folder
 from ..formats.writers import default_output_name, output_format
 
 STDIN = "-"
@@ -19,9 +20,10 @@ def _is_zedo_output(path: Path) -> bool:
 
 
 def _folder_inputs(folder: Path) -> list[str]:
-    """An OpenPose folder (per-frame `*_keypoints.json`) is one input, a sequence; any other
-    folder stands for its keypoint files (zedo's own outputs left out)."""
-    if any(folder.glob("*_keypoints.json")):
+    """An OpenPose folder (per-frame `*_keypoints.json`, or numbered frames such as Pose2Sim's
+    `cam01.0030.json`) is one input, a sequence; any other folder stands for its keypoint files
+    (zedo's own outputs left out)."""
+    if is_openpose_folder(folder):
         return [str(folder)]
     files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not _is_zedo_output(p))
     if not files:
@@ -39,7 +41,7 @@ def expand_inputs(args: list[str]) -> list[str]:
             out.append(arg)
         elif path.is_dir():
             out += _folder_inputs(path)
-        elif path.exists():
+        elif path.exists() or path.is_symlink():  # a broken link or a loop: the reader says which
             out.append(arg)
         elif _GLOB_CHARS & set(arg):
             matches = sorted(m for m in glob.glob(arg, recursive=True) if not _is_zedo_output(Path(m)))
