@@ -94,3 +94,11 @@ def test_json_keys_with_control_characters_stay_on_one_line() -> None:
     with pytest.raises(InputFormatError) as info:
         read_parsed({"meta_info": {"keypoint_id2name": {"a\nb": "nose"}}, "instance_info": []}, "m.json")
     assert "\n" not in str(info.value) and "a\\nb" in str(info.value)
+
+
+def test_every_cli_error_about_a_file_name_stays_on_one_line(tiny_prior_path: Path, tmp_path: Path) -> None:
+    """Not only the readers' messages: "file not found" of a name with a newline and an escape."""
+    name = str(tmp_path / "no\nsuch\x1b[2J.json")
+    result = runner.invoke(app, ["lift", name, "--prior", str(tiny_prior_path), "-q"])
+    assert result.exit_code == 3 and result.output.count("\n") == 1 and "\x1b" not in result.output
+    assert "no\\nsuch\\x1b[2J.json: " in result.output  # "no file matches this pattern": [ is a glob

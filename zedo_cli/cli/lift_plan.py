@@ -7,16 +7,12 @@ import glob
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
-from ..formats.openpose import is_openpose_folder
+from ..formats.openpose import is_openpose_folder, is_zedo_output
 from ..formats.writers import default_output_name, output_format
 
 STDIN = "-"
 _INPUT_SUFFIXES = (".json", ".jsonl", ".ndjson")
 _GLOB_CHARS = set("*?[")
-
-
-def _is_zedo_output(path: Path) -> bool:
-    return ".zedo." in path.name or path.name.endswith(".meta.json")
 
 
 def _folder_inputs(folder: Path) -> list[str]:
@@ -25,7 +21,7 @@ def _folder_inputs(folder: Path) -> list[str]:
     (zedo's own outputs left out)."""
     if is_openpose_folder(folder):
         return [str(folder)]
-    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not _is_zedo_output(p))
+    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not is_zedo_output(p))
     if not files:
         raise InputFormatError(f"{folder}: folder holds no keypoint files (*.json, *.jsonl) and no OpenPose frames")
     return [str(p) for p in files]
@@ -44,7 +40,7 @@ def expand_inputs(args: list[str]) -> list[str]:
         elif path.exists() or path.is_symlink():  # a broken link or a loop: the reader says which
             out.append(arg)
         elif _GLOB_CHARS & set(arg):
-            matches = sorted(m for m in glob.glob(arg, recursive=True) if not _is_zedo_output(Path(m)))
+            matches = sorted(m for m in glob.glob(arg, recursive=True) if not is_zedo_output(Path(m)))
             if not matches:
                 raise InputFormatError(f"{arg}: no file matches this pattern")
             out += matches

@@ -85,7 +85,8 @@ def read_openpose(data: Any, path: str, skeleton: Skeleton | None = None) -> Key
                  counted=skeleton is None)  # fmt: skip
 
 
-def _is_zedo_output(path: Path) -> bool:
+def is_zedo_output(path: Path) -> bool:
+    """A file zedo wrote (``<stem>.zedo.<ext>``, a CSV's ``.meta.json``), never an input frame."""
     return ".zedo." in path.name or path.name.endswith(".meta.json")
 
 
@@ -96,7 +97,7 @@ def is_openpose_folder(directory: Path) -> bool:
     an OpenPose frame (an object with ``people``)."""
     if any(p.is_file() for p in directory.glob(f"*{_SUFFIX}.json")):
         return True
-    files = sorted((p for p in directory.glob("*.json") if p.is_file() and not _is_zedo_output(p)),
+    files = sorted((p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)),
                    key=lambda p: natural_key(p.name))  # fmt: skip
     if not files or any(directory.glob("*.jsonl")) or any(directory.glob("*.ndjson")):
         return False
@@ -121,7 +122,7 @@ def frame_files(directory: Path) -> list[tuple[Path, int]]:
     ``*_keypoints.json`` files, or every ``*.json`` file when there are none of those.
     """
     files = [p for p in directory.glob(f"*{_SUFFIX}.json") if p.is_file()]
-    files = files or [p for p in directory.glob("*.json") if p.is_file() and not _is_zedo_output(p)]
+    files = files or [p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)]
     if not files:
         raise error(str(directory), "", f"is a directory without OpenPose *{_SUFFIX}.json files")
     files.sort(key=lambda p: natural_key(p.name))

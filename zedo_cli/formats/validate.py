@@ -44,18 +44,10 @@ class Row:
     frame: int | None = None  # 0-based frame index where the format has one
 
 
-def one_line(text: str) -> str:
-    """`text` with every unprintable character (newline, tab, ESC of a terminal sequence, ...)
-    written as a Python escape, so that a message stays on one line and cannot drive a terminal."""
-    if text.isprintable():
-        return text
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-
-
 def error(path: str, where: str, message: str) -> InputFormatError:
     """`InputFormatError` "<path>: <where>: <message>" (where = a JSON path, "" for the top level),
     on one line: file names and JSON keys with newlines or escape sequences are shown escaped."""
-    return InputFormatError(one_line(f"{path}: {where}: {message}" if where else f"{path}: {message}"))
+    return InputFormatError(f"{path}: {where}: {message}" if where else f"{path}: {message}")  # one line: ZedoError
 
 
 def field(where: str, key: str) -> str:
