@@ -189,7 +189,7 @@ def test_body25b_is_detected_from_the_geometry_and_mapped_by_name(tmp_path: Path
         write_json(folder / f"cam01_{f:012d}_keypoints.json", body25b_frame(10.0 * f))
     kp = read_keypoints(folder)
     assert kp.skeleton.name == "body25b"
-    assert kp.source_skeleton["reason"].startswith("joint count 25; joint geometry says body25b (face box / body box")
+    assert kp.source_skeleton["reason"].startswith("joint count 25; joint geometry says body25b (midpoint errors")
     syrip = kp.to_skeleton(SKELETONS["syrip12"])
     body25 = SKELETONS["body25"]
     for joint in ("right_hip", "left_hip", "right_wrist", "left_ankle"):  # right_hip was taken from LWrist
@@ -202,7 +202,7 @@ def test_body25_is_confirmed_by_the_geometry() -> None:
     assert kp.source_skeleton["reason"].startswith("joint count 25; joint geometry says body25 ")
 
 
-def test_body25_variant_measures_both_faces() -> None:
+def test_body25_variant_checks_both_layouts_midpoints() -> None:
     b25 = np.asarray(BODY25_POSE)[None]
     b25b = np.asarray(body25b_pose())[None]
     ones = np.ones((1, 25))

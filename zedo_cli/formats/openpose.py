@@ -10,7 +10,7 @@ be the same in every file. c == 0 (OpenPose writes 0, 0, 0) is a missing joint; 
 [0, 1]. OpenPose files carry no image size (use ``--image-size``) and no detection score.
 
 The joint count decides the skeleton, except that 25 joints are BODY_25 or BODY_25B (Pose2Sim's
-default model, no mid-hip), told apart by where the face joints lie (`skeleton.body25_variant`);
+default model, no mid-hip), told apart by the joint geometry (`skeleton.body25_variant`);
 ``--skeleton`` overrides it.
 
 Each person is one instance; its image id is the file name without ``_keypoints.json`` and its
