@@ -171,3 +171,11 @@ def test_malformed_input_names_file_and_field(tmp_path: Path, doc: Any, fmt: str
             read_keypoints(path, format=format)
         message = str(info.value)
         assert message.startswith(f"{path}: ") and all(part in message for part in parts), message
+
+
+def test_demo_unknown_dataset_name_without_names_is_an_error() -> None:
+    doc = mmpose_demo()
+    doc["meta_info"] = {"dataset_name": "crowdpose"}
+    with pytest.raises(InputFormatError, match=r"r\.json: meta_info\.dataset_name: 'crowdpose' is not a joint set"):
+        read_parsed(doc, "r.json")
+    assert read_parsed(doc, "r.json", skeleton="coco17").source_skeleton == {"name": "coco17", "reason": "--skeleton"}

@@ -343,7 +343,8 @@ def _box_diagonal(xy: np.ndarray, present: np.ndarray) -> np.ndarray:
     enough = present.sum(axis=1) >= 3
     if enough.any():
         lo, hi = np.nanmin(pts[enough], axis=1), np.nanmax(pts[enough], axis=1)
-        out[enough] = np.hypot(*(hi - lo).T)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out[enough] = np.hypot(*(hi - lo).T)
     return out
 
 
@@ -351,13 +352,13 @@ def _midpoint_error(xy: np.ndarray, present: np.ndarray, checks: tuple) -> np.nd
     """Per instance, the mean distance of `checks` (see above) over those whose joints are all
     present, in units of the body's box diagonal; NaN where no check can be made."""
     pts = np.where(present[..., None], xy, np.nan)
-    terms = [
-        np.linalg.norm(pts[:, list(near)].mean(axis=1) - pts[:, list(pair)].mean(axis=1), axis=-1)
-        for near, pair in checks
-    ]
-    stacked = np.stack(terms)  # (checks, N)
-    counts = np.isfinite(stacked).sum(axis=0)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # absurd coordinates give inf, not noise
+        terms = [
+            np.linalg.norm(pts[:, list(near)].mean(axis=1) - pts[:, list(pair)].mean(axis=1), axis=-1)
+            for near, pair in checks
+        ]
+        stacked = np.stack(terms)  # (checks, N)
+        counts = np.isfinite(stacked).sum(axis=0)
         mean = np.where(counts > 0, np.nansum(stacked, axis=0) / np.maximum(counts, 1), np.nan)
         return mean / _box_diagonal(xy, present)
 
@@ -380,7 +381,7 @@ def body25_variant(xy: np.ndarray, confidence: np.ndarray) -> tuple[str | None, 
     e25b = _midpoint_error(xy, present, _MIDPOINTS_BODY25B)
     usable = np.isfinite(e25) & np.isfinite(e25b)
     if not usable.any():
-        return None, "no person shows the neck, hips, shoulders, nose and eyes these checks need"
+        return None, "no person shows the neck, hips, shoulders, nose and eyes these checks need, at finite positions"
     m25, m25b = float(np.median(e25[usable])), float(np.median(e25b[usable]))
     detail = (f"midpoint errors in body-box diagonals: {m25:.3f} as BODY_25 (neck, mid-hip), "
               f"{m25b:.3f} as BODY_25B (nose, eyes), median of {int(usable.sum())} persons")  # fmt: skip

@@ -158,10 +158,18 @@ def _meta_skeleton(doc: dict[str, Any], forced: Skeleton | None, path: str) -> t
         if names:
             return named_skeleton(names, None, forced, path, where)
     name = meta.get("dataset_name")
-    if isinstance(name, str) and name in _DATASET_SKELETONS and forced is None:
+    if forced is not None or name is None:
+        return None, ""
+    if isinstance(name, str) and name in _DATASET_SKELETONS:
         skeleton = SKELETONS[_DATASET_SKELETONS[name]]
         return JointNameMatch(skeleton, tuple(range(skeleton.num_joints))), f"meta_info.dataset_name {name!r}"
-    return None, ""
+    # A data set named but not known (crowdpose, posetrack18, ...): its joints are not guessed.
+    shown = repr(name[:40]) if isinstance(name, str) else kind(name)
+    raise error(
+        path, "meta_info.dataset_name",
+        f"{shown} is not a joint set zedo knows ({', '.join(sorted(_DATASET_SKELETONS))}) and meta_info has no "
+        "keypoint_id2name; pass --skeleton NAME to read the joints in file order as NAME",
+    )  # fmt: skip
 
 
 def read_mmpose_demo(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
