@@ -40,3 +40,12 @@ def test_tracks_use_their_own_frames() -> None:
     frames = np.array([0, 1, 2, 40, 41, 42])
     _, smoothed = smooth_tracks(rel, trans, 2.0, None, frames)
     np.testing.assert_allclose(smoothed, trans, atol=1e-12)
+
+
+def test_timestamps_are_counted_in_their_usual_step() -> None:
+    """Millisecond timestamps (33-34 ms apart, one frame missing) smooth like frame numbers."""
+    frames = np.array([0, 33, 67, 100, 133, 200, 233, 267])  # 167 is missing
+    values = np.sin(np.arange(8.0))[:, None]
+    positions = np.array([0, 1, 2, 3, 4, 6, 7, 8])
+    np.testing.assert_allclose(smooth_on_frames(values, frames, 1.0), smooth_on_frames(values, positions, 1.0))
+    assert np.abs(smooth_on_frames(values, frames, 1.0) - values).max() > 0.05  # it does smooth

@@ -100,7 +100,8 @@ def _track_slices(tracks: np.ndarray | None, n: int) -> list[np.ndarray]:
 def smooth_on_frames(values: np.ndarray, frames: np.ndarray | None, sigma: float) -> np.ndarray:
     """`smooth_sequence` of `values (T, ...)` placed at frame numbers `frames (T,)` (increasing):
     missing frames are NaN on the time axis, so the weights follow real time and nothing is
-    blended across a gap longer than the filter's radius. `frames` None (or not increasing):
+    blended across a gap longer than the filter's radius. Numbers whose median step exceeds 1
+    (timestamps, every n-th frame) are counted in that step. `frames` None (or not increasing):
     the values are consecutive frames."""
     values = np.asarray(values, dtype=np.float64)
     if frames is None or len(values) < 2 or sigma == 0:
@@ -108,6 +109,13 @@ def smooth_on_frames(values: np.ndarray, frames: np.ndarray | None, sigma: float
     frames = np.asarray(frames, dtype=np.int64)
     if frames.shape != (len(values),) or not (np.diff(frames) > 0).all():
         return smooth_sequence(values, sigma)
+    # Numbers that step by more than 1 as a rule (millisecond timestamps, every 10th frame kept)
+    # are counted in their usual step, so sigma stays in the input's frames and gaps stay gaps.
+    step = int(np.median(np.diff(frames)))
+    if step > 1:
+        frames = np.round((frames - frames[0]) / step).astype(np.int64)
+        if not (np.diff(frames) > 0).all():
+            return smooth_sequence(values, sigma)
     radius = len(gaussian_kernel(sigma)) // 2
     out = np.empty_like(values)
     # Segments split at gaps wider than the radius: no weight reaches across them, and the dense
