@@ -12,6 +12,7 @@ import typer
 from rich.table import Table
 
 from ..data.keypoints import Keypoints2D
+from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
@@ -32,7 +33,7 @@ if TYPE_CHECKING:
 def run_lift(
     kp: Keypoints2D, prior: Prior, cfg: LiftConfig, intrinsics: np.ndarray, *, min_confidence: float,
     device: str, quiet: bool, label: str = "lift", temporal: str = "none", sigma: float = DEFAULT_SIGMA_FRAMES,
-    tracks: np.ndarray | None = None,
+    tracks: np.ndarray | None = None, frames: np.ndarray | None = None,
 ) -> LiftResult:  # fmt: skip
     """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`)."""
     from ..lifting.solver import lift
@@ -46,7 +47,8 @@ def run_lift(
 
         if temporal != "none":
             return lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
-                                 tracks=tracks, min_confidence=min_confidence, device=device, callback=on_step)  # fmt: skip
+                                 tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
+                                 callback=on_step)  # fmt: skip
         return lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
                     device=device, callback=on_step)  # fmt: skip
 
@@ -72,6 +74,7 @@ class LiftSettings:
 
     cfg: LiftConfig
     input_format: str | None
+    skeleton: str | None
     image_size: tuple[float, float] | None
     images: Path | None
     focal: float | None
@@ -107,7 +110,8 @@ class FileOutcome:
 def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoints2D, np.ndarray]:
     """The input's instances chosen by --person, in the prior's joint set, and each one's
     place in its frame (the track label of the temporal mode)."""
-    kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images)
+    kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images,
+                        skeleton=st.skeleton)  # fmt: skip
     if len(kp) == 0:
         raise InputFormatError(f"{source}: no keypoint instances in the input")
     chosen = select_people(kp, st.person)
@@ -137,11 +141,13 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         err_console.print(f"lifting {len(kp)} instances from {source} ({kp.format}) with {prior.label}, "
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
-                   temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None)  # fmt: skip
+                   temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
+                   frames=_frame_numbers(kp))  # fmt: skip
     params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
     params.update(person=st.person, fps=st.fps, temporal={"mode": st.temporal, "sigma_frames": st.sigma})
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
-                  "sha256": input_sha256(source), "zedo_version": __version__}  # fmt: skip
+                  "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
+                  "zedo_version": __version__}  # fmt: skip
     write_result(output, kp, res, mats, sources, params, input_info, fmt=st.output_format, units=st.units,
                  frame=st.frame, overwrite=st.overwrite)  # fmt: skip
     if st.plot_dir is not None:
@@ -152,6 +158,13 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     lifted = int(res.lifted.sum())
     _report_file(source, output, kp, res, lifted, st.quiet)
     return FileOutcome(source, output, len(kp), lifted, res.seconds)
+
+
+def _frame_numbers(kp: Keypoints2D) -> np.ndarray | None:
+    """The input's frame number of each instance, so the temporal filter sees gaps; None if unknown."""
+    if kp.frame_indices is None or any(f is None for f in kp.frame_indices):
+        return None
+    return np.asarray(kp.frame_indices, dtype=np.int64)
 
 
 def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings) -> list[Path]:
@@ -323,6 +336,13 @@ def lift_command(
         Optional[int], typer.Option(help="Override the preset's prior iterations (fast: 50, faithful: 1000).")
     ] = None,
     input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
+    skeleton: Annotated[
+        Optional[str],
+        typer.Option(
+            help=f"Joint set of the input when its joint names are unknown or absent: {', '.join(SKELETONS)} "
+            "(e.g. body25b for OpenPose BODY_25B). Names in the file must agree with it."
+        ),
+    ] = None,
     image_size: Annotated[
         Optional[tuple[float, float]],
         typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results, OpenPose)."),
@@ -393,7 +413,9 @@ def lift_command(
     """
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
-    st = LiftSettings(cfg, None if input_format == "auto" else input_format, image_size, images, focal,
+    if skeleton is not None:
+        get_skeleton(skeleton)  # an unknown name is a usage error, before any work
+    st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
                       plot, seed, device, overwrite, quiet)  # fmt: skip
     _check_options(st)

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
+from ..formats.openpose import is_openpose_folder, is_zedo_output
 from ..formats.writers import default_output_name, output_format
 
 STDIN = "-"
@@ -15,16 +16,13 @@ _INPUT_SUFFIXES = (".json", ".jsonl", ".ndjson")
 _GLOB_CHARS = set("*?[")
 
 
-def _is_zedo_output(path: Path) -> bool:
-    return ".zedo." in path.name or path.name.endswith(".meta.json")
-
-
 def _folder_inputs(folder: Path) -> list[str]:
-    """An OpenPose folder (per-frame `*_keypoints.json`) is one input, a sequence; any other
-    folder stands for its keypoint files (zedo's own outputs left out)."""
-    if any(folder.glob("*_keypoints.json")):
+    """An OpenPose folder (per-frame `*_keypoints.json`, or numbered frames such as Pose2Sim's
+    `cam01.0030.json`) is one input, a sequence; any other folder stands for its keypoint files
+    (zedo's own outputs left out)."""
+    if is_openpose_folder(folder):
         return [str(folder)]
-    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not _is_zedo_output(p))
+    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not is_zedo_output(p))
     if not files:
         raise InputFormatError(f"{folder}: folder holds no keypoint files (*.json, *.jsonl) and no OpenPose frames")
     return [str(p) for p in files]
@@ -34,7 +32,7 @@ def expand_inputs(
     args: list[str],
     *,
     folder: Callable[[Path], list[str]] = _folder_inputs,
-    keep: Callable[[Path], bool] = lambda p: not _is_zedo_output(p),
+    keep: Callable[[Path], bool] = lambda p: not is_zedo_output(p),
 ) -> list[str]:
     """Input paths in the order given: `-` (stdin), files, folders (`folder(path)` lists what a
     folder stands for) and glob patterns the shell did not expand (quoted, or on Windows; the
@@ -46,7 +44,7 @@ def expand_inputs(
             out.append(arg)
         elif path.is_dir():
             out += folder(path)
-        elif path.exists():
+        elif path.exists() or path.is_symlink():  # a broken link or a loop: the reader says which
             out.append(arg)
         elif _GLOB_CHARS & set(arg):
             matches = sorted(m for m in glob.glob(arg, recursive=True) if keep(Path(m)))

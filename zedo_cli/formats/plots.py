@@ -118,7 +118,7 @@ def write_pose_plots(
     from matplotlib.lines import Line2D
 
     err = mean_reprojection_error_px(res)
-    groups = group_frames(kp.image_ids)
+    groups = group_frames(kp.image_ids, kp.frame_indices)
     legend = [Line2D([], [], color=LEFT_COLOUR, lw=2.2, label="left"),
               Line2D([], [], color=RIGHT_COLOUR, lw=2.2, label="right"),
               Line2D([], [], color=CENTRE_COLOUR, lw=2.2, label="centre"),

@@ -117,11 +117,12 @@ def iter_frames(
     """The frames of the document one at a time (a frame = the instances of one image id)."""
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
-    for f, members in enumerate(group_frames(kp.image_ids).members):
+    groups = group_frames(kp.image_ids, kp.frame_indices)
+    for f, members in enumerate(groups.members):
         first = members[0]
         size = kp.image_sizes[first]
         yield {
-            "frame_index": f,
+            "frame_index": int(groups.number[f]),
             "image_id": kp.image_ids[first],
             "file_name": kp.file_names[first],
             "camera": {

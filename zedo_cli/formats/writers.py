@@ -73,11 +73,12 @@ def default_output_name(input_path: str | Path, fmt: str = "json") -> Path:
 def _frame_cameras(kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str]) -> list[dict[str, Any]]:
     """Per frame: ids and the K used, for the formats whose rows do not carry a full camera."""
     cameras = []
-    for f, members in enumerate(group_frames(kp.image_ids).members):
+    groups = group_frames(kp.image_ids, kp.frame_indices)
+    for f, members in enumerate(groups.members):
         i = members[0]
         size = kp.image_sizes[i]
         cameras.append({
-            "frame_index": f, "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
+            "frame_index": int(groups.number[f]), "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
             "camera": {"K": intrinsics[i].round(6).tolist(),
                        "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
                        "source": sources[i]},
