@@ -37,8 +37,9 @@ def run_one(job: dict) -> dict:
     torch.set_num_threads(1)
     from zedo_cli.data.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.evaluation.syrip_benchmark import lift_and_score, load_benchmark_inputs
-    from zedo_cli.lifting.solver import PRESETS
-    from zedo_cli.prior.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
+    from zedo_cli.lifting.config import PRESETS
+    from zedo_cli.prior.adapt import adapt_prior, in_memory_prior, select_subset, with_added_poses
+    from zedo_cli.prior.schedules import default_training
     from zedo_cli.prior.weights import load_prior, resolve_prior_path
 
     base = load_prior(resolve_prior_path(job["base"]))
@@ -104,7 +105,7 @@ def main() -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--report", action="store_true", help="only print the table of the runs already in --out")
     args = ap.parse_args()
-    from zedo_cli.prior.adapt import default_training
+    from zedo_cli.prior.schedules import default_training
 
     def schedule(strategy: str) -> tuple[int, int]:
         """Epochs and warm-up steps of `strategy`'s runs: its recipe's unless given."""

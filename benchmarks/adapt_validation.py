@@ -40,8 +40,9 @@ def run_one(job: dict) -> dict:
     torch.set_num_threads(1)
     from zedo_cli.data.datasets import load_npz_poses, load_syrip_3d
     from zedo_cli.evaluation.syrip_benchmark import lift_and_score, load_syrip_train_inputs
-    from zedo_cli.lifting.solver import PRESETS
-    from zedo_cli.prior.adapt import adapt_prior, default_training, in_memory_prior, select_subset, with_added_poses
+    from zedo_cli.lifting.config import PRESETS
+    from zedo_cli.prior.adapt import adapt_prior, in_memory_prior, select_subset, with_added_poses
+    from zedo_cli.prior.schedules import default_training
     from zedo_cli.prior.weights import load_prior, resolve_prior_path
 
     base = load_prior(resolve_prior_path(job["base"]))
@@ -126,7 +127,7 @@ def main() -> int:
                     help="only write each subset's poses to DIR/subset-S<size>-seed<seed>.npz (references for "
                          "`zedo augment --infant` that leave the held-out poses out) and stop")  # fmt: skip
     args = ap.parse_args()
-    from zedo_cli.prior.adapt import default_training
+    from zedo_cli.prior.schedules import default_training
 
     if args.size + args.held_out > 600:
         ap.error(f"--size {args.size} + --held-out {args.held_out} exceeds SyRIP's 600 training poses")

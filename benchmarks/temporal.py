@@ -29,7 +29,8 @@ import torch
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.evaluation.metrics import mpjpe_mm, pa_mpjpe_mm
 from zedo_cli.lifting.camera import Intrinsics, project
-from zedo_cli.lifting.solver import LiftConfig, LiftResult, get_preset
+from zedo_cli.lifting.config import LiftConfig, get_preset
+from zedo_cli.lifting.solver import LiftResult
 from zedo_cli.lifting.temporal import lift_sequence, smooth_tracks_2d
 from zedo_cli.prior.weights import load_prior, resolve_prior_path
 

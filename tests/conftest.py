@@ -9,8 +9,9 @@ import torch
 from helpers import SKELETON, synthetic_poses
 
 from zedo_cli.prior.model import PriorConfig, ScoreNet
+from zedo_cli.prior.schedules import TrainConfig
 from zedo_cli.prior.sde import SubVPSDE
-from zedo_cli.prior.training import TrainConfig, train_score_model
+from zedo_cli.prior.training import train_score_model
 from zedo_cli.prior.weights import Prior, load_prior, save_prior
 
 

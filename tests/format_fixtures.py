@@ -19,8 +19,28 @@ MMPOSE_HALPE_NAMES = [*MMPOSE_COCO_NAMES, "head", "neck", "hip", "left_big_toe",
                       "left_small_toe", "right_small_toe", "left_heel", "right_heel"]  # fmt: skip
 
 
+# A standing person in BODY_25's joint order (pixels, y down): the face (nose, eyes, ears) is
+# small, the neck is the shoulders' midpoint and the mid-hip the hips', as OpenPose places them.
+BODY25_POSE = [
+    (100.0, 20.0), (100.0, 50.0), (80.0, 50.0), (75.0, 80.0), (72.0, 110.0), (120.0, 50.0), (125.0, 80.0),
+    (128.0, 110.0), (100.0, 120.0), (90.0, 120.0), (88.0, 160.0), (87.0, 200.0), (110.0, 120.0), (112.0, 160.0),
+    (113.0, 200.0), (96.0, 16.0), (104.0, 16.0), (92.0, 18.0), (108.0, 18.0), (118.0, 208.0), (121.0, 207.0),
+    (112.0, 204.0), (82.0, 208.0), (79.0, 207.0), (88.0, 204.0),
+]  # fmt: skip
+# The same person in BODY_25B's order (OpenPose experimental models; Pose2Sim skeletons.py):
+# COCO-17, upper neck, head top, left big toe, small toe, heel, right big toe, small toe, heel.
+BODY25B_FROM_BODY25 = [0, 16, 15, 18, 17, 5, 2, 6, 3, 7, 4, 12, 9, 13, 10, 14, 11, -1, -2, 19, 20, 21, 22, 23, 24]
+_BODY25B_EXTRA = {-1: (100.0, 42.0), -2: (100.0, 4.0)}  # upper neck, head top
+
+
+def body25b_pose() -> list[tuple[float, float]]:
+    return [BODY25_POSE[k] if k >= 0 else _BODY25B_EXTRA[k] for k in BODY25B_FROM_BODY25]
+
+
 def expected_xy(count: int, offset: float) -> np.ndarray:
-    """(count, 2) distinct pixels for person `offset`."""
+    """(count, 2) distinct pixels for person `offset`; 25 joints are a BODY_25 person."""
+    if count == 25:
+        return np.asarray(BODY25_POSE) + offset
     j = np.arange(count, dtype=np.float64)
     return np.stack([offset + 10.25 * j, offset + 200.5 + 3.75 * j], axis=1)
 

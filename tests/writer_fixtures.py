@@ -8,7 +8,8 @@ from helpers import K_TEST, SKELETON, synthetic_poses
 
 from zedo_cli.data.keypoints import Keypoints2D
 from zedo_cli.data.skeleton import root_point
-from zedo_cli.lifting.solver import LiftConfig, LiftResult
+from zedo_cli.lifting.config import LiftConfig
+from zedo_cli.lifting.solver import LiftResult
 
 MISSING = (1, 2)  # instance 1, joint 2 (right_ankle): not observed, filled by the prior
 UNLIFTED = 3

@@ -6,10 +6,22 @@ Library code raises these; only the CLI turns them into one line on stderr and a
 from __future__ import annotations
 
 
+def one_line(text: str) -> str:
+    """`text` with every unprintable character (newline, tab, the ESC of a terminal sequence, ...)
+    written as a Python escape, so that a message stays on one line and cannot drive a terminal."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 class ZedoError(Exception):
-    """Base class of every error zedo reports to a user."""
+    """Base class of every error zedo reports to a user. Its message is kept on one line
+    (`one_line`): file names and values with newlines or escape sequences are shown escaped."""
 
     exit_code: int = 1
+
+    def __init__(self, *args: object) -> None:
+        super().__init__(*(one_line(a) if isinstance(a, str) else a for a in args))
 
 
 class InputFormatError(ZedoError):

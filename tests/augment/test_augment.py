@@ -32,8 +32,8 @@ from zedo_cli.data.datasets import PoseSet
 from zedo_cli.data.skeleton import Skeleton, bone_lengths, get_skeleton
 from zedo_cli.errors import ConfigError, DataError, WeightsError
 from zedo_cli.prior.model import PriorConfig, ScoreNet
+from zedo_cli.prior.schedules import TrainConfig
 from zedo_cli.prior.sde import SubVPSDE
-from zedo_cli.prior.training import TrainConfig
 from zedo_cli.prior.weights import load_prior
 from zedo_cli.rotation import random_rotations
 

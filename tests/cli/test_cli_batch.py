@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from format_fixtures import BODY25_POSE
 from test_cli import lift_args, runner, write_coco
 
 from zedo_cli.cli import app
@@ -111,7 +112,7 @@ def test_batch_exit_codes() -> None:
 
 
 def test_missing_image_size_names_the_input(tiny_prior_path: Path, tmp_path: Path) -> None:
-    points = [v for j in range(25) for v in (100 + 9 * j, 200 + 4 * j, 0.9)]
+    points = [v for x, y in BODY25_POSE for v in (x, y, 0.9)]  # a BODY_25 person (25 joints on a line: undecidable)
     frame = {"version": 1.3, "people": [{"pose_keypoints_2d": points}]}
     src = tmp_path / "op_000000000000_keypoints.json"
     src.write_text(json.dumps(frame))

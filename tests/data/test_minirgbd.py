@@ -35,7 +35,7 @@ from zedo_cli.evaluation.minirgbd_benchmark import (
     run_minirgbd_benchmark,
     score_minirgbd,
 )
-from zedo_cli.lifting.solver import get_preset
+from zedo_cli.lifting.config import get_preset
 from zedo_cli.prior.model import PriorConfig, ScoreNet
 from zedo_cli.prior.sde import SubVPSDE
 from zedo_cli.prior.weights import load_prior, save_prior

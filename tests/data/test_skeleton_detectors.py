@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
+import pytest
 
 from zedo_cli.data.skeleton import (
     SKELETONS,
+    body25_variant,
     convert_points,
     skeleton_for_joint_count,
     skeleton_from_joint_names,
@@ -48,3 +52,25 @@ def test_derived_joint_missing_when_a_source_is_missing_or_nan() -> None:
     for n in (1, 2):
         assert out_conf[n, head] == 0.0 and np.isnan(out[n, head]).all()
     assert (out_conf[:, h36m.index("pelvis")] == 0.9).all()
+
+
+SYRIP_DIR = Path(__file__).resolve().parents[3] / "shared" / "data" / "syrip"
+
+
+@pytest.mark.skipif(not (SYRIP_DIR / "keypoints2d_gt_real700.json").exists(), reason="SyRIP data not here")
+def test_body25_and_body25b_told_apart_on_real_infant_poses() -> None:
+    """SyRIP's 700 real infant images (2D ground truth), written as BODY_25 (its neck and mid-hip
+    moved by 10 % of the shoulder / hip width, as a detector places them) and as BODY_25B."""
+    from zedo_cli.formats import read_keypoints
+
+    kp = read_keypoints(SYRIP_DIR / "keypoints2d_gt_real700.json")
+    rng = np.random.default_rng(0)
+    for name in ("body25", "body25b"):
+        xy, conf = convert_points(kp.xy, kp.confidence, kp.skeleton, SKELETONS[name])
+        if name == "body25":
+            for joint, (a, b) in ((1, (2, 5)), (8, (9, 12))):
+                width = np.linalg.norm(xy[:, a] - xy[:, b], axis=-1)[:, None]
+                xy[:, joint] += rng.normal(0.0, 0.1, (len(xy), 2)) * width
+        assert body25_variant(xy, conf)[0] == name
+        single = [body25_variant(xy[i : i + 1], conf[i : i + 1])[0] for i in range(0, len(xy), 7)]
+        assert all(d in (name, None) for d in single) and single.count(name) > 0.7 * len(single)

@@ -9,7 +9,7 @@ import pytest
 from helpers import SYRIP_DIR
 
 from zedo_cli.evaluation.syrip_benchmark import load_benchmark_inputs, load_throughput_inputs, run_syrip_benchmark
-from zedo_cli.lifting.solver import get_preset
+from zedo_cli.lifting.config import get_preset
 from zedo_cli.prior.weights import bundled_prior_path, load_prior
 
 needs_syrip = pytest.mark.skipif(not SYRIP_DIR.is_dir(), reason="SyRIP data not found at ../shared/data/syrip")

@@ -3,8 +3,12 @@
 Valid documents of each layout (tests/format_fixtures.py) are mutated (keys dropped, values
 replaced by NaN, inf, huge integers, wrong types or random JSON, lists cut short, text cut and
 spliced) and read through `read_parsed` (parsed JSON), `read_keypoints_text` (text, JSON Lines
-included) and `read_keypoints` (files, stdin-like names, OpenPose directories). Whatever is
-read either fails with an `InputFormatError` naming the input, or is a consistent `Keypoints2D`.
+included) and `read_keypoints` (files, stdin-like names, OpenPose directories, Pose2Sim-named
+frame folders, files over a lowered size limit). The documents include the shapes of issue 16:
+COCO and MMPose joint names in another order, H36M names in a COCO file, Human-Art's 21 names
+over 17 joints, OpenPose BODY_25B; reads also draw a ``--skeleton``. Whatever is read either
+fails with an `InputFormatError` naming the input on one line, or is a consistent `Keypoints2D`
+that says which joint set it assumed.
 
 Most examples parse from memory to keep the default run fast, and for those hypothesis draws
 one seed that drives the layout, the format option and the mutations (drawing each choice from
@@ -23,7 +27,9 @@ from typing import Any
 import numpy as np
 import pytest
 from format_fixtures import (
+    MMPOSE_COCO_NAMES,
     alphapose,
+    body25b_pose,
     coco_annotations,
     coco_results,
     jsonl_records,
@@ -38,8 +44,32 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from zedo_cli.data.keypoints import Keypoints2D
+from zedo_cli.data.skeleton import SKELETONS
 from zedo_cli.errors import InputFormatError, ZedoError
-from zedo_cli.formats import INPUT_FORMATS, read_keypoints, read_keypoints_text, read_parsed
+from zedo_cli.formats import INPUT_FORMATS, read_keypoints, read_keypoints_text, read_parsed, source
+
+_PERM = [3, 0, 16, 5, 1, 2, 4, 6, 8, 7, 10, 9, 12, 11, 15, 14, 13]
+_H36M_NAMES = ["root (pelvis)", "left_hip", "left_knee", "left_foot", "right_hip", "right_knee", "right_foot", "spine",
+               "thorax", "neck_base", "head", "left_shoulder", "left_elbow", "left_wrist", "right_shoulder",
+               "right_elbow", "right_wrist"]  # fmt: skip
+
+
+def _coco_named(names: list[str]) -> dict[str, Any]:
+    doc = coco_annotations()
+    doc["categories"][0]["keypoints"] = names
+    return doc
+
+
+def _humanart() -> dict[str, Any]:
+    doc = _coco_named([*MMPOSE_COCO_NAMES, "left_finger", "right_finger", "left_toe", "right_toe"])
+    doc["annotations"][0]["keypoints_21"] = doc["annotations"][0]["keypoints"] + [1.0, 2.0, 2] * 4
+    return doc
+
+
+def _body25b() -> dict[str, Any]:
+    values = [v for x, y in body25b_pose() for v in (x, y, 0.5)]
+    return {"version": 1.3, "people": [{"person_id": [-1], "pose_keypoints_2d": values}]}
+
 
 BUILDERS: dict[str, Callable[[], Any]] = {
     "coco-annotations": coco_annotations,
@@ -53,6 +83,28 @@ BUILDERS: dict[str, Callable[[], Any]] = {
     "zedo-jsonl": lambda: jsonl_records()[0],
 }
 LAYOUTS = sorted(BUILDERS)
+# Documents in the shapes of issue 16's real files, as (layout, builder).
+VARIANTS: list[tuple[str, Callable[[], Any]]] = [
+    ("coco-annotations", lambda: _coco_named([MMPOSE_COCO_NAMES[k] for k in _PERM])),
+    ("coco-annotations", lambda: _coco_named(_H36M_NAMES)),
+    ("coco-annotations", _humanart),
+    ("coco-annotations", lambda: _coco_named([f"j{k}" for k in range(17)])),
+    ("mmpose-demo", lambda: mmpose_demo([MMPOSE_COCO_NAMES[k] for k in _PERM])),
+    ("openpose", _body25b),
+    ("openpose", lambda: openpose_frame(1.0, 2.0)),
+]
+SKELETON_OPTIONS = [None, None, None, *sorted(SKELETONS)]
+
+
+def pick_document(rng: random.Random) -> tuple[str, Any]:
+    """A fresh document: a quarter of the time one of the issue-16 shapes."""
+    if rng.random() < 0.25:
+        layout, build = rng.choice(VARIANTS)
+        return layout, build()
+    layout = rng.choice(LAYOUTS)
+    return layout, BUILDERS[layout]()
+
+
 FORMATS = st.sampled_from(INPUT_FORMATS)
 _ODD_VALUES: list[Any] = [
     math.nan, math.inf, -math.inf, 10**400, -1, 0, 1, 2, 3, 0.5, 1e308, -1e-300, True, False, None, "", "x",
@@ -124,14 +176,20 @@ def check(kp: Keypoints2D, path: str) -> None:
     assert ((kp.confidence >= 0) & (kp.confidence <= 1)).all()
     assert np.isfinite(kp.xy[kp.confidence > 0]).all() and np.isnan(kp.xy[kp.confidence == 0]).all()
     assert all(s is None or math.isfinite(s) for s in kp.scores)
+    assert kp.source is not None and kp.source.name == kp.skeleton.name and kp.source.reason
 
 
-def read_or_error(read: Callable[[], Keypoints2D], path: str) -> None:
-    """Run one read: success must give a consistent record, failure an InputFormatError naming `path`."""
+def one_line(exc: Exception) -> bool:
+    return str(exc).isprintable()
+
+
+def read_or_error(read: Callable[[], Keypoints2D], path: str, shown: str | None = None) -> None:
+    """Run one read: success must give a consistent record, failure an InputFormatError naming `path`
+    (as `shown`: escaped where it holds control characters)."""
     try:
         kp = read()
     except InputFormatError as exc:
-        assert isinstance(exc, ZedoError) and str(exc).startswith(f"{path}: "), exc
+        assert isinstance(exc, ZedoError) and str(exc).startswith(f"{shown or path}: ") and one_line(exc), exc
         return
     check(kp, path)
 
@@ -149,10 +207,11 @@ SEEDS = st.integers(0, 2**64 - 1)
 @settings(max_examples=6000, **SETTINGS)
 def test_mutated_documents_in_memory(seed: int) -> None:
     rng = random.Random(seed)
-    layout = rng.choice(LAYOUTS)
+    layout, doc = pick_document(rng)
     fmt = pick_format(layout, rng)
-    doc = mutate(BUILDERS[layout](), rng, rng.randint(1, 3))
-    read_or_error(lambda: read_parsed(doc, "mem.json", format=fmt), "mem.json")
+    skeleton = rng.choice(SKELETON_OPTIONS)
+    doc = mutate(doc, rng, rng.randint(0 if layout in ("coco-annotations", "openpose") else 1, 3))
+    read_or_error(lambda: read_parsed(doc, "mem.json", format=fmt, skeleton=skeleton), "mem.json")
 
 
 _KEYS = st.sampled_from(
@@ -177,16 +236,17 @@ def test_arbitrary_json_in_memory(doc: Any, fmt: str) -> None:
 @settings(max_examples=3000, **SETTINGS)
 def test_mangled_text_in_memory(seed: int) -> None:
     rng = random.Random(seed)
-    layout = rng.choice(LAYOUTS)
+    layout, doc = pick_document(rng)
     fmt = pick_format(layout, rng)
-    name = rng.choice(["mem.json", "mem.jsonl", "-"])
+    name = rng.choice(["mem.json", "mem.jsonl", "-", "m\nem\x1b[1m.json"])
     if layout == "zedo-jsonl":
         records = [mutate(r, rng, rng.randrange(2)) for r in jsonl_records()[: rng.randint(1, 3)]]
         text = jsonl_text(records)
     else:
-        text = json.dumps(mutate(BUILDERS[layout](), rng, rng.randrange(2)), indent=rng.choice([None, 1]))
+        text = json.dumps(mutate(doc, rng, rng.randrange(2)), indent=rng.choice([None, 1]))
     text = mangle_text(text, rng) if rng.random() < 0.8 else text
-    read_or_error(lambda: read_keypoints_text(text, name, format=fmt), name)
+    shown = name.replace("\n", "\\n").replace("\x1b", "\\x1b")  # names are shown escaped
+    read_or_error(lambda: read_keypoints_text(text, name, format=fmt), name, shown)
 
 
 @given(
@@ -204,19 +264,29 @@ def test_mutated_files(
     rng = random.Random(seed)
     base = tmp_path_factory.getbasetemp()
     path = base / f"fuzz{suffix}"
-    doc = mutate(BUILDERS[layout](), rng, rng.randrange(1, 3))
+    if rng.random() < 0.25:
+        layout, build = rng.choice(VARIANTS)
+        doc = build()
+    else:
+        doc = BUILDERS[layout]()
+    doc = mutate(doc, rng, rng.randrange(0, 3))
     raw = json.dumps(doc).encode()
     path.write_bytes(mangle_text(raw.decode(), rng).encode("utf-8", "replace") if rng.random() < 0.3 else raw)
     images = None
     if companion:  # a companion annotation file, itself sometimes broken
         images = base / "companion.json"
         images.write_text(json.dumps(mutate(coco_annotations(), rng, rng.randrange(2))))
-    kwargs: dict[str, Any] = {"format": fmt, "image_size": (64, 48) if size else None, "images": images}
+    kwargs: dict[str, Any] = {"format": fmt, "image_size": (64, 48) if size else None, "images": images,
+                              "skeleton": rng.choice(SKELETON_OPTIONS)}  # fmt: skip
+    limit = source.MAX_INPUT_BYTES
+    source.MAX_INPUT_BYTES = rng.choice([limit, limit, limit, rng.randrange(1, 2 * len(raw) + 2)])
     try:
         kp = read_keypoints(path, **kwargs)
     except InputFormatError as exc:
-        assert str(exc).startswith((f"{path}: ", f"{images}: ")), exc
+        assert str(exc).startswith((f"{path}: ", f"{images}: ")) and one_line(exc), exc
         return
+    finally:
+        source.MAX_INPUT_BYTES = limit
     check(kp, str(path))
 
 
@@ -227,16 +297,24 @@ def test_mutated_openpose_directories(
 ) -> None:
     rng = random.Random(seed)
     directory = tmp_path_factory.mktemp("openpose")
-    for frame in range(frames):
-        doc: Any = openpose_frame(float(frame), count=rng.choice([18, 25]) if frame == 0 else 25)
+    pattern = rng.choice(["c_{:012d}_keypoints.json", "cam01.{:04d}.json"])  # OpenPose's names, Pose2Sim's
+    body25b = rng.random() < 0.3
+    for frame in range(rng.choice([frames, frames + 3])):
+        if frame >= frames:  # frames without people
+            doc: Any = {"version": 1.3, "people": []}
+        elif body25b:
+            doc = _body25b()
+        else:
+            doc = openpose_frame(float(frame), count=rng.choice([18, 25]) if frame == 0 else 25)
         if rng.random() < 0.5:
             doc = mutate(doc, rng, 1)
         text = json.dumps(doc)
-        name = f"c_{rng.randrange(4):012d}_keypoints.json" if rng.random() < 0.3 else f"c_{frame:012d}_keypoints.json"
+        name = pattern.format(2 * rng.randrange(4) if rng.random() < 0.3 else 2 * frame)
         (directory / name).write_text(mangle_text(text, rng) if rng.random() < 0.2 else text)
     try:
-        kp = read_keypoints(directory, format=fmt)
+        kp = read_keypoints(directory, format=fmt, skeleton=rng.choice(SKELETON_OPTIONS))
     except InputFormatError as exc:
-        assert str(exc).startswith(str(directory)), exc
+        assert str(exc).startswith(str(directory)) and one_line(exc), exc
         return
     check(kp, str(directory))
+    assert kp.frame_indices is not None and all(f is not None and f % 2 == 0 for f in kp.frame_indices)

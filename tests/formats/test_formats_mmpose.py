@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import pytest
 from format_fixtures import (
+    MMPOSE_COCO_NAMES,
     MMPOSE_HALPE_NAMES,
     expected_xy,
     mmpose_demo,
@@ -61,13 +62,51 @@ def test_demo_video_is_one_based_and_names_the_skeleton(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("names", "dataset", "skeleton"),
     [(MMPOSE_H36M_NAMES, "h36m", "h36m17"), (MMPOSE_HALPE_NAMES, "halpe26", "halpe26"),
-     ([f"j{k}" for k in range(17)], "h36m", "h36m17"), ([f"j{k}" for k in range(17)], "other", "coco17")],
+     (MMPOSE_H36M_NAMES, "coco", "h36m17")],
 )  # fmt: skip
 def test_demo_meta_info_names_the_skeleton(names: list[str], dataset: str, skeleton: str) -> None:
-    """keypoint_id2name first, then dataset_name, then the joint count (K = 17 alone is COCO)."""
+    """keypoint_id2name decides (before dataset_name); the reason is recorded."""
     kp = read_parsed(mmpose_demo(names, dataset), "r.json")
     assert kp.skeleton.name == skeleton
+    assert kp.source_skeleton == {"name": skeleton, "reason": "meta_info.keypoint_id2name names"}
     np.testing.assert_array_equal(kp.xy[0], expected_xy(len(names), 1.0))
+
+
+@pytest.mark.parametrize("dataset", ["h36m", "other"])
+def test_demo_unknown_joint_names_are_an_error_unless_skeleton_is_given(dataset: str) -> None:
+    """17 unknown names were silently read as h36m17 (dataset_name) or COCO-17 (count)."""
+    doc = mmpose_demo([f"j{k}" for k in range(17)], dataset)
+    with pytest.raises(InputFormatError, match=r"r\.json: meta_info\.keypoint_id2name: unknown joint names \('j0'"):
+        read_parsed(doc, "r.json")
+    kp = read_parsed(doc, "r.json", skeleton="h36m17")
+    assert kp.skeleton.name == "h36m17" and kp.source_skeleton["reason"].startswith("--skeleton")
+    np.testing.assert_array_equal(kp.xy[0], expected_xy(17, 1.0))
+
+
+def test_demo_without_names_uses_dataset_name_then_count() -> None:
+    doc = mmpose_demo()
+    del doc["meta_info"]["keypoint_id2name"]
+    doc["meta_info"]["dataset_name"] = "h36m"
+    kp = read_parsed(doc, "r.json")
+    assert kp.source_skeleton == {"name": "h36m17", "reason": "meta_info.dataset_name 'h36m'"}
+    del doc["meta_info"]
+    assert read_parsed(doc, "r.json").source_skeleton == {"name": "coco17", "reason": "joint count 17"}
+
+
+def test_demo_permuted_keypoint_id2name_gives_the_standard_order() -> None:
+    """The same 17 joints listed in another order, the points permuted to match, read the same."""
+    standard = read_parsed(mmpose_demo(), "r.json")
+    perm = np.random.default_rng(3).permutation(17)
+    doc = mmpose_demo([MMPOSE_COCO_NAMES[k] for k in perm])
+    for frame in doc["instance_info"]:
+        for inst in frame["instances"]:
+            inst["keypoints"] = [inst["keypoints"][k] for k in perm]
+            inst["keypoint_scores"] = [inst["keypoint_scores"][k] for k in perm]
+    permuted = read_parsed(doc, "r.json")
+    assert permuted.skeleton.name == "coco17"
+    assert permuted.source_skeleton["reason"] == "meta_info.keypoint_id2name names, in the file's order"
+    np.testing.assert_array_equal(permuted.xy, standard.xy)
+    np.testing.assert_array_equal(permuted.confidence, standard.confidence)
 
 
 def test_demo_image_is_a_flat_instance_list(tmp_path: Path) -> None:
@@ -132,3 +171,11 @@ def test_malformed_input_names_file_and_field(tmp_path: Path, doc: Any, fmt: str
             read_keypoints(path, format=format)
         message = str(info.value)
         assert message.startswith(f"{path}: ") and all(part in message for part in parts), message
+
+
+def test_demo_unknown_dataset_name_without_names_is_an_error() -> None:
+    doc = mmpose_demo()
+    doc["meta_info"] = {"dataset_name": "crowdpose"}
+    with pytest.raises(InputFormatError, match=r"r\.json: meta_info\.dataset_name: 'crowdpose' is not a joint set"):
+        read_parsed(doc, "r.json")
+    assert read_parsed(doc, "r.json", skeleton="coco17").source_skeleton == {"name": "coco17", "reason": "--skeleton"}

@@ -138,13 +138,14 @@ def test_coco_annotations_float_visibility_is_a_confidence(tmp_path: Path) -> No
     [
         (H36M_NAMES, "h36m17"),
         (["root" if n == "pelvis" else n.replace("ankle", "foot") for n in H36M_NAMES], "h36m17"),  # MMPose
-        ([f"joint{j}" for j in range(17)], "coco17"),
     ],
 )
 def test_coco_annotations_skeleton_from_category_names(tmp_path: Path, names: list[str], skeleton: str) -> None:
     doc = coco_annotations()
     doc["categories"][0]["keypoints"] = names
-    assert read_keypoints(write(tmp_path, doc)).skeleton.name == skeleton
+    kp = read_keypoints(write(tmp_path, doc))
+    assert kp.skeleton.name == skeleton
+    assert kp.source_skeleton == {"name": skeleton, "reason": "categories[0].keypoints names"}
 
 
 def test_coco_results_values_order_and_confidence(tmp_path: Path) -> None:
@@ -284,10 +285,10 @@ def _truncate(keys: tuple[Any, ...], length: int) -> Mutation:
 
 ERROR_CASES: list[tuple[str, Callable[[], Any], Mutation, tuple[str, ...]]] = [
     ("ann-count", coco_annotations, _truncate(("annotations", 0, "keypoints"), 50),
-     ("annotations[0].keypoints", "expected 51 numbers (17 joints x 3), got 50")),
-    ("res-not-triplets", coco_results, _truncate((0, "keypoints"), 50), ("[0].keypoints", "multiple of 3")),
+     ("annotations[0].keypoints", "expected a flat list of 51 numbers (17 joints x 3), got 50 numbers")),
+    ("res-not-triplets", coco_results, _truncate((0, "keypoints"), 50), ("[0].keypoints", "got 50 numbers")),
     ("res-joint-count", coco_results, _truncate((1, "keypoints"), 42),
-     ("[1].keypoints", "unsupported joint count 14")),
+     ("[1].keypoints", "unsupported joint count 14 (42 numbers; COCO results hold 17 joints")),
     ("zedo-joint-count", zedo_2d, _truncate(("instances", 1, "keypoints"), 12),
      ("instances[1].keypoints", "expected 17 joints for skeleton h36m17, got 12")),
     ("non-numeric", coco_annotations, _set(("annotations", 1, "keypoints", 4), "12"),
@@ -324,7 +325,7 @@ ERROR_CASES: list[tuple[str, Callable[[], Any], Mutation, tuple[str, ...]]] = [
     ("bad-schema", zedo_2d, _set(("schema",), "other/2"), ("schema", "zedo.keypoints2d/1")),
     ("unknown-skeleton", zedo_2d, _set(("skeleton",), "body24"), ("skeleton", "unknown skeleton 'body24'")),
     ("unknown-names", coco_annotations, _set(("categories", 0, "keypoints"), ["a"] * 14),
-     ("categories[0].keypoints", "unsupported joint count 14")),
+     ("categories[0].keypoints", "unknown joint names ('a', 'a'", "(14 names)", "--skeleton NAME")),
     ("annotations-not-list", coco_annotations, _set(("annotations",), {}),
      ("annotations", "expected a list")),
     ("huge-number", coco_results, _set((0, "keypoints", 0), 10**400), ("[0].keypoints[0]", "too large")),

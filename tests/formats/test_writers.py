@@ -18,7 +18,8 @@ from zedo_cli.formats.result_json import build_result_document
 from zedo_cli.formats.writers import OUTPUT_FORMATS, default_output_name, output_format, write_result
 from zedo_cli.formats.writers_csv import coordinate_columns, sidecar_path
 from zedo_cli.formats.writers_jsonl import JsonlWriter
-from zedo_cli.lifting.solver import LiftConfig, lift
+from zedo_cli.lifting.config import LiftConfig
+from zedo_cli.lifting.solver import lift
 from zedo_cli.prior.weights import Prior
 
 EXT = {"json": "json", "jsonl": "jsonl", "csv": "csv", "npz": "npz"}

@@ -6,12 +6,14 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+import torch
 from helpers import K_TEST, SKELETON, project_poses, synthetic_poses
 
 from zedo_cli.data.skeleton import center_on_root
 from zedo_cli.errors import ConfigError
 from zedo_cli.evaluation.metrics import mpjpe_mm
-from zedo_cli.lifting.solver import LiftConfig, get_preset, lift
+from zedo_cli.lifting.config import LiftConfig, get_preset
+from zedo_cli.lifting.solver import lift
 from zedo_cli.prior.weights import Prior
 
 FAST = LiftConfig(steps=200, init_steps=200)
@@ -141,3 +143,22 @@ def test_throughput_counts_every_pose(tiny_prior: Prior) -> None:
                      [None] * 7, "mem", "test")  # fmt: skip
     rate = measure_throughput({"a": kp, "b": kp.subset([0, 1])}, tiny_prior, replace(FAST, steps=5, init_steps=2))
     assert rate.count == 9 and rate.seconds > 0 and rate.poses_per_second == pytest.approx(9 / rate.seconds)
+
+
+@pytest.mark.parametrize("dtype", [torch.float32, torch.float64])
+def test_rotation_fit_adam_equals_torch_adam_to_the_bit(dtype: torch.dtype) -> None:
+    from zedo_cli.lifting.solver import _Adam
+
+    gen = torch.Generator().manual_seed(0)
+    start = [torch.randn(16, 4, generator=gen, dtype=dtype), torch.randn(16, 1, generator=gen, dtype=dtype)]
+    ours = [t.clone().requires_grad_(True) for t in start]
+    theirs = [t.clone().requires_grad_(True) for t in start]
+    steppers = [(ours, _Adam(ours, lr=0.1)), (theirs, torch.optim.Adam(theirs, lr=0.1))]
+    for _ in range(100):
+        for params, opt in steppers:
+            loss = (params[0].sin() * params[1]).abs().sum() + (params[0] ** 2).sum()
+            for p in params:
+                p.grad = None
+            loss.backward()
+            opt.step()
+    assert all(torch.equal(a, b) for a, b in zip(ours, theirs, strict=True))

@@ -16,14 +16,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from zedo_cli.lifting.camera import solve_root_translation, solve_root_translation_ex
+from zedo_cli.lifting.config import LiftConfig, get_preset
 from zedo_cli.lifting.solver import (
     LIFTED,
     MAX_REPROJECTION_RATIO,
     MIN_JOINT_DEPTH_M,
     NOT_LIFTED,
-    LiftConfig,
     geometry_status,
-    get_preset,
     lift,
 )
 from zedo_cli.prior.weights import Prior

@@ -9,8 +9,9 @@ import pytest
 from helpers import K_TEST, project_poses, synthetic_poses
 
 from zedo_cli.errors import ConfigError
-from zedo_cli.lifting.solver import LiftConfig, get_preset, lift
-from zedo_cli.lifting.temporal import TEMPORAL_MODES, lift_sequence, smooth_sequence, smooth_tracks
+from zedo_cli.lifting.config import TEMPORAL_MODES, LiftConfig, get_preset
+from zedo_cli.lifting.solver import lift
+from zedo_cli.lifting.temporal import lift_sequence, smooth_sequence, smooth_tracks
 from zedo_cli.prior.weights import Prior
 
 QUICK = LiftConfig(steps=20, init_steps=20, step_delta=None)

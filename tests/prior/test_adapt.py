@@ -17,18 +17,10 @@ from zedo_cli.cli import app
 from zedo_cli.data.datasets import PoseSet
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.errors import ConfigError, DataError, WeightsError
-from zedo_cli.prior.adapt import (
-    ADAPT_TRAINING,
-    SCRATCH_TRAINING,
-    adapt_prior,
-    build_model,
-    default_training,
-    select_subset,
-    write_adapted_prior,
-)
+from zedo_cli.prior.adapt import adapt_prior, build_model, select_subset, write_adapted_prior
 from zedo_cli.prior.control import ControlledScoreNet
 from zedo_cli.prior.model import PriorConfig, ScoreNet
-from zedo_cli.prior.training import TrainConfig
+from zedo_cli.prior.schedules import ADAPT_TRAINING, SCRATCH_TRAINING, TrainConfig, default_training
 from zedo_cli.prior.weights import load_prior
 
 runner = CliRunner()

@@ -16,8 +16,9 @@ from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.errors import ConfigError
 from zedo_cli.prior.model import PriorConfig, ScoreNet, parameter_count
 from zedo_cli.prior.recipes import Recipe, fit_prior, load_recipe, with_overrides
+from zedo_cli.prior.schedules import TrainConfig
 from zedo_cli.prior.sde import SubVPSDE
-from zedo_cli.prior.training import EMA, TrainConfig, TrainProgress, TrainResult, dsm_loss, train_score_model
+from zedo_cli.prior.training import EMA, TrainProgress, TrainResult, dsm_loss, train_score_model
 
 REPO = Path(__file__).resolve().parents[2]
 SCRATCH_RECIPE = REPO / "weights_spec" / "syrip12-scratch.toml"

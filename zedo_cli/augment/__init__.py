@@ -7,10 +7,13 @@ Builds on `prior`, `data` and the output helpers of `formats`.
 
 from __future__ import annotations
 
-from .augmenter import Augmenter, load_augmenter, save_augmenter, train_augmenter
-from .conversion import choose_sources, convert_poses, take_bone_lengths
+from ..lazy import lazy_exports
 
-__all__ = [
-    "Augmenter", "choose_sources", "convert_poses", "load_augmenter", "save_augmenter", "take_bone_lengths",
-    "train_augmenter",
-]  # fmt: skip
+__getattr__, __dir__, __all__ = lazy_exports(
+    __name__,
+    globals(),
+    {
+        ".augmenter": ["Augmenter", "load_augmenter", "save_augmenter", "train_augmenter"],
+        ".conversion": ["choose_sources", "convert_poses", "take_bone_lengths"],
+    },
+)

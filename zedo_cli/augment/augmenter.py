@@ -24,8 +24,9 @@ from ..data.datasets import PoseSet
 from ..data.skeleton import Skeleton
 from ..errors import ConfigError, WeightsError
 from ..prior.model import PriorConfig, ScoreNet
+from ..prior.schedules import AUGMENTER_TRAINING, TrainConfig
 from ..prior.sde import SubVPSDE
-from ..prior.training import TrainConfig, TrainProgress, TrainResult, train_score_model
+from ..prior.training import TrainProgress, TrainResult, train_score_model
 from ..prior.weights import (
     Prior,
     check_tensor_header,
@@ -45,7 +46,6 @@ from .domain_model import DOMAINS, DomainScoreNet
 AUGMENTER_FORMAT = "zedo.augmenter"
 AUGMENTER_FORMAT_VERSION = "1"
 # Started from the adult prior, a few epochs over the balanced adult + infant set suffice (README).
-AUGMENTER_TRAINING = TrainConfig(epochs=8, batch_size=1024, warmup_steps=200)
 ROTATE_ALL = PoseAugmentation(rotate=True)
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import typer
 
 from .adapt import adapt_command
+from .analyze import analyze_command, benchmark_symmetry_command
 from .augment import augment_command, fit_augmenter_command
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
@@ -38,6 +39,8 @@ app.command("augment", no_args_is_help=True)(augment_command)
 app.command("evaluate", no_args_is_help=True)(evaluate_command)
 app.command("benchmark", no_args_is_help=True)(benchmark_command)
 app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)
+app.command("analyze", no_args_is_help=True)(analyze_command)
+app.command("benchmark-symmetry", no_args_is_help=True)(benchmark_symmetry_command)
 
 
 def main() -> None:

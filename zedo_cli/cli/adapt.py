@@ -11,17 +11,7 @@ import typer
 from ..data.datasets import load_npz_poses, npz_license
 from ..errors import ConfigError
 from ..files import check_writable
-from ..prior.adapt import (
-    ADAPT_TRAINING,
-    STRATEGIES,
-    adapt_prior,
-    default_training,
-    select_subset,
-    with_added_poses,
-    write_adapted_prior,
-)
-from ..prior.recipes import DTYPES, SYRIP_LICENSE
-from ..prior.weights import load_prior, resolve_prior_path
+from ..prior.schedules import ADAPT_TRAINING, STRATEGIES, default_training
 from .checks import check_device, check_seed, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
@@ -109,6 +99,10 @@ def adapt_command(
     check_syrip_split(split)
     check_seed(seed)
     check_device(device)
+    from ..prior.adapt import adapt_prior, select_subset, with_added_poses, write_adapted_prior  # torch from here on
+    from ..prior.recipes import DTYPES, SYRIP_LICENSE
+    from ..prior.weights import load_prior, resolve_prior_path
+
     check_writable(out, overwrite)
     recipe = default_training(strategy)
     cfg = replace(recipe, epochs=recipe.epochs if epochs is None else epochs, batch_size=batch_size, lr=lr,

@@ -10,23 +10,10 @@ from typing import Annotated, Optional
 import numpy as np
 import typer
 
-from ..augment.augmenter import AUGMENTER_TRAINING, load_augmenter, save_augmenter, train_augmenter
-from ..augment.conversion import (
-    SCALE_MODES,
-    check_strength,
-    choose_sources,
-    convert_poses,
-    orient_like,
-    skeleton_size,
-    take_bone_lengths,
-)
-from ..augment.plots import PLOT_NAMES
-from ..data.adult import ADULT_LICENSE, load_adult_poses
 from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..files import atomic_path, check_writable
-from ..prior.recipes import DTYPES, SYRIP_LICENSE
-from ..prior.weights import load_prior, resolve_prior_path
+from ..prior.schedules import AUGMENTER_TRAINING
 from .checks import MAX_COUNT, check_device, check_range, check_seed, check_steps, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
@@ -39,6 +26,8 @@ def load_adult_source(adult_poses: Optional[Path], adult_dir: Optional[Path], sk
     if (adult_poses is None) == (adult_dir is None):
         raise ConfigError("give exactly one adult source: ADULT_POSES (an npz file) or --adult-dir")
     if adult_dir is not None:
+        from ..data.adult import load_adult_poses  # torch (its augmentation): not for --help
+
         return load_adult_poses(adult_dir, skeleton)
     assert adult_poses is not None
     return load_npz_poses(adult_poses, skeleton)
@@ -107,6 +96,11 @@ def fit_augmenter_command(
 
       zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 --out aug.npz
     """
+    from ..augment.augmenter import save_augmenter, train_augmenter  # torch from here on
+    from ..data.adult import ADULT_LICENSE
+    from ..prior.recipes import DTYPES, SYRIP_LICENSE
+    from ..prior.weights import load_prior, resolve_prior_path
+
     check_weights_output(weights, dtype)
     check_syrip_split(split)
     check_seed(seed)
@@ -221,6 +215,18 @@ def augment_command(
 
       zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune --out ft_aug.safetensors
     """
+    from ..augment.augmenter import load_augmenter  # torch from here on
+    from ..augment.conversion import (
+        SCALE_MODES,
+        check_strength,
+        choose_sources,
+        convert_poses,
+        orient_like,
+        skeleton_size,
+        take_bone_lengths,
+    )
+    from ..augment.plots import PLOT_NAMES
+
     check_strength(strength)
     check_range("--count", count, 1, MAX_COUNT)
     check_steps(steps)

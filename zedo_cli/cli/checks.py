@@ -52,22 +52,21 @@ def check_syrip_split(split: str, option: str = "--split") -> None:
 
 
 def check_device(device: str) -> None:
-    """`cpu`, `cuda` / `cuda:N` when torch sees that GPU, or `mps` where available."""
+    """`cpu` (or `cpu:N`), `cuda` / `cuda:N` when torch sees that GPU, or `mps` where available.
+    The default, cpu, is checked without importing torch (start-up stays fast)."""
+    kind, _, index = device.partition(":")
+    if kind not in ("cpu", "cuda", "mps") or (index and not index.isdigit()) or (kind == "mps" and index):
+        raise ConfigError(f"--device must be cpu, cuda or cuda:N, got {device!r}")
+    if kind == "cpu":
+        return
     import torch
 
-    try:
-        dev = torch.device(device)
-    except (RuntimeError, ValueError):
-        raise ConfigError(f"--device must be cpu, cuda or cuda:N, got {device!r}") from None
-    if dev.type == "cpu":
-        return
-    if dev.type == "cuda":
+    if kind == "cuda":
         if not torch.cuda.is_available():
             raise ConfigError(f"--device {device}: no CUDA GPU is available to this torch ({torch.__version__}); "
                               "use --device cpu")  # fmt: skip
-        if dev.index is not None and dev.index >= torch.cuda.device_count():
+        if index and int(index) >= torch.cuda.device_count():
             raise ConfigError(f"--device {device}: torch sees {torch.cuda.device_count()} CUDA GPU(s)")
         return
-    if dev.type == "mps" and torch.backends.mps.is_available():
-        return
-    raise ConfigError(f"--device must be cpu, cuda or cuda:N, got {device!r}")
+    if not torch.backends.mps.is_available():
+        raise ConfigError(f"--device {device}: no MPS device is available to this torch; use --device cpu")

@@ -8,7 +8,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Any, ParamSpec, TypeVar
+from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 import typer
 from rich.console import Console
@@ -21,9 +21,10 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from ..errors import ConfigError, ZedoError
-from ..prior.recipes import DTYPES, WEIGHT_CHOICES
-from ..prior.training import TrainProgress
+from ..errors import ConfigError, ZedoError, one_line
+
+if TYPE_CHECKING:
+    from ..prior.training import TrainProgress
 
 # Data goes to stdout; progress, logs and errors to stderr.
 err_console = Console(stderr=True, highlight=False)
@@ -35,6 +36,10 @@ EXIT_INPUT = 3
 EXIT_PARTIAL = 4  # batch: some inputs failed (the others were written)
 EXIT_INTERRUPTED = 130
 EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE: what a shell reports for a tool whose reader went away
+
+# When zedo's own code began (Python's start, about 0.02 s, comes before): start-up is
+# reported apart from the work, so a rate is never diluted by imports and model loading.
+COMMAND_START = time.perf_counter()
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -70,12 +75,6 @@ def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
             raise typer.Exit(EXIT_RUNTIME) from None
 
     return wrapper
-
-
-def one_line(text: str) -> str:
-    """`text` on one line, control characters escaped (a newline or a terminal escape sequence
-    in a file name or an exception's text must not break or rewrite the terminal's line)."""
-    return "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode("ascii") for ch in text)
 
 
 def silence_stdout() -> None:
@@ -145,6 +144,8 @@ def step_progress(quiet: bool, name: str) -> Iterator[Callable[[int, int], None]
 
 def check_weights_output(weights: str, dtype: str) -> None:
     """`--weights` and `--dtype` of a command that writes trained weights."""
+    from ..prior.recipes import DTYPES, WEIGHT_CHOICES  # torch: only once a training command runs
+
     if weights not in WEIGHT_CHOICES:
         raise ConfigError(f"--weights must be one of {', '.join(WEIGHT_CHOICES)}, got {weights!r}")
     if dtype not in DTYPES:

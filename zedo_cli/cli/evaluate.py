@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 from rich.console import Console
@@ -14,19 +14,13 @@ from rich.table import Table
 from ..data.datasets import load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
-from ..evaluation.syrip_benchmark import (
-    PAPER_FIGURES,
-    Score,
-    Throughput,
-    load_throughput_inputs,
-    measure_throughput,
-    run_syrip_benchmark,
-    score_poses,
-)
-from ..lifting.solver import PRESETS, LiftProgress, get_preset
-from ..prior.weights import load_prior, resolve_prior_path
+from ..lifting.config import PRESETS, get_preset
 from .checks import check_device, check_syrip_split
 from .common import err_console, error_boundary, progress_bar
+
+if TYPE_CHECKING:
+    from ..evaluation.syrip_benchmark import Score, Throughput
+    from ..lifting.solver import LiftProgress
 
 
 @error_boundary
@@ -59,6 +53,8 @@ def evaluate_command(
         raise ConfigError("give the ground truth as either --syrip-dir or --gt")
     check_syrip_split(split)
     truth = load_syrip_3d(syrip_dir, split) if syrip_dir is not None else load_npz_poses(gt)  # type: ignore[arg-type]
+    from ..evaluation.syrip_benchmark import score_poses  # heavy imports only once the options are read
+
     pred = read_result_file(result)
     p, t, skel = align_to_truth(pred, truth, protocol)
     mpjpe, pa, per_joint = score_poses(p, t, skel.joints)
@@ -85,6 +81,8 @@ def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
     for label, s in rows:
         table.add_row(label, s.input_2d, f"{s.mpjpe_mm:.1f}", f"{s.pa_mpjpe_mm:.1f}", str(s.count),
                       f"{s.seconds:.1f}", f"{s.poses_per_second:.1f}")  # fmt: skip
+    from ..evaluation.syrip_benchmark import PAPER_FIGURES
+
     for key, figures in PAPER_FIGURES.items():
         for label, value in figures.items():
             table.add_row(f"[dim]{label}[/dim]", key, f"[dim]{value:.1f}[/dim]", "", "", "", "")
@@ -149,6 +147,9 @@ def benchmark_command(
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
     configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
     check_device(device)
+    from ..evaluation.syrip_benchmark import load_throughput_inputs, measure_throughput, run_syrip_benchmark
+    from ..prior.weights import load_prior, resolve_prior_path
+
     prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
     rows: list[tuple[str, Score]] = []
     rates: dict[str, Throughput] = {}

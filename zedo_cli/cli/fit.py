@@ -7,20 +7,10 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..data.adult import ADULT_LICENSE, load_adult_poses
 from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
-from ..prior.recipes import (
-    SYRIP_LICENSE,
-    Recipe,
-    fit_prior,
-    load_recipe,
-    with_output,
-    with_overrides,
-    write_fitted_prior,
-)
 from .checks import check_device, check_seed, check_syrip_split
 from .common import epoch_progress, err_console, error_boundary
 
@@ -33,6 +23,8 @@ def load_training_poses(
     if sum(src is not None for src in (poses, syrip_dir, minirgbd_dir, adult_dir)) != 1:
         raise ConfigError("give exactly one source: a 3D pose file (POSES), --syrip-dir, --minirgbd-dir or --adult-dir")
     if adult_dir is not None:
+        from ..data.adult import load_adult_poses  # torch (its augmentation): not for --help
+
         return load_adult_poses(adult_dir, skeleton or "syrip12")
     if minirgbd_dir is not None:
         if skeleton not in (None, "h36m17"):
@@ -123,6 +115,17 @@ def fit_prior_command(
     check_syrip_split(split)  # option errors before any data is read
     check_seed(seed)
     check_device(device)
+    from ..data.adult import ADULT_LICENSE  # the training stack loads here, not for --help
+    from ..prior.recipes import (
+        SYRIP_LICENSE,
+        Recipe,
+        fit_prior,
+        load_recipe,
+        with_output,
+        with_overrides,
+        write_fitted_prior,
+    )
+
     check_writable(out, overwrite)
     if ema_out is not None:
         check_writable(ema_out, overwrite)

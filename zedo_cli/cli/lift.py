@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import time
 from collections import Counter
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import numpy as np
 import typer
@@ -13,38 +14,34 @@ from rich.table import Table
 from rich.text import Text
 
 from ..data.keypoints import Keypoints2D
+from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
-from ..lifting.camera import check_focal, check_image_size, check_principal_point, resolve_intrinsics
+from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
 from ..lifting.people import PERSON_MODES, select_people
-from ..lifting.solver import (
-    DEFAULT_PRESET,
-    LIFTED,
-    NOT_LIFTED,
-    PRESETS,
-    LiftConfig,
-    LiftProgress,
-    LiftResult,
-    geometry_status,
-    get_preset,
-    lift,
-    observed_mask,
-)
-from ..lifting.temporal import DEFAULT_SIGMA_FRAMES, TEMPORAL_MODES, lift_sequence
-from ..prior.weights import Prior, load_prior, resolve_prior_path
 from ..version import __version__
 from .checks import MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
-from .common import EXIT_PARTIAL, err_console, error_boundary, one_line, progress_bar
+from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, one_line, progress_bar
 from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
+
+if TYPE_CHECKING:
+    from ..lifting.solver import LiftProgress, LiftResult
+    from ..prior.weights import Prior
+
+# torch and the network code are imported inside the functions that lift, so that `zedo lift
+# --help` and option errors answer at once (tests/cli/test_startup.py).
 
 
 def run_lift(
     kp: Keypoints2D, prior: Prior, cfg: LiftConfig, intrinsics: np.ndarray, *, min_confidence: float,
     device: str, quiet: bool, label: str = "lift", temporal: str = "none", sigma: float = DEFAULT_SIGMA_FRAMES,
-    tracks: np.ndarray | None = None,
+    tracks: np.ndarray | None = None, frames: np.ndarray | None = None,
 ) -> LiftResult:  # fmt: skip
     """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`)."""
+    from ..lifting.solver import lift
+    from ..lifting.temporal import lift_sequence
+
     with progress_bar(quiet) as bar:
         task = bar.add_task(label, total=1, status=f"{len(kp)} poses")
 
@@ -53,7 +50,8 @@ def run_lift(
 
         if temporal != "none":
             return lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
-                                 tracks=tracks, min_confidence=min_confidence, device=device, callback=on_step)  # fmt: skip
+                                 tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
+                                 callback=on_step)  # fmt: skip
         return lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
                     device=device, callback=on_step)  # fmt: skip
 
@@ -79,6 +77,7 @@ class LiftSettings:
 
     cfg: LiftConfig
     input_format: str | None
+    skeleton: str | None
     image_size: tuple[float, float] | None
     images: Path | None
     focal: float | None
@@ -114,7 +113,8 @@ class FileOutcome:
 def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoints2D, np.ndarray]:
     """The input's instances chosen by --person, in the prior's joint set, and each one's
     place in its frame (the track label of the temporal mode)."""
-    kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images)
+    kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images,
+                        skeleton=st.skeleton)  # fmt: skip
     if len(kp) == 0:
         raise InputFormatError(f"{source}: no keypoint instances in the input")
     chosen = select_people(kp, st.person)
@@ -123,6 +123,9 @@ def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoint
 
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
     """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
+    from ..lifting.camera import resolve_intrinsics
+    from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
+
     kp, places = read_selected(source, prior, st)
     try:
         mats, sources = resolve_intrinsics(
@@ -146,7 +149,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         err_console.print(f"lifting {len(kp)} instances from {source} ({kp.format}) with {prior.label}, "
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
-                   temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None)  # fmt: skip
+                   temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
+                   frames=_frame_numbers(kp))  # fmt: skip
     if not res.lifted.any():  # nothing but flags to write: fail loudly instead
         first = str(Counter(str(s) for s in res.status).most_common(1)[0][0])
         raise InputFormatError(f"{source}: no instance could be lifted ({_not_lifted_counts(res)}; "
@@ -154,7 +158,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
     params.update(person=st.person, fps=st.fps, temporal={"mode": st.temporal, "sigma_frames": st.sigma})
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
-                  "sha256": input_sha256(source), "zedo_version": __version__}  # fmt: skip
+                  "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
+                  "zedo_version": __version__}  # fmt: skip
     write_result(output, kp, res, mats, sources, params, input_info, fmt=st.output_format, units=st.units,
                  frame=st.frame, overwrite=st.overwrite)  # fmt: skip
     if st.plot_dir is not None:  # its paths were checked before any work (lift_plan.check_plot_paths)
@@ -164,6 +169,13 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     lifted = int(res.lifted.sum())
     _report_file(source, output, kp, res, lifted, st.quiet)
     return FileOutcome(source, output, len(kp), lifted, res.seconds)
+
+
+def _frame_numbers(kp: Keypoints2D) -> np.ndarray | None:
+    """The input's frame number of each instance, so the temporal filter sees gaps; None if unknown."""
+    if kp.frame_indices is None or any(f is None for f in kp.frame_indices):
+        return None
+    return np.asarray(kp.frame_indices, dtype=np.int64)
 
 
 def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings) -> list[Path]:
@@ -176,7 +188,7 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
     if not quiet:
         rate = lifted / res.seconds if res.seconds > 0 else float("nan")
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
-        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.1f} s ({rate:.1f} poses/s), "
+        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.2f} s of lifting ({rate:.1f} poses/s), "
                           f"mean reprojection error {reproj:.2f} px"
                           + ("" if output == STDIN else f"; wrote {output}"), markup=False)  # fmt: skip
     if lifted < len(kp):
@@ -234,6 +246,46 @@ def _check_options(st: LiftSettings) -> None:
         raise ConfigError(f"--temporal must be one of {', '.join(TEMPORAL_MODES)}, got {st.temporal!r}")
     check_range("--sigma", st.sigma, 0, MAX_SIGMA_FRAMES, low_open=True, unit=" frames")
     check_range("--fps", st.fps, 0, MAX_FPS, low_open=True)
+
+
+ENGINES = ("local", "ray")
+
+
+def _check_engine(engine: str, inputs: list[str], out: Optional[str], workers: Optional[int]) -> None:
+    if engine not in ENGINES:
+        raise ConfigError(f"--engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+    if workers is not None and workers < 1:
+        raise ConfigError(f"--workers must be >= 1, got {workers}")
+    if engine == "ray" and (STDIN in inputs or out == STDIN):
+        raise ConfigError("--engine ray reads and writes files: stdin (-) and -o - need --engine local")
+
+
+def _lift_on_ray(
+    sources: list[str],
+    outputs: list[str],
+    prior: Prior,
+    st: LiftSettings,
+    address: Optional[str],
+    workers: Optional[int],
+) -> list[FileOutcome]:
+    """Every input on Ray; the per-input lines the local engine prints, printed when the batch returns."""
+    from .ray_engine import lift_files_on_ray
+
+    done = lift_files_on_ray(sources, outputs, str(prior.path), st, lift_file, address=address, workers=workers)
+    outcomes = [
+        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error)
+        for source, output, d in zip(sources, outputs, done, strict=True)
+    ]
+    if len(outcomes) == 1 and outcomes[0].error is not None:
+        raise outcomes[0].error  # one input: its error is the command's error, as locally
+    for o in outcomes:
+        if o.error is not None:
+            err_console.print(f"zedo: error: {o.error}", markup=False, soft_wrap=True)
+        elif not st.quiet:
+            rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
+            err_console.print(f"lifted {o.lifted}/{o.instances} instances from {o.source} in {o.seconds:.2f} s of "
+                              f"lifting ({rate:.1f} poses/s); wrote {o.output}", markup=False)  # fmt: skip
+    return outcomes
 
 
 @error_boundary
@@ -308,6 +360,13 @@ def lift_command(
         Optional[int], typer.Option(help="Override the preset's prior iterations (fast: 50, faithful: 1000).")
     ] = None,
     input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
+    skeleton: Annotated[
+        Optional[str],
+        typer.Option(
+            help=f"Joint set of the input when its joint names are unknown or absent: {', '.join(SKELETONS)} "
+            "(e.g. body25b for OpenPose BODY_25B). Names in the file must agree with it."
+        ),
+    ] = None,
     image_size: Annotated[
         Optional[tuple[float, float]],
         typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results, OpenPose)."),
@@ -337,6 +396,26 @@ def lift_command(
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
+    engine: Annotated[
+        str,
+        typer.Option(
+            help="local: this process. ray: the same batch over a Ray cluster, one prior load per worker, the same "
+            "outputs (pip install 'zedo[ray]'; inputs and outputs on a file system every node sees)."
+        ),
+    ] = "local",
+    ray_address: Annotated[
+        Optional[str],
+        typer.Option(
+            help="With --engine ray: the cluster to join (else RAY_ADDRESS; else Ray starts on this machine)."
+        ),
+    ] = None,
+    workers: Annotated[
+        Optional[int],
+        typer.Option(
+            help="With --engine ray: workers (prior loads), sharing the cluster's CPUs. Default: as many as leave "
+            "each worker the local engine's torch threads, which keeps the outputs equal to its to the last digit."
+        ),
+    ] = None,
 ) -> None:
     """Lift 2D keypoints to 3D poses, in the camera frame (x right, y down, z forward).
 
@@ -359,37 +438,49 @@ def lift_command(
 
       zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
     """
-    check_focal(focal)  # usage errors fail before the prior is loaded
-    check_steps(steps)
+    check_steps(steps)  # usage errors fail before any work (these load no torch)
     check_seed(seed)
     check_device(device)
-    check_principal_point(principal_point)
-    check_image_size(image_size)
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
-    st = LiftSettings(cfg, None if input_format == "auto" else input_format, image_size, images, focal,
+    if skeleton is not None:
+        get_skeleton(skeleton)  # an unknown name is a usage error, before any work
+    st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
                       plot, seed, device, overwrite, quiet)  # fmt: skip
     _check_options(st)
+    _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
+    from ..lifting.camera import check_focal, check_image_size, check_principal_point  # torch loads here
+    from ..prior.weights import load_prior, resolve_prior_path
+
+    check_focal(focal)  # usage errors fail before the prior is loaded
+    check_principal_point(principal_point)
+    check_image_size(image_size)
     if plot is not None:
         check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
-    if len(sources) == 1:  # one input: its error is the command's error
+    if not quiet:
+        err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
+                          markup=False)  # fmt: skip
+    if engine == "ray":
+        outcomes = _lift_on_ray(sources, outputs, prior, st, ray_address, workers)
+    elif len(sources) == 1:  # one input: its error is the command's error
         lift_file(sources[0], outputs[0], prior, st)
         return
-    outcomes = []
-    for source, output in zip(sources, outputs, strict=True):
-        try:
-            outcomes.append(lift_file(source, output, prior, st))
-        except BrokenPipeError:  # stdout went away: the run ends (quietly, in the error boundary)
-            raise
-        except Exception as exc:  # any failure of one input is that input's alone
-            error = exc if isinstance(exc, ZedoError) else internal_error(source, exc)
-            err_console.print(f"zedo: error: {one_line(str(error))}", markup=False, soft_wrap=True)
-            outcomes.append(FileOutcome(source, output, error=error))
+    else:
+        outcomes = []
+        for source, output in zip(sources, outputs, strict=True):
+            try:
+                outcomes.append(lift_file(source, output, prior, st))
+            except BrokenPipeError:  # stdout went away: the run ends (quietly, in the error boundary)
+                raise
+            except Exception as exc:  # any failure of one input is that input's alone
+                error = exc if isinstance(exc, ZedoError) else internal_error(source, exc)
+                err_console.print(f"zedo: error: {one_line(str(error))}", markup=False, soft_wrap=True)
+                outcomes.append(FileOutcome(source, output, error=error))
     if not quiet:
         err_console.print(_summary_table(outcomes))
     code = batch_exit_code(outcomes)

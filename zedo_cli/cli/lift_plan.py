@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import glob
 import os
+from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
+from ..formats.openpose import is_openpose_folder, is_zedo_output
 from ..formats.writers import default_output_name, output_format
 from ..formats.writers_csv import sidecar_path
 
@@ -17,35 +19,38 @@ _GLOB_CHARS = set("*?[")
 PLOT_ROLES = ("first", "median", "worst")  # formats.plots writes <prefix>.<role>.png
 
 
-def _is_zedo_output(path: Path) -> bool:
-    return ".zedo." in path.name or path.name.endswith(".meta.json")
-
-
 def _folder_inputs(folder: Path) -> list[str]:
-    """An OpenPose folder (per-frame `*_keypoints.json`) is one input, a sequence; any other
-    folder stands for its keypoint files (zedo's own outputs left out)."""
-    if any(folder.glob("*_keypoints.json")):
+    """An OpenPose folder (per-frame `*_keypoints.json`, or numbered frames such as Pose2Sim's
+    `cam01.0030.json`) is one input, a sequence; any other folder stands for its keypoint files
+    (zedo's own outputs left out)."""
+    if is_openpose_folder(folder):
         return [str(folder)]
-    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not _is_zedo_output(p))
+    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not is_zedo_output(p))
     if not files:
         raise InputFormatError(f"{folder}: folder holds no keypoint files (*.json, *.jsonl) and no OpenPose frames")
     return [str(p) for p in files]
 
 
-def expand_inputs(args: list[str]) -> list[str]:
-    """Input paths in the order given: `-` (stdin), files, folders, and glob patterns the
-    shell did not expand (quoted, or on Windows). Duplicates are dropped."""
+def expand_inputs(
+    args: list[str],
+    *,
+    folder: Callable[[Path], list[str]] = _folder_inputs,
+    keep: Callable[[Path], bool] = lambda p: not is_zedo_output(p),
+) -> list[str]:
+    """Input paths in the order given: `-` (stdin), files, folders (`folder(path)` lists what a
+    folder stands for) and glob patterns the shell did not expand (quoted, or on Windows; the
+    matches that `keep` accepts). Duplicates are dropped. The defaults are `zedo lift`'s."""
     out: list[str] = []
     for arg in args:
         path = Path(arg)
         if arg == STDIN:
             out.append(arg)
         elif path.is_dir():
-            out += _folder_inputs(path)
-        elif path.exists():
+            out += folder(path)
+        elif path.exists() or path.is_symlink():  # a broken link or a loop: the reader says which
             out.append(arg)
         elif _GLOB_CHARS & set(arg):
-            matches = sorted(m for m in glob.glob(arg, recursive=True) if not _is_zedo_output(Path(m)))
+            matches = sorted(m for m in glob.glob(arg, recursive=True) if keep(Path(m)))
             if not matches:
                 raise InputFormatError(f"{arg}: no file matches this pattern")
             out += matches
@@ -97,8 +102,9 @@ def _input_files(inputs: list[str]) -> list[Path]:
 
 
 def _same_file(a: Path, b: Path) -> bool:
-    """The same file: the same real path, or (both existing) the same inode (a hard link)."""
-    if a.resolve() == b.resolve():
+    """The same file: the same real path, or (both existing) the same inode (a hard link).
+    os.path.realpath, not Path.resolve: a symlink loop among the inputs is the reader's to report."""
+    if os.path.realpath(a) == os.path.realpath(b):
         return True
     try:
         return a.exists() and b.exists() and os.path.samefile(a, b)
@@ -145,7 +151,7 @@ def check_plot_paths(inputs: list[str], outputs: list[str], plot_dir: Path, over
     for src, out in zip(inputs, outputs, strict=True):
         for role in PLOT_ROLES:
             png = plot_dir / f"{plot_prefix(out)}.{role}.png"
-            key = str(png.resolve())
+            key = os.path.realpath(png)
             if key in owner:
                 raise ConfigError(f"{owner[key]} and {src} would both be plotted to {png}; use separate --plot folders")
             owner[key] = src
@@ -164,7 +170,7 @@ def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> No
     for src, dst in zip(inputs, outputs, strict=True):
         if dst == STDIN:
             continue
-        key = str(Path(dst).resolve())
+        key = os.path.realpath(dst)
         if key in seen:
             raise ConfigError(f"{seen[key]} and {src} would both be written to {dst}; use separate --output-dir runs")
         seen[key] = src

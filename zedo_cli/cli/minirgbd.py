@@ -6,25 +6,20 @@ import json
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 from rich.console import Console
 from rich.table import Table
 
-from ..data.minirgbd import SIDES, check_stride, get_mapping, split_sequences
-from ..evaluation.minirgbd_benchmark import (
-    DEFAULT_DROPPED_JOINT,
-    DEPTH_INTRINSICS,
-    MiniScore,
-    minirgbd_lift_config,
-    protocol_joints,
-    run_minirgbd_benchmark,
-)
-from ..lifting.solver import PRESETS, LiftProgress, get_preset
-from ..prior.weights import load_prior, resolve_prior_path
+from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
+from ..lifting.config import PRESETS, get_preset
 from .checks import check_device, check_steps
 from .common import err_console, error_boundary, progress_bar
+
+if TYPE_CHECKING:
+    from ..evaluation.minirgbd_benchmark import MiniScore
+    from ..lifting.solver import LiftProgress
 
 
 def _score_table(s: MiniScore, title: str) -> Table:
@@ -84,6 +79,9 @@ def benchmark_minirgbd_command(
     protocol_joints(protocol, drop_joint)
     get_mapping(mapping)
     check_stride(stride)
+    from ..evaluation.minirgbd_benchmark import DEPTH_INTRINSICS, minirgbd_lift_config, run_minirgbd_benchmark
+    from ..prior.weights import load_prior, resolve_prior_path  # torch loads here, not for --help
+
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
     if not quiet:
         err_console.print(f"lifting MINI-RGBD {split} {side} (sequences {', '.join(sequences)}, stride {stride}) "

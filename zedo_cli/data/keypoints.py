@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .skeleton import Skeleton, convert_points
+from .skeleton import Skeleton, SkeletonSource, convert_points
 
 
 @dataclass
@@ -29,6 +29,17 @@ class Keypoints2D:
     # (N,) 0-based frame index of each instance where the input has frames (OpenPose file names,
     # MMPose frame_id, zedo JSONL), None where it has none; a default so positional callers work.
     frame_indices: list[int | None] | None = None
+    # The joint set the input was read as and why (kept through `to_skeleton`); None where the
+    # record was not made by a reader.
+    source: SkeletonSource | None = None
+
+    @property
+    def source_skeleton(self) -> dict[str, str]:
+        """``{"name", "reason"}`` of the joint set the input was read as (the output's
+        ``input.source_skeleton``)."""
+        if self.source is not None:
+            return self.source.to_dict()
+        return {"name": self.skeleton.name, "reason": "given by the caller"}
 
     def __len__(self) -> int:
         return int(self.xy.shape[0])
@@ -39,7 +50,7 @@ class Keypoints2D:
             self.xy[idx], self.confidence[idx], self.skeleton,
             [self.image_ids[i] for i in idx], [self.file_names[i] for i in idx],
             self.image_sizes[idx], [self.scores[i] for i in idx], self.path, self.format,
-            None if self.frame_indices is None else [self.frame_indices[i] for i in idx],
+            None if self.frame_indices is None else [self.frame_indices[i] for i in idx], self.source,
         )  # fmt: skip
 
     def to_skeleton(self, dst: Skeleton) -> Keypoints2D:
@@ -49,5 +60,5 @@ class Keypoints2D:
         xy, conf = convert_points(self.xy, self.confidence, self.skeleton, dst)
         return Keypoints2D(
             xy, conf, dst, self.image_ids, self.file_names, self.image_sizes, self.scores,
-            self.path, self.format, self.frame_indices,
+            self.path, self.format, self.frame_indices, self.source,
         )  # fmt: skip

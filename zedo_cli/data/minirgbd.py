@@ -1,6 +1,6 @@
 """MINI-RGBD (Hesse et al., 2018): the data set's own layout, its SMIL joints, the two
-mappings to H36M-17 and the two train / test splits (the benchmark on it, with the depth
-camera's intrinsics: `evaluation.minirgbd_benchmark`).
+mappings to H36M-17, the two train / test splits and the 17 / 16-joint protocols (the
+benchmark on it, with the depth camera's intrinsics: `evaluation.minirgbd_benchmark`).
 
 Layout (ALGORITHM.md 1.1, 1.2, 1.5): `DIR/NN/joints_3D/syn_joints_3D_XXXXX.txt` and
 `DIR/NN/joints_2Ddep/syn_joints_2Ddep_XXXXX.txt` for sequences NN = 01..12 of 1000 frames
@@ -205,3 +205,23 @@ def load_minirgbd_3d(
     frames = load_minirgbd(root, split_sequences(split, side), mapping=mapping, stride=stride, with_2d=False)
     source = f"MINI-RGBD {split} split, {side} side, {mapping} mapping ({root})"
     return PoseSet(center_on_root(frames.poses_camera, frames.skeleton), frames.skeleton, frames.names, source)
+
+
+# The 16-joint protocol of the paper's tables is not in the reference code and its dropped
+# joint is unknown (ALGORITHM.md 6). Default: the pelvis, the root, whose error is zero by
+# construction once both sides are root-centred, so the 16 scored joints are exactly those
+# that carry information (one of the paper's rows fits 17/16 of a 17-joint figure).
+PROTOCOLS = ("17", "16")
+DEFAULT_DROPPED_JOINT = "pelvis"
+
+
+def protocol_joints(protocol: str, dropped: str = DEFAULT_DROPPED_JOINT) -> tuple[str, ...]:
+    """The `h36m17` joints scored by a protocol: all 17, or 16 without `dropped`."""
+    joints = get_skeleton("h36m17").joints
+    if protocol not in PROTOCOLS:
+        raise ConfigError(f"unknown protocol {protocol!r}; choose 17 or 16 joints")
+    if protocol == "17":
+        return joints
+    if dropped not in joints:
+        raise ConfigError(f"--drop-joint {dropped!r} is not an h36m17 joint; joints: {', '.join(joints)}")
+    return tuple(j for j in joints if j != dropped)

@@ -97,6 +97,14 @@ _COCO18_JOINTS = (
     "left_wrist", "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle",
     "right_eye", "left_eye", "right_ear", "left_ear",
 )  # fmt: skip
+# OpenPose's experimental BODY_25B (openpose_train experimental_models, Pose2Sim's default model):
+# COCO-17 in COCO's order, then the upper neck, the head top and the feet. It has no mid-hip and
+# no neck at the shoulder midpoint, so it must never be read as BODY_25 (same joint count).
+# Its head top is called "head", like Halpe's, and converts to the H36M head by name.
+_BODY25B_JOINTS = (
+    *_COCO17_JOINTS, "upper_neck", "head", "left_big_toe", "left_small_toe", "left_heel",
+    "right_big_toe", "right_small_toe", "right_heel",
+)  # fmt: skip
 # Halpe-26 (AlphaPose, RTMPose "body with feet"): COCO-17, then head top, neck (= thorax), hip
 # (= pelvis) and the feet (Fang-Haoshu/Halpe-FullBody README).
 _HALPE26_JOINTS = (
@@ -193,6 +201,24 @@ SKELETONS: dict[str, Skeleton] = {
         ),  # fmt: skip
         ("right_hip", "left_hip"),
     ),
+    "body25b": Skeleton(
+        "body25b",
+        _BODY25B_JOINTS,
+        _bones(
+            _BODY25B_JOINTS,
+            [
+                ("left_hip", "right_hip"),
+                ("left_shoulder", "right_shoulder"),
+                ("left_hip", "left_shoulder"),
+                ("right_hip", "right_shoulder"),
+                ("upper_neck", "head"),
+                *_FACE,
+                *_FEET,
+                *_LIMBS,
+            ],
+        ),  # fmt: skip
+        ("right_hip", "left_hip"),
+    ),
     "halpe26": Skeleton(
         "halpe26",
         _HALPE26_JOINTS,
@@ -217,15 +243,52 @@ DERIVED_JOINTS: dict[str, tuple[tuple[str, ...], ...]] = {
 ALIASES: dict[str, str] = {"neck": "nose"}
 
 # Joint counts of detector outputs that carry no joint names (FORMATS.md 3.7). K = 17 is also
-# H36M-17, but detectors emit COCO-17; readers prefer names or meta data where a file has them.
+# H36M-17, but detectors emit COCO-17; K = 25 is BODY_25 or BODY_25B (`body25_variant` tells
+# them apart); readers prefer names or meta data where a file has them.
 _BY_COUNT = {17: "coco17", 18: "coco18", 25: "body25", 26: "halpe26"}
-# Other tools' names for joints, per skeleton (MMPose configs/_base_/datasets/{h36m,halpe26}.py).
+# Other tools' names for joints, per skeleton (MMPose configs/_base_/datasets/{h36m,halpe26}.py;
+# "root (pelvis)" is the name in MMPose's tests/data/h36m/h36m_coco.json), after `_normalise`.
 _TOOL_JOINT_NAMES: dict[str, dict[str, str]] = {
-    "h36m17": {"root": "pelvis", "right_foot": "right_ankle", "left_foot": "left_ankle", "neck_base": "neck"},
+    "h36m17": {"root": "pelvis", "root_(pelvis)": "pelvis", "right_foot": "right_ankle", "left_foot": "left_ankle",
+               "neck_base": "neck"},
     "halpe26": {"neck": "thorax", "hip": "pelvis"},
-    "body25": {"neck": "thorax", "mid_hip": "pelvis"},
+    "body25": {"neck": "thorax", "mid_hip": "pelvis", "midhip": "pelvis"},
+    "body25b": {"neck": "upper_neck", "head_top": "head", "headtop": "head"},
     "coco18": {"neck": "thorax"},
-}
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class SkeletonSource:
+    """Which joint set an input was read as, and why (recorded as the output's
+    ``input.source_skeleton``), e.g. ("coco17", "categories[0].keypoints names")."""
+
+    name: str
+    reason: str
+
+    def to_dict(self) -> dict[str, str]:
+        return {"name": self.name, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class JointNameMatch:
+    """A known skeleton whose joints are a file's joint names in some order.
+
+    `order[j]` is the position in the file of the skeleton's joint j, so that
+    ``file_values[order]`` puts per-joint values of the file into the skeleton's order.
+    """
+
+    skeleton: Skeleton
+    order: tuple[int, ...]
+
+    @property
+    def is_identity(self) -> bool:
+        return self.order == tuple(range(len(self.order)))
+
+
+def _normalise(name: str) -> str:
+    """A joint name compared case-blind, with spaces and hyphens as underscores."""
+    return "_".join(name.strip().lower().replace("-", " ").split())
 
 
 def skeleton_for_joint_count(count: int) -> Skeleton | None:
@@ -240,14 +303,93 @@ def joint_count_names() -> str:
     return ", ".join(f"{count} ({name})" for count, name in sorted(_BY_COUNT.items()))
 
 
-def skeleton_from_joint_names(names: tuple[str, ...] | list[str]) -> Skeleton | None:
-    """The skeleton whose joints are exactly `names`, in order, in zedo's names or a tool's
-    (MMPose's ``root``/``neck_base`` for H36M, ``neck``/``hip`` for Halpe-26); else None."""
+def match_joint_names(names: tuple[str, ...] | list[str]) -> JointNameMatch | None:
+    """The skeleton whose joints are exactly `names`, in any order, in zedo's names or a tool's
+    (MMPose's ``root (pelvis)``/``neck_base`` for H36M, ``neck``/``hip`` for Halpe-26, ...);
+    None when no skeleton has these names (or a name repeats)."""
+    normalised = [_normalise(name) for name in names]
     for skeleton in SKELETONS.values():
+        if len(normalised) != skeleton.num_joints:
+            continue
         aliases = _TOOL_JOINT_NAMES.get(skeleton.name, {})
-        if tuple(aliases.get(name, name) for name in names) == skeleton.joints:
-            return skeleton
+        mapped = [aliases.get(name, name) for name in normalised]
+        if len(set(mapped)) == len(mapped) and set(mapped) == set(skeleton.joints):
+            position = {name: k for k, name in enumerate(mapped)}
+            return JointNameMatch(skeleton, tuple(position[joint] for joint in skeleton.joints))
     return None
+
+
+def skeleton_from_joint_names(names: tuple[str, ...] | list[str]) -> Skeleton | None:
+    """The skeleton whose joints are exactly `names` in its own order (see `match_joint_names`
+    for any order); else None."""
+    match = match_joint_names(names)
+    return match.skeleton if match is not None and match.is_identity else None
+
+
+# Joint-geometry checks that hold in one 25-joint layout and not in the other, as (joint,
+# (a, b)): joint lies near the midpoint of a and b. BODY_25: the neck (1) between the shoulders
+# (2, 5) and the mid-hip (8) between the hips (9, 12), as OpenPose defines them. BODY_25B: the
+# nose (0) between the eyes (1, 2), and the eyes' midpoint near the ears' (3, 4; written as the
+# eyes' midpoint against the ears'). Read in the other layout, each check compares an arm, an
+# eye or a shoulder with unrelated joints.
+_MIDPOINTS_BODY25 = (((1,), (2, 5)), ((8,), (9, 12)))
+_MIDPOINTS_BODY25B = (((0,), (1, 2)), ((1, 2), (3, 4)))
+
+
+def _box_diagonal(xy: np.ndarray, present: np.ndarray) -> np.ndarray:
+    """Per instance, the diagonal of the box around its present joints; NaN with fewer than 3."""
+    pts = np.where(present[..., None], xy, np.nan)
+    out = np.full(len(xy), np.nan)
+    enough = present.sum(axis=1) >= 3
+    if enough.any():
+        lo, hi = np.nanmin(pts[enough], axis=1), np.nanmax(pts[enough], axis=1)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out[enough] = np.hypot(*(hi - lo).T)
+    return out
+
+
+def _midpoint_error(xy: np.ndarray, present: np.ndarray, checks: tuple) -> np.ndarray:
+    """Per instance, the mean distance of `checks` (see above) over those whose joints are all
+    present, in units of the body's box diagonal; NaN where no check can be made."""
+    pts = np.where(present[..., None], xy, np.nan)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # absurd coordinates give inf, not noise
+        terms = [
+            np.linalg.norm(pts[:, list(near)].mean(axis=1) - pts[:, list(pair)].mean(axis=1), axis=-1)
+            for near, pair in checks
+        ]
+        stacked = np.stack(terms)  # (checks, N)
+        counts = np.isfinite(stacked).sum(axis=0)
+        mean = np.where(counts > 0, np.nansum(stacked, axis=0) / np.maximum(counts, 1), np.nan)
+        return mean / _box_diagonal(xy, present)
+
+
+def body25_variant(xy: np.ndarray, confidence: np.ndarray) -> tuple[str | None, str]:
+    """Whether 25-joint detections `xy (N, 25, 2)` are OpenPose BODY_25 or BODY_25B, from their
+    joint geometry: ("body25" | "body25b" | None, an explanation for messages).
+
+    Each layout has joints that lie near the midpoint of two others (BODY_25: neck and mid-hip;
+    BODY_25B: nose and eyes, see `_MIDPOINTS_*`). The median error of each layout's checks over
+    the instances, in body-box diagonals, must be at most half the other layout's. Measured on
+    SyRIP's 700 real infant images (ground truth and FiDIP detections written in both layouts,
+    the BODY_25 neck and mid-hip moved by 10 % of the shoulder / hip width): medians 0.02-0.06
+    for the true layout against 0.19-0.21 for the other (the file is told right); image by
+    image, never the wrong layout, but 18-20 % of the BODY_25B images alone are undecided.
+    None when the instances cannot tell.
+    """
+    present = (confidence > 0) & np.isfinite(xy).all(axis=-1)
+    e25 = _midpoint_error(xy, present, _MIDPOINTS_BODY25)
+    e25b = _midpoint_error(xy, present, _MIDPOINTS_BODY25B)
+    usable = np.isfinite(e25) & np.isfinite(e25b)
+    if not usable.any():
+        return None, "no person shows the neck, hips, shoulders, nose and eyes these checks need, at finite positions"
+    m25, m25b = float(np.median(e25[usable])), float(np.median(e25b[usable]))
+    detail = (f"midpoint errors in body-box diagonals: {m25:.3f} as BODY_25 (neck, mid-hip), "
+              f"{m25b:.3f} as BODY_25B (nose, eyes), median of {int(usable.sum())} persons")  # fmt: skip
+    if m25 <= 0.5 * m25b:
+        return "body25", detail
+    if m25b <= 0.5 * m25:
+        return "body25b", detail
+    return None, detail
 
 
 def get_skeleton(name: str) -> Skeleton:

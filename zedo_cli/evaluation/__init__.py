@@ -6,12 +6,15 @@ Builds on every layer below the CLI except `augment`.
 
 from __future__ import annotations
 
-from .metrics import mpjpe_mm, pa_mpjpe_mm, pa_per_joint_error_mm, per_joint_error_mm
-from .minirgbd_benchmark import run_minirgbd_benchmark
-from .result_scoring import align_to_truth, read_result_file
-from .syrip_benchmark import PAPER_FIGURES, run_syrip_benchmark, score_poses
+from ..lazy import lazy_exports
 
-__all__ = [
-    "PAPER_FIGURES", "align_to_truth", "mpjpe_mm", "pa_mpjpe_mm", "pa_per_joint_error_mm", "per_joint_error_mm",
-    "read_result_file", "run_minirgbd_benchmark", "run_syrip_benchmark", "score_poses",
-]  # fmt: skip
+__getattr__, __dir__, __all__ = lazy_exports(
+    __name__,
+    globals(),
+    {
+        ".metrics": ["mpjpe_mm", "pa_mpjpe_mm", "pa_per_joint_error_mm", "per_joint_error_mm"],
+        ".minirgbd_benchmark": ["run_minirgbd_benchmark"],
+        ".result_scoring": ["align_to_truth", "read_result_file"],
+        ".syrip_benchmark": ["PAPER_FIGURES", "run_syrip_benchmark", "score_poses"],
+    },
+)

@@ -25,3 +25,16 @@ def pa_per_joint_error_mm(pred: np.ndarray, target: np.ndarray) -> np.ndarray:
 def pa_mpjpe_mm(pred: np.ndarray, target: np.ndarray) -> float:
     """MPJPE in mm after aligning each prediction to its target by scale, rotation, translation."""
     return float(pa_per_joint_error_mm(pred, target).mean())
+
+
+def cohen_kappa(a: np.ndarray, b: np.ndarray) -> float:
+    """Cohen's kappa of two raters' labels `a`, `b` `(N,)` (any hashable labels): (p_o - p_e) / (1 - p_e),
+    p_o the observed agreement, p_e the agreement expected from each rater's label frequencies.
+    NaN when p_e = 1 (both raters gave one and the same label to everything)."""
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape or a.ndim != 1 or not len(a):
+        raise ValueError("cohen_kappa needs two label arrays of the same length > 0")
+    labels = np.union1d(a, b)
+    p_o = float((a == b).mean())
+    p_e = float(sum((a == k).mean() * (b == k).mean() for k in labels))
+    return (p_o - p_e) / (1.0 - p_e) if p_e < 1.0 else float("nan")

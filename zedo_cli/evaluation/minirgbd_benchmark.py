@@ -11,11 +11,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data.minirgbd import MiniFrames, load_minirgbd, split_sequences
+from ..data.minirgbd import DEFAULT_DROPPED_JOINT, MiniFrames, load_minirgbd, protocol_joints, split_sequences
 from ..data.skeleton import center_on_root, get_skeleton
-from ..errors import ConfigError, WeightsError
+from ..errors import WeightsError
 from ..lifting.camera import Intrinsics
-from ..lifting.solver import LiftConfig, LiftProgress, LiftResult, lift
+from ..lifting.config import LiftConfig
+from ..lifting.solver import LiftProgress, LiftResult, lift
 from ..prior.weights import Prior
 from .syrip_benchmark import score_poses
 
@@ -24,25 +25,6 @@ DEPTH_INTRINSICS = Intrinsics(
     fx=588.67905803875317, fy=590.25690113005601, cx=322.22048191353628, cy=237.46785983766890,
     source="minirgbd-depth",
 )  # fmt: skip
-
-# The 16-joint protocol of the paper's tables is not in the reference code and its dropped
-# joint is unknown (ALGORITHM.md 6). Default: the pelvis, the root, whose error is zero by
-# construction once both sides are root-centred, so the 16 scored joints are exactly those
-# that carry information (one of the paper's rows fits 17/16 of a 17-joint figure).
-PROTOCOLS = ("17", "16")
-DEFAULT_DROPPED_JOINT = "pelvis"
-
-
-def protocol_joints(protocol: str, dropped: str = DEFAULT_DROPPED_JOINT) -> tuple[str, ...]:
-    """The `h36m17` joints scored by a protocol: all 17, or 16 without `dropped`."""
-    joints = get_skeleton("h36m17").joints
-    if protocol not in PROTOCOLS:
-        raise ConfigError(f"unknown protocol {protocol!r}; choose 17 or 16 joints")
-    if protocol == "17":
-        return joints
-    if dropped not in joints:
-        raise ConfigError(f"--drop-joint {dropped!r} is not an h36m17 joint; joints: {', '.join(joints)}")
-    return tuple(j for j in joints if j != dropped)
 
 
 def score_minirgbd(

@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from ..data.datasets import PoseSet
 from ..data.skeleton import Skeleton, center_on_root, convert_points, get_skeleton
 from ..errors import ConfigError, InputFormatError
+from ..formats.result_reader import read_result
 
 # protocol -> joint set scored; both sides are converted to it and centred on its root
 PROTOCOLS: dict[str, str] = {"syrip12": "syrip12", "h36m17": "h36m17"}
@@ -27,32 +26,13 @@ class PredictedPoses:
 
 
 def read_result_file(path: str | Path) -> PredictedPoses:
-    path = Path(path)
-    try:
-        doc: Any = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputFormatError(f"{path}: file not found") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputFormatError(f"{path}: not a readable JSON file ({exc})") from None
-    if not isinstance(doc, dict) or doc.get("schema") != "zedo.pose3d/1":
-        raise InputFormatError(f"{path}: schema: expected a zedo result file (schema zedo.pose3d/1)")
-    try:
-        skel = get_skeleton(doc["skeleton"]["name"])
-        poses, keys = [], []
-        for f, frame in enumerate(doc["frames"]):
-            person = frame["persons"][0]
-            if person["keypoints_3d"] is None:
-                continue
-            pts = np.array([[np.nan] * 3 if p is None else p for p in person["keypoints_3d"]], dtype=float)
-            if pts.shape != (skel.num_joints, 3):
-                raise InputFormatError(f"{path}: frames[{f}].persons[0].keypoints_3d: expected {skel.num_joints}x3")
-            poses.append(pts)
-            keys.append(str(frame["file_name"]) if frame.get("file_name") else str(frame["image_id"]))
-    except (KeyError, IndexError, TypeError, ValueError) as exc:
-        raise InputFormatError(f"{path}: malformed result file ({type(exc).__name__}: {exc})") from None
-    if not poses:
+    """The first person of each lifted frame of a zedo result (any format `zedo lift` writes)."""
+    res = read_result(path)
+    keep = np.flatnonzero((res.person == 0) & res.lifted)
+    if not len(keep):
         raise InputFormatError(f"{path}: no lifted poses")
-    return PredictedPoses(np.array(poses), skel, keys)
+    keys = [res.file_names[i] or str(res.image_ids[i]) for i in keep]
+    return PredictedPoses(res.poses[keep], res.skeleton, keys)
 
 
 def _all_observed(poses: np.ndarray, src: Skeleton, dst: Skeleton) -> tuple[np.ndarray, np.ndarray]:

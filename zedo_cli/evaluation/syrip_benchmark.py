@@ -21,7 +21,8 @@ from ..data.skeleton import center_on_root
 from ..errors import DataError
 from ..formats import read_keypoints
 from ..lifting.camera import resolve_intrinsics
-from ..lifting.solver import LiftConfig, LiftProgress, LiftResult, lift
+from ..lifting.config import LiftConfig
+from ..lifting.solver import LiftProgress, LiftResult, lift
 from ..prior.weights import Prior
 from .metrics import pa_per_joint_error_mm, per_joint_error_mm
 

@@ -1,17 +1,28 @@
 """Files in and out: the readers of every 2D detector layout (into `data.Keypoints2D`), the
-writers of 3D results (JSON, JSON Lines, CSV, NPZ) and the pose plots (`formats.plots`, not
-imported here so that matplotlib loads only when a plot is asked for).
+writers of 3D results (JSON, JSON Lines, CSV, NPZ), their reader (`result_reader`) and the
+pose plots (`formats.plots`, not imported here so that matplotlib loads only when a plot is asked for).
 
 Builds on `lifting` (the `LiftResult` a writer writes) and `data`.
 """
 
 from __future__ import annotations
 
-from ..data.keypoints import Keypoints2D
-from .readers import INPUT_FORMATS, detect_format, input_sha256, read_keypoints, read_keypoints_text, read_parsed
-from .writers import OUTPUT_FORMATS, default_output_name, write_result
+from ..lazy import lazy_exports
 
-__all__ = [
-    "INPUT_FORMATS", "OUTPUT_FORMATS", "Keypoints2D", "default_output_name", "detect_format", "input_sha256",
-    "read_keypoints", "read_keypoints_text", "read_parsed", "write_result",
-]  # fmt: skip
+__getattr__, __dir__, __all__ = lazy_exports(
+    __name__,
+    globals(),
+    {
+        "..data.keypoints": ["Keypoints2D"],
+        ".readers": [
+            "INPUT_FORMATS",
+            "detect_format",
+            "input_sha256",
+            "read_keypoints",
+            "read_keypoints_text",
+            "read_parsed",
+        ],
+        ".result_reader": ["ResultPoses", "read_result"],
+        ".writers": ["OUTPUT_FORMATS", "default_output_name", "write_result"],
+    },
+)

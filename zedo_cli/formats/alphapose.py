@@ -12,11 +12,15 @@ models) is kept as the detection score; ``box`` and ``idx`` are not used.
 The image id is kept as given; a string id is also the file name. Instances are ordered by
 image in natural order of the id ("frame_2.jpg" before "frame_10.jpg"), and within an image in
 file order; the frame index is the trailing number of the id ("12.jpg" -> 12, as Pose2Sim's
-converter reads it), or the id itself when it is an integer.
+converter reads it), or the id itself when it is an integer. Where two different image ids
+would get the same number (timestamps such as "1650000000.5.jpg" and "1650000001.5.jpg"), or
+some id has none, every image's frame index is its position in that natural order instead:
+two images are never merged into one frame.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -47,30 +51,46 @@ def _frame(key: int | str) -> int | None:
     return trailing_number(Path(key).stem)
 
 
-def _parse_entry(entry: Any, i: int, first: Skeleton | None, path: str) -> tuple[Skeleton, Row]:
+def _parse_entry(
+    entry: Any, i: int, first: Skeleton | None, path: str, forced: Skeleton | None = None
+) -> tuple[Skeleton, Row]:
     where = f"[{i}]"
     entry = as_dict(entry, path, where)
     key = image_id(required(entry, "image_id", path, where), path, f"{where}.image_id")
     where_kp = f"{where}.keypoints"
     values = required(entry, "keypoints", path, where)
     count = len(values) // 3 if isinstance(values, list) and len(values) % 3 == 0 else None
-    if first is None and count is not None and count not in _COUNTS:
-        raise error(path, where_kp, f"unsupported joint count {count} (AlphaPose: 17 COCO or 26 Halpe joints)")
-    skeleton, points = flat_keypoints(values, first, path, where_kp)
+    if first is None and forced is None and count is not None and count not in _COUNTS:
+        pairs = f" ({len(values)} numbers: {len(values) // 2} x, y pairs?)" if len(values) // 2 in _COUNTS else ""
+        raise error(path, where_kp, f"unsupported joint count {count}{pairs} (AlphaPose: 17 COCO or 26 Halpe joints)")
+    skeleton, points = flat_keypoints(values, first, path, where_kp, forced)
     xy, conf = joints(points, skeleton, path, where_kp)
     file_name = key if isinstance(key, str) else None
     return skeleton, Row(key, xy, conf, file_name, NAN_SIZE, optional_score(entry, path, where), _frame(key))
 
 
-def read_alphapose(data: Any, path: str) -> Keypoints2D:
+def _distinct_frames(rows: list[Row]) -> list[Row]:
+    """`rows` (in image order) with frame indices that never merge two images: the ids' own
+    numbers when distinct images have distinct numbers, else each image's position."""
+    images = list(dict.fromkeys(repr(row.image_id) for row in rows))
+    number = {repr(row.image_id): row.frame for row in rows}
+    frames = [number[key] for key in images]
+    if all(f is not None for f in frames) and len(set(frames)) == len(frames):
+        return rows
+    position = {key: k for k, key in enumerate(images)}
+    return [dataclasses.replace(row, frame=position[repr(row.image_id)]) for row in rows]
+
+
+def read_alphapose(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a parsed AlphaPose results list, every instance, in natural image order."""
-    skeleton: Skeleton | None = None
+    found: Skeleton | None = None
     rows: list[Row] = []
     for i, entry in enumerate(as_list(data, path, "")):
-        skeleton, row = _parse_entry(entry, i, skeleton, path)
+        found, row = _parse_entry(entry, i, found, path, skeleton)
         rows.append(row)
     rows.sort(key=lambda row: natural_key(str(row.image_id)))  # stable: persons keep file order
-    return build(rows, skeleton or SKELETONS["coco17"], path, "alphapose")
+    reason = "--skeleton" if skeleton is not None else f"joint count {found.num_joints if found else 17}"
+    return build(_distinct_frames(rows), found or SKELETONS["coco17"], path, "alphapose", reason=reason)
 
 
 def is_alphapose_entry(entry: dict[str, Any]) -> bool:

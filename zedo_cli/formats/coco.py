@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
+from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton, skeleton_for_joint_count
 from .validate import (
     NAN_SIZE,
     ImageId,
@@ -25,12 +25,15 @@ from .validate import (
     as_dict,
     as_list,
     build,
+    counted_skeleton,
     detector_confidence,
     error,
+    file_order,
     flat_triplets,
     image_id,
+    joint_names,
     joints,
-    kind,
+    named_skeleton,
     optional_score,
     optional_str,
     pixels,
@@ -71,37 +74,39 @@ def parse_images(doc: dict[str, Any], path: str) -> dict[ImageId, Image]:
     return index
 
 
-def skeleton_from_names(value: Any, path: str, where: str) -> Skeleton:
-    """The skeleton whose joint names are exactly `value`; 17 unknown names mean COCO-17."""
-    names = as_list(value, path, where)
-    for k, name in enumerate(names):
-        if not isinstance(name, str):
-            raise error(path, f"{where}[{k}]", f"expected a joint name, got {kind(name)}")
-    skeleton = skeleton_from_joint_names(names)
-    if skeleton is not None:
-        return skeleton
-    if len(names) == 17:
-        return SKELETONS["coco17"]
-    known = ", ".join(sorted(SKELETONS))
-    raise error(
-        path, where,
-        f"unsupported joint count {len(names)} with unknown joint names "
-        f"(expected 17 COCO joints or the joint names of a known skeleton: {known})",
-    )  # fmt: skip
-
-
 # --- annotations ---------------------------------------------------------------------------
 
 
-def _categories_skeleton(doc: dict[str, Any], path: str) -> Skeleton:
-    """Skeleton from ``categories[0].keypoints``; COCO-17 when the names are not given."""
+def _annotation_count(annotations: list[Any]) -> tuple[int, int | None]:
+    """(position, joint count) of the first annotation with a flat keypoint list; (0, None) if none."""
+    for i, entry in enumerate(annotations):
+        keypoints = entry.get("keypoints") if isinstance(entry, dict) else None
+        flat = isinstance(keypoints, list) and not (keypoints and isinstance(keypoints[0], list))
+        if flat and len(keypoints) % 3 == 0:
+            return i, len(keypoints) // 3
+    return 0, None
+
+
+def _categories_skeleton(
+    doc: dict[str, Any], annotations: list[Any], forced: Skeleton | None, path: str
+) -> tuple[JointNameMatch, str, bool]:
+    """The joint set of the annotations: from ``categories[0].keypoints`` names when given, else
+    from the annotations' joint count (or ``--skeleton``). Returns (match, reason, counted)."""
     categories = as_list(required(doc, "categories", path, ""), path, "categories")
-    if not categories:
-        return SKELETONS["coco17"]
-    first = as_dict(categories[0], path, "categories[0]")
-    if "keypoints" not in first:
-        return SKELETONS["coco17"]
-    return skeleton_from_names(first["keypoints"], path, "categories[0].keypoints")
+    first = as_dict(categories[0], path, "categories[0]") if categories else {}
+    position, count = _annotation_count(annotations)
+    names = joint_names(first["keypoints"], path, "categories[0].keypoints") if "keypoints" in first else []
+    if names:
+        match, reason = named_skeleton(names, count, forced, path, "categories[0].keypoints")
+        return match, reason, False
+    where = f"annotations[{position}].keypoints"
+    if count is None:  # no usable annotation: its own checks report it (or there is none)
+        skeleton = forced or SKELETONS["coco17"]
+    else:
+        skeleton = counted_skeleton(count, None, path, where, forced)
+    why = "--skeleton" if forced is not None else f"joint count {count if count is not None else 17}"
+    reason = f"{why} (no categories[0].keypoints names)"
+    return JointNameMatch(skeleton, tuple(range(skeleton.num_joints))), reason, forced is None
 
 
 def _visibility_confidence(v: float, path: str, where: str) -> float:
@@ -137,45 +142,43 @@ def _parse_annotation(
     return (image.position, i), Row(key, xy, conf, image.file_name, image.size, score)
 
 
-def read_coco_annotations(data: Any, path: str) -> Keypoints2D:
+def read_coco_annotations(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a parsed COCO keypoint annotation file (FORMATS.md 3.1).
 
     Instances are ordered by their image's position in ``images``, then by annotation position.
-    Sizes (pixels) and file names come from ``images[]``; the skeleton from ``categories[0]``.
+    Sizes (pixels) and file names come from ``images[]``; the joints from the names of
+    ``categories[0].keypoints`` in any order (`named_skeleton`), else from the joint count;
+    `skeleton` is ``--skeleton``.
     """
     doc = as_dict(data, path, "")
     images = parse_images(doc, path)
-    skeleton = _categories_skeleton(doc, path)
     annotations = as_list(required(doc, "annotations", path, ""), path, "annotations")
-    keyed = [_parse_annotation(entry, i, images, skeleton, path) for i, entry in enumerate(annotations)]
+    match, reason, counted = _categories_skeleton(doc, annotations, skeleton, path)
+    in_file = file_order(match)
+    keyed = [_parse_annotation(entry, i, images, in_file, path) for i, entry in enumerate(annotations)]
     keyed.sort(key=lambda item: item[0])
-    return build([row for _, row in keyed], skeleton, path, "coco-annotations")
+    rows = [row for _, row in keyed]
+    return build(rows, match.skeleton, path, "coco-annotations", reason=reason, counted=counted, names=match)
 
 
 # --- results -------------------------------------------------------------------------------
 
 
-def _results_skeleton(values: Any, path: str, where: str) -> Skeleton:
-    """Skeleton of a results instance, inferred from its flat keypoint list length (17 -> coco17)."""
-    values = as_list(values, path, where)
-    if len(values) % 3:
-        raise error(path, where, f"expected x, y, c triplets (a multiple of 3 numbers), got {len(values)}")
-    if len(values) // 3 != 17:
-        raise error(
-            path, where,
-            f"unsupported joint count {len(values) // 3} (COCO results need 17 joints; "
-            "for 26 Halpe joints use --format alphapose)",
-        )  # fmt: skip
-    return SKELETONS["coco17"]
-
-
-def _parse_result(entry: Any, i: int, sizes: Mapping[ImageId, tuple[float, float]], path: str) -> Row:
+def _parse_result(entry: Any, i: int, sizes: Mapping[ImageId, tuple[float, float]], skeleton: Skeleton,
+                  path: str) -> Row:  # fmt: skip
     where = f"[{i}]"
     entry = as_dict(entry, path, where)
     key = image_id(required(entry, "image_id", path, where), path, f"{where}.image_id")
     where_kp = f"{where}.keypoints"
-    values = required(entry, "keypoints", path, where)
-    skeleton = _results_skeleton(values, path, where_kp)
+    values = as_list(required(entry, "keypoints", path, where), path, where_kp)
+    if len(values) != 3 * skeleton.num_joints and len(values) % 3 == 0 and not (values and isinstance(values[0], list)):
+        known = skeleton_for_joint_count(len(values) // 3)
+        hint = "use --format alphapose" if known is not None else "or --skeleton NAME"
+        raise error(
+            path, where_kp,
+            f"unsupported joint count {len(values) // 3} ({len(values)} numbers; COCO results hold "
+            f"{skeleton.num_joints} joints, {skeleton.name}; for other detector outputs {hint})",
+        )  # fmt: skip
     triplets = flat_triplets(values, skeleton.num_joints, path, where_kp)
     points = [(x, y, detector_confidence(c, path, f"{where_kp}[{3 * j + 2}]")) for j, (x, y, c) in enumerate(triplets)]
     xy, conf = joints(points, skeleton, path, where_kp)
@@ -184,12 +187,18 @@ def _parse_result(entry: Any, i: int, sizes: Mapping[ImageId, tuple[float, float
 
 
 def read_coco_results(
-    data: Any, path: str, image_sizes: Mapping[ImageId, tuple[float, float]] | None = None
+    data: Any,
+    path: str,
+    skeleton: Skeleton | None = None,
+    image_sizes: Mapping[ImageId, tuple[float, float]] | None = None,
 ) -> Keypoints2D:
     """Read a parsed COCO keypoint results list (FORMATS.md 3.2), every instance in file order.
 
+    The joints are COCO-17 (results carry no names), or `skeleton` (``--skeleton``).
     `image_sizes` maps image_id -> (width, height) in pixels; instances without one get NaN.
     """
     entries = as_list(data, path, "")
-    rows = [_parse_result(entry, i, image_sizes or {}, path) for i, entry in enumerate(entries)]
-    return build(rows, SKELETONS["coco17"], path, "coco-results")
+    used = skeleton or SKELETONS["coco17"]
+    rows = [_parse_result(entry, i, image_sizes or {}, used, path) for i, entry in enumerate(entries)]
+    reason = "--skeleton" if skeleton is not None else "COCO results: 17 unnamed joints are COCO-17"
+    return build(rows, used, path, "coco-results", reason=reason)

@@ -51,7 +51,9 @@ def _line_key(obj: dict[str, Any], key: str, path: str, line: str) -> Any:
     return obj[key]
 
 
-def _frame_rows(obj: Any, line: str, skeleton: Skeleton | None, path: str) -> tuple[Skeleton | None, list[Row]]:
+def _frame_rows(
+    obj: Any, line: str, skeleton: Skeleton | None, path: str, forced: Skeleton | None = None
+) -> tuple[Skeleton | None, list[Row]]:
     """The rows of one line (`line` = "line 3"); `skeleton` is the one fixed by earlier lines."""
     obj = as_dict(obj, path, line)
     frame = frame_number(_line_key(obj, "frame", path, line), path, f"{line}: frame")
@@ -60,6 +62,8 @@ def _frame_rows(obj: Any, line: str, skeleton: Skeleton | None, path: str) -> tu
         named = skeleton_name(obj["skeleton"], path, f"{line}: skeleton")
         if skeleton is not None and named != skeleton:
             raise error(path, f"{line}: skeleton", f"expected {skeleton.name} like the earlier lines, got {named.name}")
+        if forced is not None and named != forced:
+            raise error(path, f"{line}: skeleton", f"the file says {named.name}, but --skeleton says {forced.name}")
         skeleton = named
     size = size_pair(obj["image_size"], path, f"{line}: image_size") if obj.get("image_size") is not None else NAN_SIZE
     file_name = obj.get("file_name")
@@ -72,31 +76,34 @@ def _frame_rows(obj: Any, line: str, skeleton: Skeleton | None, path: str) -> tu
         if "keypoints" not in person:
             raise error(path, f"{where}.keypoints", "missing required key")
         points = as_list(person["keypoints"], path, f"{where}.keypoints")
-        skeleton = counted_skeleton(len(points), skeleton, path, f"{where}.keypoints")
+        skeleton = counted_skeleton(len(points), skeleton, path, f"{where}.keypoints", forced)
         parsed = [zedo_point(p, path, f"{where}.keypoints[{j}]") for j, p in enumerate(points)]
         xy, conf = joints(parsed, skeleton, path, f"{where}.keypoints")
         rows.append(Row(key, xy, conf, file_name, size, optional_score(person, path, where), frame))
     return skeleton, rows
 
 
-def _read_records(records: list[tuple[int, Any]], path: str) -> Keypoints2D:
+def _read_records(records: list[tuple[int, Any]], path: str, forced: Skeleton | None = None) -> Keypoints2D:
     skeleton: Skeleton | None = None
+    named = False
     rows: list[Row] = []
     for number, obj in records:
-        skeleton, frame_rows = _frame_rows(obj, f"line {number}", skeleton, path)
+        skeleton, frame_rows = _frame_rows(obj, f"line {number}", skeleton, path, forced)
+        named = named or (isinstance(obj, dict) and obj.get("skeleton") is not None)
         rows.extend(frame_rows)
     if skeleton is None:
         raise error(path, "", "no instances found" if records else "no frames found")
-    return build(rows, skeleton, path, FORMAT)
+    reason = "skeleton field" if named else "--skeleton" if forced is not None else f"joint count {skeleton.num_joints}"
+    return build(rows, skeleton, path, FORMAT, reason=reason, counted=not named and forced is None)
 
 
-def read_zedo_jsonl(data: Any, path: str) -> Keypoints2D:
+def read_zedo_jsonl(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read already parsed zedo JSONL: one frame object (one line) or a list of them (line k + 1)."""
     records = data if isinstance(data, list) else [data]
-    return _read_records(list(enumerate(records, start=1)), path)
+    return _read_records(list(enumerate(records, start=1)), path, skeleton)
 
 
-def read_zedo_jsonl_text(text: str, path: str) -> Keypoints2D:
+def read_zedo_jsonl_text(text: str, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read zedo JSONL text. Lines are split on "\\n" only: U+2028 may stand raw inside a JSON string."""
     records = [
         (number, parse_json(line, path, f"line {number}"))
@@ -105,7 +112,7 @@ def read_zedo_jsonl_text(text: str, path: str) -> Keypoints2D:
     ]
     if not records:
         raise error(path, "", "file is empty")
-    return _read_records(records, path)
+    return _read_records(records, path, skeleton)
 
 
 def looks_like_jsonl(text: str) -> bool:

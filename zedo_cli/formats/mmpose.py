@@ -17,7 +17,8 @@ instance's detection score; ``bbox`` is not used.
   video, or ``instance_info`` as a flat instance list for an image. The demos count video frames
   from 1, so the frame index is frame_id - 1 (frame_id itself stays the image id); a file whose
   frame ids start at 0 is taken as 0-based. ``meta_info.keypoint_id2name`` (or ``dataset_name``)
-  names the skeleton; without meta data the joint count does (17 -> coco17, 26 -> halpe26, ...).
+  names the joints, in any order (unknown names are an error unless ``--skeleton``); without
+  names the joint count does (17 -> coco17, 26 -> halpe26, ...), or ``--skeleton``.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, Skeleton, skeleton_from_joint_names
+from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton
 from .validate import (
     NAN_SIZE,
     ImageId,
@@ -37,9 +38,12 @@ from .validate import (
     counted_skeleton,
     detector_confidence,
     error,
+    file_order,
     frame_number,
+    joint_names,
     joints,
     kind,
+    named_skeleton,
     number,
     optional_score,
     required,
@@ -50,14 +54,15 @@ _DATASET_SKELETONS = {"coco": "coco17", "h36m": "h36m17", "halpe26": "halpe26"}
 
 
 def _instance_row(
-    entry: Any, where: str, key: ImageId, frame: int | None, first: Skeleton | None, path: str
-) -> tuple[Skeleton, Row]:
+    entry: Any, where: str, key: ImageId, frame: int | None, first: Skeleton | None, path: str,
+    forced: Skeleton | None = None,
+) -> tuple[Skeleton, Row]:  # fmt: skip
     """One instance -> its skeleton (`first`, or inferred from its joint count) and its row."""
     entry = as_dict(entry, path, where)
     where_kp, where_sc = f"{where}.keypoints", f"{where}.keypoint_scores"
     pairs = as_list(required(entry, "keypoints", path, where), path, where_kp)
     scores = as_list(required(entry, "keypoint_scores", path, where), path, where_sc)
-    skeleton = counted_skeleton(len(pairs), first, path, where_kp)
+    skeleton = counted_skeleton(len(pairs), first, path, where_kp, forced)
     if len(scores) != len(pairs):
         raise error(path, where_sc, f"expected {len(pairs)} scores (one per keypoint), got {len(scores)}")
     points = []
@@ -73,17 +78,18 @@ def _instance_row(
 
 
 def _instances(
-    values: Any, where: str, key: ImageId, frame: int | None, first: Skeleton | None, path: str
-) -> tuple[Skeleton | None, list[Row]]:
+    values: Any, where: str, key: ImageId, frame: int | None, first: Skeleton | None, path: str,
+    forced: Skeleton | None = None,
+) -> tuple[Skeleton | None, list[Row]]:  # fmt: skip
     rows = []
     for i, entry in enumerate(as_list(values, path, where)):
-        first, row = _instance_row(entry, f"{where}[{i}]", key, frame, first, path)
+        first, row = _instance_row(entry, f"{where}[{i}]", key, frame, first, path, forced)
         rows.append(row)
     return first, rows
 
 
 def _frames(
-    frames: list[Any], where: str, offset: int, first: Skeleton | None, path: str
+    frames: list[Any], where: str, offset: int, first: Skeleton | None, path: str, forced: Skeleton | None = None
 ) -> tuple[Skeleton | None, list[Row]]:
     """``[{"frame_id", "instances"}, ...]``; the frame index is frame_id - `offset`."""
     rows: list[Row] = []
@@ -92,7 +98,7 @@ def _frames(
         entry = as_dict(entry, path, at)
         frame_id = frame_number(required(entry, "frame_id", path, at), path, f"{at}.frame_id")
         values = required(entry, "instances", path, at)
-        first, frame_rows = _instances(values, f"{at}.instances", frame_id, frame_id - offset, first, path)
+        first, frame_rows = _instances(values, f"{at}.instances", frame_id, frame_id - offset, first, path, forced)
         rows.extend(frame_rows)
     return first, rows
 
@@ -103,63 +109,85 @@ def _image_key(path: str, prefix: str = "") -> str:
     return stem[len(prefix) :] if prefix and stem.startswith(prefix) and len(stem) > len(prefix) else stem
 
 
-def read_mmpose_image(data: Any, path: str) -> Keypoints2D:
+def _count_reason(skeleton: Skeleton | None, forced: Skeleton | None) -> str:
+    return "--skeleton" if forced is not None else f"joint count {skeleton.num_joints if skeleton else 17}"
+
+
+def read_mmpose_image(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a parsed MMPose Inferencer image output (a list of instances)."""
-    skeleton, rows = _instances(as_list(data, path, ""), "", _image_key(path), None, None, path)
-    return build(rows, skeleton or SKELETONS["coco17"], path, "mmpose-image")
+    found, rows = _instances(as_list(data, path, ""), "", _image_key(path), None, None, path, skeleton)
+    return build(rows, found or SKELETONS["coco17"], path, "mmpose-image", reason=_count_reason(found, skeleton),
+                 counted=skeleton is None)  # fmt: skip
 
 
-def read_mmpose_video(data: Any, path: str) -> Keypoints2D:
+def read_mmpose_video(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a parsed MMPose Inferencer video output (a list of frames, frame_id 0-based)."""
-    skeleton, rows = _frames(as_list(data, path, ""), "", 0, None, path)
-    return build(rows, skeleton or SKELETONS["coco17"], path, "mmpose-video")
+    found, rows = _frames(as_list(data, path, ""), "", 0, None, path, skeleton)
+    return build(rows, found or SKELETONS["coco17"], path, "mmpose-video", reason=_count_reason(found, skeleton),
+                 counted=skeleton is None)  # fmt: skip
 
 
 def _id2name(value: Any, path: str, where: str) -> list[str]:
     """``keypoint_id2name`` ({"0": "nose", ...} once in JSON, or a list) as names in id order."""
     if isinstance(value, list):
-        items = list(enumerate(value))
-    else:
-        mapping = as_dict(value, path, where)
-        items = []
-        for k, name in mapping.items():
-            if not (k.isascii() and k.isdigit() and len(k) < 6):
-                raise error(path, f"{where}.{k[:20]}", "expected a joint id (a number) as key")
-            items.append((int(k), name))
-        items.sort()
-        if [k for k, _ in items] != list(range(len(items))):
-            raise error(path, where, f"expected joint ids 0..{len(items) - 1}")
-    for k, name in items:
+        return joint_names(value, path, where)
+    mapping = as_dict(value, path, where)
+    items = []
+    for k, name in mapping.items():
+        if not (k.isascii() and k.isdigit() and len(k) < 6):
+            raise error(path, f"{where}.{k[:20]}", "expected a joint id (a number) as key")
         if not isinstance(name, str):
             raise error(path, f"{where}[{k}]", f"expected a joint name, got {kind(name)}")
+        items.append((int(k), name))
+    items.sort()
+    if [k for k, _ in items] != list(range(len(items))):
+        raise error(path, where, f"expected joint ids 0..{len(items) - 1}")
     return [name for _, name in items]
 
 
-def _meta_skeleton(doc: dict[str, Any], path: str) -> Skeleton | None:
-    """The skeleton ``meta_info`` names (FORMATS.md 3.5), or None to infer it from the joint count."""
+def _meta_skeleton(doc: dict[str, Any], forced: Skeleton | None, path: str) -> tuple[JointNameMatch | None, str]:
+    """The joints ``meta_info`` names (FORMATS.md 3.5) and why, or (None, "") to infer them from
+    the joint count (or ``--skeleton``). ``keypoint_id2name`` decides, in any order; unknown
+    names are an error unless `forced`; else ``dataset_name`` (coco, h36m, halpe26)."""
     if doc.get("meta_info") is None:
-        return None
+        return None, ""
     meta = as_dict(doc["meta_info"], path, "meta_info")
     if meta.get("keypoint_id2name") is not None:
-        skeleton = skeleton_from_joint_names(_id2name(meta["keypoint_id2name"], path, "meta_info.keypoint_id2name"))
-        if skeleton is not None:
-            return skeleton
+        where = "meta_info.keypoint_id2name"
+        names = _id2name(meta["keypoint_id2name"], path, where)
+        if names:
+            return named_skeleton(names, None, forced, path, where)
     name = meta.get("dataset_name")
-    return SKELETONS[_DATASET_SKELETONS[name]] if isinstance(name, str) and name in _DATASET_SKELETONS else None
+    if forced is not None or name is None:
+        return None, ""
+    if isinstance(name, str) and name in _DATASET_SKELETONS:
+        skeleton = SKELETONS[_DATASET_SKELETONS[name]]
+        return JointNameMatch(skeleton, tuple(range(skeleton.num_joints))), f"meta_info.dataset_name {name!r}"
+    # A data set named but not known (crowdpose, posetrack18, ...): its joints are not guessed.
+    shown = repr(name[:40]) if isinstance(name, str) else kind(name)
+    raise error(
+        path, "meta_info.dataset_name",
+        f"{shown} is not a joint set zedo knows ({', '.join(sorted(_DATASET_SKELETONS))}) and meta_info has no "
+        "keypoint_id2name; pass --skeleton NAME to read the joints in file order as NAME",
+    )  # fmt: skip
 
 
-def read_mmpose_demo(data: Any, path: str) -> Keypoints2D:
+def read_mmpose_demo(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a parsed MMPose demo ``--save-predictions`` file (video frames or one image's instances)."""
     doc = as_dict(data, path, "")
-    meta = _meta_skeleton(doc, path)
+    meta, reason = _meta_skeleton(doc, skeleton, path)
+    first = file_order(meta) if meta is not None else None
     info = as_list(required(doc, "instance_info", path, ""), path, "instance_info")
     if info and isinstance(info[0], dict) and "frame_id" in info[0]:
         ids = [e["frame_id"] for e in info if isinstance(e, dict) and isinstance(e.get("frame_id"), int | float)]
         offset = 0 if any(i == 0 for i in ids) else 1  # the demos count frames from 1
-        skeleton, rows = _frames(info, "instance_info", offset, meta, path)
+        found, rows = _frames(info, "instance_info", offset, first, path, skeleton)
     else:
-        skeleton, rows = _instances(info, "instance_info", _image_key(path, "results_"), None, meta, path)
-    return build(rows, skeleton or SKELETONS["coco17"], path, "mmpose-demo")
+        found, rows = _instances(info, "instance_info", _image_key(path, "results_"), None, first, path, skeleton)
+    if meta is not None:
+        return build(rows, meta.skeleton, path, "mmpose-demo", reason=reason, names=meta)
+    return build(rows, found or SKELETONS["coco17"], path, "mmpose-demo", reason=_count_reason(found, skeleton),
+                 counted=skeleton is None)  # fmt: skip
 
 
 def mmpose_layout(data: Any) -> str | None:
@@ -176,7 +204,7 @@ def mmpose_layout(data: Any) -> str | None:
     return "mmpose-image" if nested and "keypoint_scores" in first else None
 
 
-def read_mmpose(data: Any, path: str) -> Keypoints2D:
+def read_mmpose(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read any of the three MMPose layouts, told apart by `mmpose_layout`."""
     layout = mmpose_layout(data)
     if layout is None and isinstance(data, list) and all(isinstance(entry, dict) for entry in data[:1]):
@@ -190,4 +218,4 @@ def read_mmpose(data: Any, path: str) -> Keypoints2D:
         )  # fmt: skip
     return {"mmpose-image": read_mmpose_image, "mmpose-video": read_mmpose_video, "mmpose-demo": read_mmpose_demo}[
         layout
-    ](data, path)
+    ](data, path, skeleton)

@@ -9,19 +9,27 @@ Halpe / COCO files that AlphaPose's ``--format open`` and Pose2Sim's converters 
 be the same in every file. c == 0 (OpenPose writes 0, 0, 0) is a missing joint; c is clipped to
 [0, 1]. OpenPose files carry no image size (use ``--image-size``) and no detection score.
 
+The joint count decides the skeleton, except that 25 joints are BODY_25 or BODY_25B (Pose2Sim's
+default model, no mid-hip), told apart by the joint geometry (`skeleton.body25_variant`);
+``--skeleton`` overrides it.
+
 Each person is one instance; its image id is the file name without ``_keypoints.json`` and its
-frame index the trailing number of that name (0 for a single file without one). A directory is
-read in natural frame order (by that number, as Pose2Sim sorts them); where some name lacks a
-number, the frame index is the file's position in natural name order.
+frame index the trailing number of that name (0 for a single file without one): frames without
+people leave a gap, they never shift later frames. A directory is read in natural frame order
+(by that number, as Pose2Sim sorts them); where some name lacks a number, the frame index is
+the file's position in natural name order. A directory is its ``*_keypoints.json`` files, or
+else (Pose2Sim's ``cam01.0030.json``) every ``*.json`` file but zedo's own outputs.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, Skeleton
+from ..errors import InputFormatError
 from .source import load_json
 from .validate import (
     NAN_SIZE,
@@ -42,7 +50,7 @@ _SUFFIX = "_keypoints"
 
 
 def _people_rows(
-    data: Any, path: str, key: str, frame: int, first: Skeleton | None
+    data: Any, path: str, key: str, frame: int, first: Skeleton | None, forced: Skeleton | None = None
 ) -> tuple[Skeleton | None, list[Row]]:
     """The rows of one parsed frame file; `first` is the skeleton of the earlier frames."""
     doc = as_dict(data, path, "")
@@ -52,7 +60,8 @@ def _people_rows(
         where = f"people[{i}]"
         person = as_dict(person, path, where)
         where_kp = f"{where}.pose_keypoints_2d"
-        first, points = flat_keypoints(required(person, "pose_keypoints_2d", path, where), first, path, where_kp)
+        values = required(person, "pose_keypoints_2d", path, where)
+        first, points = flat_keypoints(values, first, path, where_kp, forced)
         xy, conf = joints(points, first, path, where_kp)
         rows.append(Row(key, xy, conf, None, NAN_SIZE, None, frame))
     return first, rows
@@ -64,11 +73,47 @@ def _frame_name(path: str) -> str:
     return stem[: -len(_SUFFIX)] if stem.endswith(_SUFFIX) else stem
 
 
-def read_openpose(data: Any, path: str) -> Keypoints2D:
-    """Read one parsed OpenPose frame file (every person in it)."""
+def _reason(skeleton: Skeleton | None, forced: Skeleton | None) -> str:
+    return "--skeleton" if forced is not None else f"joint count {skeleton.num_joints if skeleton else 25}"
+
+
+def read_openpose(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
+    """Read one parsed OpenPose frame file (every person in it); `skeleton` is ``--skeleton``."""
     key = _frame_name(path)
-    skeleton, rows = _people_rows(data, path, key, trailing_number(key) or 0, None)
-    return build(rows, skeleton or SKELETONS["body25"], path, FORMAT)
+    found, rows = _people_rows(data, path, key, trailing_number(key) or 0, None, skeleton)
+    return build(rows, found or SKELETONS["body25"], path, FORMAT, reason=_reason(found, skeleton),
+                 counted=skeleton is None)  # fmt: skip
+
+
+def is_zedo_output(path: Path) -> bool:
+    """A file zedo wrote (``<stem>.zedo.<ext>``, a CSV's ``.meta.json``), never an input frame."""
+    return ".zedo." in path.name or path.name.endswith(".meta.json")
+
+
+def is_openpose_folder(directory: Path) -> bool:
+    """Whether `directory` is one OpenPose sequence (`zedo lift DIR` reads it as one input):
+    it holds ``*_keypoints.json`` files, or its ``*.json`` files (zedo's outputs aside) all
+    carry a frame number after the same name (Pose2Sim's ``cam01.0030.json``) and the first is
+    an OpenPose frame (an object with ``people``)."""
+    if any(p.is_file() for p in directory.glob(f"*{_SUFFIX}.json")):
+        return True
+    files = sorted((p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)),
+                   key=lambda p: natural_key(p.name))  # fmt: skip
+    if not files or any(directory.glob("*.jsonl")) or any(directory.glob("*.ndjson")):
+        return False
+    if any(trailing_number(p.stem) is None for p in files) or len({_video_name(p.stem) for p in files}) != 1:
+        return False
+    try:
+        first = load_json(str(files[0]))
+    except InputFormatError:
+        return False
+    return isinstance(first, dict) and "people" in first
+
+
+def _video_name(stem: str) -> str:
+    """A frame file's name without its frame number: "cam01.0030" -> "cam01."."""
+    match = re.search(r"\d+\D*$", stem)
+    return stem[: match.start()] if match else stem
 
 
 def frame_files(directory: Path) -> list[tuple[Path, int]]:
@@ -77,7 +122,7 @@ def frame_files(directory: Path) -> list[tuple[Path, int]]:
     ``*_keypoints.json`` files, or every ``*.json`` file when there are none of those.
     """
     files = [p for p in directory.glob(f"*{_SUFFIX}.json") if p.is_file()]
-    files = files or [p for p in directory.glob("*.json") if p.is_file()]
+    files = files or [p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)]
     if not files:
         raise error(str(directory), "", f"is a directory without OpenPose *{_SUFFIX}.json files")
     files.sort(key=lambda p: natural_key(p.name))
@@ -92,16 +137,18 @@ def frame_files(directory: Path) -> list[tuple[Path, int]]:
     return sorted(((p, n) for n, p in by_frame.items()), key=lambda item: item[1])
 
 
-def read_openpose_dir(directory: str | Path) -> Keypoints2D:
+def read_openpose_dir(directory: str | Path, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a directory of OpenPose frame files (`frame_files`), every person of every frame.
 
-    Errors in one file name that file; the joint count must agree across files.
+    Errors in one file name that file; the joint count must agree across files. `skeleton`
+    is ``--skeleton``; without it BODY_25 and BODY_25B are told apart over all the frames.
     """
     directory = Path(directory)
-    skeleton: Skeleton | None = None
+    found: Skeleton | None = None
     rows: list[Row] = []
     for file, frame in frame_files(directory):
         name = str(file)
-        skeleton, frame_rows = _people_rows(load_json(name), name, _frame_name(name), frame, skeleton)
+        found, frame_rows = _people_rows(load_json(name), name, _frame_name(name), frame, found, skeleton)
         rows.extend(frame_rows)
-    return build(rows, skeleton or SKELETONS["body25"], str(directory), FORMAT)
+    return build(rows, found or SKELETONS["body25"], str(directory), FORMAT, reason=_reason(found, skeleton),
+                 counted=skeleton is None)  # fmt: skip

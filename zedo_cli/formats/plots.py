@@ -20,8 +20,10 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..files import atomic_path, check_writable
-from ..lifting.solver import LiftResult
 from .writers_common import OutputOptions, group_frames
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -116,7 +118,7 @@ def write_pose_plots(
     from matplotlib.lines import Line2D
 
     err = mean_reprojection_error_px(res)
-    groups = group_frames(kp.image_ids)
+    groups = group_frames(kp.image_ids, kp.frame_indices)
     legend = [Line2D([], [], color=LEFT_COLOUR, lw=2.2, label="left"),
               Line2D([], [], color=RIGHT_COLOUR, lw=2.2, label="right"),
               Line2D([], [], color=CENTRE_COLOUR, lw=2.2, label="centre"),

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
+from ..data.skeleton import Skeleton, get_skeleton
 from ..errors import ConfigError
 from .alphapose import is_alphapose_entry, read_alphapose
 from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read_coco_results
@@ -43,7 +44,7 @@ __all__ = [
     "read_coco_results", "read_keypoints", "read_keypoints_text", "read_parsed", "read_zedo_2d",
 ]  # fmt: skip
 
-_READERS: dict[str, Callable[[Any, str], Keypoints2D]] = {
+_READERS: dict[str, Callable[[Any, str, Skeleton | None], Keypoints2D]] = {
     "coco-annotations": read_coco_annotations,
     "coco-results": read_coco_results,
     "alphapose": read_alphapose,
@@ -121,6 +122,13 @@ def _format_option(fmt: str | None) -> str | None:
     return fmt
 
 
+def _skeleton_option(skeleton: str | Skeleton | None) -> Skeleton | None:
+    """``--skeleton``: a zedo skeleton name (ConfigError, exit 2, for an unknown one)."""
+    if skeleton is None or isinstance(skeleton, Skeleton):
+        return skeleton
+    return get_skeleton(skeleton)
+
+
 def _size_option(image_size: tuple[float, float]) -> tuple[float, float]:
     try:
         width, height = (float(v) for v in image_size)
@@ -151,25 +159,32 @@ def _join_images(kp: Keypoints2D, images: str) -> Keypoints2D:
     return dataclasses.replace(kp, image_sizes=sizes, file_names=file_names)
 
 
-def read_parsed(data: Any, path: str = "<input>", *, format: str | None = None) -> Keypoints2D:
+def read_parsed(
+    data: Any, path: str = "<input>", *, format: str | None = None, skeleton: str | Skeleton | None = None
+) -> Keypoints2D:
     """Read an already parsed JSON document; `path` only names it in messages.
 
-    `format`: one of `INPUT_FORMATS`; None or "auto" detects it (`detect_format`).
+    `format`: one of `INPUT_FORMATS`; None or "auto" detects it (`detect_format`). `skeleton`:
+    the joint set of inputs whose names are unknown or absent (``--skeleton``); names a file
+    does carry must agree with it.
     """
     fmt = _format_option(format)
-    return _READERS[fmt or detect_format(data, path)](data, path)
+    return _READERS[fmt or detect_format(data, path)](data, path, _skeleton_option(skeleton))
 
 
-def read_keypoints_text(text: str, path: str = "<input>", *, format: str | None = None) -> Keypoints2D:
+def read_keypoints_text(
+    text: str, path: str = "<input>", *, format: str | None = None, skeleton: str | Skeleton | None = None
+) -> Keypoints2D:
     """Read the text of a keypoint file (JSON, or zedo JSON Lines); `path` names it in messages.
 
     Auto-detection takes JSON Lines for a ``.jsonl``/``.ndjson`` name or when the first line is
     a frame object on its own, and otherwise parses one JSON document.
     """
     fmt = _format_option(format)
+    forced = _skeleton_option(skeleton)
     if fmt == "zedo-jsonl" or (fmt is None and (path.endswith(_JSONL_SUFFIXES) or looks_like_jsonl(text))):
-        return read_zedo_jsonl_text(text, path)
-    return read_parsed(parse_json(text, path), path, format=fmt)
+        return read_zedo_jsonl_text(text, path, forced)
+    return read_parsed(parse_json(text, path), path, format=fmt, skeleton=forced)
 
 
 def read_keypoints(
@@ -178,6 +193,7 @@ def read_keypoints(
     format: str | None = None,
     image_size: tuple[float, float] | None = None,
     images: str | Path | None = None,
+    skeleton: str | Skeleton | None = None,
 ) -> Keypoints2D:
     """Read a 2D keypoint file ("-" = stdin), or a directory of OpenPose frame files, into
     `Keypoints2D` (xy (N, J, 2) pixels, float64).
@@ -185,16 +201,19 @@ def read_keypoints(
     `format`: one of `INPUT_FORMATS`; None or "auto" detects it. `images`: a companion COCO
     annotation file whose ``images[]`` give sizes and file names (for a results file), joined
     on image_id. `image_size`: (W, H) pixels for the instances whose size is still unknown.
+    `skeleton`: ``--skeleton`` (see `read_parsed`). The result's `source` says which joint set
+    was assumed and why.
     """
     name = str(path)
     fmt = _format_option(format)
+    forced = _skeleton_option(skeleton)
     size = _size_option(image_size) if image_size is not None else None
     if name != STDIN and Path(name).is_dir():
         if fmt not in (None, "openpose"):
             raise error(name, "", f"is a directory; only OpenPose output is read from a directory, not {fmt}")
-        kp = read_openpose_dir(name)
+        kp = read_openpose_dir(name, forced)
     else:
-        kp = read_keypoints_text(read_text(name), name, format=fmt)
+        kp = read_keypoints_text(read_text(name), name, format=fmt, skeleton=forced)
     if images is not None:
         kp = _join_images(kp, str(images))
     if size is not None:

@@ -18,16 +18,18 @@ import sys
 from collections.abc import Iterator
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..files import write_text_atomic
-from ..lifting.solver import LiftResult
 from ..version import __version__
 from .writers_common import AXES, OutputOptions, frame_origin, group_frames, output_poses
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 SCHEMA = "zedo.pose3d/1"
 __all__ = ["AXES", "SCHEMA", "build_header", "build_result_document", "build_summary", "iter_frames", "write_json"]
@@ -115,11 +117,12 @@ def iter_frames(
     """The frames of the document one at a time (a frame = the instances of one image id)."""
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
-    for f, members in enumerate(group_frames(kp.image_ids).members):
+    groups = group_frames(kp.image_ids, kp.frame_indices)
+    for f, members in enumerate(groups.members):
         first = members[0]
         size = kp.image_sizes[first]
         yield {
-            "frame_index": f,
+            "frame_index": int(groups.number[f]),
             "image_id": kp.image_ids[first],
             "file_name": kp.file_names[first],
             "camera": {

@@ -6,27 +6,70 @@ missing, unreadable, non-UTF-8, empty or invalid file into the same `InputFormat
 
 from __future__ import annotations
 
+import errno
 import json
+import os
+import stat
 import sys
-from pathlib import Path
 from typing import Any
 
 from .validate import error
 
 STDIN = "-"
+# The largest input zedo reads, in bytes. Parsing JSON takes several times its size in memory;
+# the largest real detector outputs seen (hours of AlphaPose frames) are tens of MB.
+MAX_INPUT_BYTES = 256 * 1024 * 1024
+_KINDS = {stat.S_ISFIFO: "a FIFO (named pipe)", stat.S_ISCHR: "a character device", stat.S_ISBLK: "a block device",
+          stat.S_ISSOCK: "a socket", stat.S_ISDIR: "a directory, expected a JSON file"}  # fmt: skip
+
+
+def _too_large(size: int) -> str:
+    return f"larger than the input limit of {MAX_INPUT_BYTES / 2**20:.4g} MiB ({size / 2**20:.4g} MiB or more)"
+
+
+def _open_regular(name: str) -> int:
+    """Open `name` for reading after checking it is a regular file within `MAX_INPUT_BYTES`;
+    nothing is read from a FIFO, a device (``/dev/zero``) or a socket, and a symlink loop or a
+    broken link is named as such. Returns the file descriptor."""
+    try:
+        info = os.stat(name)
+    except FileNotFoundError:
+        raise error(name, "", "broken symbolic link (its target does not exist)" if os.path.islink(name)
+                    else "file not found") from None  # fmt: skip
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise error(name, "", "symbolic link loop (too many levels of symbolic links)") from None
+        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+    for test, what in _KINDS.items():
+        if test(info.st_mode):
+            raise error(name, "", f"is {what}")
+    if not stat.S_ISREG(info.st_mode):
+        raise error(name, "", "not a regular file")
+    if info.st_size > MAX_INPUT_BYTES:
+        raise error(name, "", _too_large(info.st_size))
+    try:
+        return os.open(name, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+
+
+def _read_bounded(stream: Any, name: str) -> bytes:
+    """At most `MAX_INPUT_BYTES` of `stream`; more is an error (a file that grew, or stdin)."""
+    raw = stream.read(MAX_INPUT_BYTES + 1)
+    if len(raw) > MAX_INPUT_BYTES:
+        raise error(name, "", _too_large(len(raw)))
+    return raw
 
 
 def read_text(name: str) -> str:
-    """The UTF-8 text of file `name` ("-" = stdin); a byte-order mark is dropped."""
+    """The UTF-8 text of file `name` ("-" = stdin); a byte-order mark is dropped. Inputs that
+    are not regular files, or larger than `MAX_INPUT_BYTES`, are refused before reading."""
     try:
         if name == STDIN:
-            raw = sys.stdin.buffer.read()
-        elif Path(name).is_dir():
-            raise error(name, "", "is a directory, expected a JSON file")
+            raw = _read_bounded(sys.stdin.buffer, name)
         else:
-            raw = Path(name).read_bytes()
-    except FileNotFoundError:
-        raise error(name, "", "file not found") from None
+            with os.fdopen(_open_regular(name), "rb") as handle:
+                raw = _read_bounded(handle, name)
     except OSError as exc:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
     try:

@@ -15,7 +15,16 @@ from typing import Any
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
-from ..data.skeleton import Skeleton, joint_count_names, skeleton_for_joint_count
+from ..data.skeleton import (
+    SKELETONS,
+    JointNameMatch,
+    Skeleton,
+    SkeletonSource,
+    body25_variant,
+    joint_count_names,
+    match_joint_names,
+    skeleton_for_joint_count,
+)
 from ..errors import InputFormatError
 
 ImageId = int | str
@@ -36,8 +45,9 @@ class Row:
 
 
 def error(path: str, where: str, message: str) -> InputFormatError:
-    """`InputFormatError` "<path>: <where>: <message>" (where = a JSON path, "" for the top level)."""
-    return InputFormatError(f"{path}: {where}: {message}" if where else f"{path}: {message}")
+    """`InputFormatError` "<path>: <where>: <message>" (where = a JSON path, "" for the top level),
+    on one line: file names and JSON keys with newlines or escape sequences are shown escaped."""
+    return InputFormatError(f"{path}: {where}: {message}" if where else f"{path}: {message}")  # one line: ZedoError
 
 
 def field(where: str, key: str) -> str:
@@ -154,17 +164,31 @@ def detector_confidence(c: float, path: str, where: str) -> float:
     return min(max(c, 0.0), 1.0)
 
 
+def _found_numbers(values: list[Any]) -> str:
+    """What a keypoint list that should be flat numbers holds, for messages."""
+    if values and isinstance(values[0], list):
+        sizes = sorted({len(v) for v in values if isinstance(v, list)})
+        per = "/".join(str(n) for n in sizes[:3])
+        return f"a list of {len(values)} nested lists of {per} values ({len(values)} points as [x, y, ...])"
+    return f"{len(values)} numbers"
+
+
 def flat_triplets(value: Any, num_joints: int, path: str, where: str) -> list[tuple[float, float, float]]:
     """``[x1, y1, c1, ...]`` of exactly `num_joints` joints as (x, y, third value) triplets."""
     values = as_list(value, path, where)
-    if len(values) != 3 * num_joints:
-        raise error(path, where, f"expected {3 * num_joints} numbers ({num_joints} joints x 3), got {len(values)}")
+    if len(values) != 3 * num_joints or (values and isinstance(values[0], list)):
+        found = _found_numbers(values)
+        expected = f"a flat list of {3 * num_joints} numbers ({num_joints} joints x 3)"
+        raise error(path, where, f"expected {expected}, got {found}")
     numbers = [number(v, path, f"{where}[{k}]") for k, v in enumerate(values)]
     return [(numbers[k], numbers[k + 1], numbers[k + 2]) for k in range(0, len(numbers), 3)]
 
 
-def counted_skeleton(count: int, first: Skeleton | None, path: str, where: str) -> Skeleton:
-    """The skeleton of an instance with `count` unnamed joints (FORMATS.md 3.7).
+def counted_skeleton(
+    count: int, first: Skeleton | None, path: str, where: str, forced: Skeleton | None = None
+) -> Skeleton:
+    """The skeleton of an instance with `count` unnamed joints (FORMATS.md 3.7), or `forced`
+    (``--skeleton``), whose joint count it must have.
 
     `first` is the skeleton of the file's earlier instances: the count must not change within
     one input (OpenPose: "the number of keypoints is constant across files").
@@ -177,23 +201,96 @@ def counted_skeleton(count: int, first: Skeleton | None, path: str, where: str) 
                 f"expected {first.num_joints} joints ({first.name}) like the rest of the input, got {count}",
             )
         return first
+    if forced is not None:
+        if count != forced.num_joints:
+            raise error(path, where, f"expected {forced.num_joints} joints for --skeleton {forced.name}, got {count}")
+        return forced
     skeleton = skeleton_for_joint_count(count)
     if skeleton is None:
         raise error(path, where, f"unsupported joint count {count} (expected {joint_count_names()})")
     return skeleton
 
 
+def _xy_pairs(length: int, expected: Skeleton | None) -> bool:
+    """Whether `length` numbers are x, y pairs of the expected (or a supported) joint count rather
+    than x, y, c triplets (18 pairs = 36 numbers would otherwise read as "12 joints")."""
+    if length % 2:
+        return False
+    if expected is not None:
+        return length == 2 * expected.num_joints != 3 * expected.num_joints
+    triplets = skeleton_for_joint_count(length // 3) if length % 3 == 0 else None
+    return triplets is None and skeleton_for_joint_count(length // 2) is not None
+
+
 def flat_keypoints(
-    value: Any, first: Skeleton | None, path: str, where: str
+    value: Any, first: Skeleton | None, path: str, where: str, forced: Skeleton | None = None
 ) -> tuple[Skeleton, list[tuple[float, float, float]]]:
-    """Flat ``[x, y, c] * K`` triplets of a detector, with the skeleton inferred from K."""
+    """Flat ``[x, y, c] * K`` triplets of a detector, with the skeleton inferred from K (or `forced`)."""
     values = as_list(value, path, where)
+    if values and isinstance(values[0], list):
+        raise error(path, where, f"expected a flat list [x1, y1, c1, x2, ...], got {_found_numbers(values)}")
+    if _xy_pairs(len(values), first or forced):
+        raise error(path, where, f"got {len(values)} numbers: {len(values) // 2} x, y pairs without confidences? "
+                                 "expected x, y, c triplets")  # fmt: skip
     if len(values) % 3:
-        raise error(path, where, f"expected x, y, c triplets (a multiple of 3 numbers), got {len(values)}")
-    skeleton = counted_skeleton(len(values) // 3, first, path, where)
+        raise error(path, where, f"expected x, y, c triplets (a multiple of 3 numbers), got {len(values)} numbers")
+    count = len(values) // 3
+    skeleton = counted_skeleton(count, first, path, where, forced)
     triplets = flat_triplets(values, skeleton.num_joints, path, where)
     points = [(x, y, detector_confidence(c, path, f"{where}[{3 * j + 2}]")) for j, (x, y, c) in enumerate(triplets)]
     return skeleton, points
+
+
+def joint_names(value: Any, path: str, where: str) -> list[str]:
+    """A JSON list of joint names."""
+    names = as_list(value, path, where)
+    for k, name in enumerate(names):
+        if not isinstance(name, str):
+            raise error(path, f"{where}[{k}]", f"expected a joint name, got {kind(name)}")
+    return names
+
+
+def _shown_names(names: list[str]) -> str:
+    shown = ", ".join(repr(n[:30]) for n in names[:6])
+    return shown + (f", ... ({len(names)} names)" if len(names) > 6 else "")
+
+
+def named_skeleton(
+    names: list[str], count: int | None, forced: Skeleton | None, path: str, where: str
+) -> tuple[JointNameMatch, str]:
+    """The joint set that joint `names` (in file order) are, and the reason to record.
+
+    Names decide, in any order. `count` is the number of joints each instance holds, when
+    known: a longer name list whose first `count` names are a known joint set names those
+    joints (MMPose's Human-Art file lists 21 names for its 17-joint ``keypoints``). Unknown names
+    are an error naming `where`, unless `forced` (``--skeleton``) says which joints these are,
+    in file order. Known names that contradict `forced` are an error too.
+    """
+    match, reason = match_joint_names(names), f"{where} names"
+    if match is None and count is not None and 0 < count < len(names):
+        match = match_joint_names(names[:count])
+        reason = f"the first {count} of the {len(names)} {where} names (each instance holds {count} joints)"
+    if match is not None:
+        if forced is not None and forced != match.skeleton:
+            raise error(path, where, f"the joint names are {match.skeleton.name}'s, but --skeleton says {forced.name}")
+        return match, reason + (", in the file's order" if not match.is_identity else "")
+    if forced is not None:
+        return JointNameMatch(forced, tuple(range(forced.num_joints))), f"--skeleton (unknown {where} names)"
+    known = ", ".join(sorted(SKELETONS))
+    raise error(
+        path, where,
+        f"unknown joint names ({_shown_names(names)}): not the joints of a known joint set ({known}); "
+        "pass --skeleton NAME to read them in file order as NAME",
+    )  # fmt: skip
+
+
+def file_order(match: JointNameMatch) -> Skeleton:
+    """The matched skeleton's joints in the file's order, to read rows (and name joints in
+    messages) by file position; `build` puts them into the skeleton's order."""
+    names = [""] * len(match.order)
+    for joint, k in zip(match.skeleton.joints, match.order, strict=True):
+        names[k] = joint
+    return Skeleton(match.skeleton.name, tuple(names), (), ())
 
 
 def joints(
@@ -219,14 +316,35 @@ def joints(
     return xy, conf
 
 
-def build(rows: list[Row], skeleton: Skeleton, path: str, fmt: str) -> Keypoints2D:
-    """Stack instance rows into a `Keypoints2D`; zero rows is an error."""
+def build(
+    rows: list[Row],
+    skeleton: Skeleton,
+    path: str,
+    fmt: str,
+    *,
+    reason: str,
+    counted: bool = False,
+    names: JointNameMatch | None = None,
+) -> Keypoints2D:
+    """Stack instance rows into a `Keypoints2D`; zero rows is an error.
+
+    `reason` says why the rows are `skeleton` (recorded as the output's source skeleton).
+    `counted`: the skeleton was inferred from the joint count alone, so 25 joints are checked
+    for BODY_25 against BODY_25B (`body25_variant`); an undecidable file is an error. `names`:
+    the rows are in a file's named joint order, put into `names.skeleton`'s order here.
+    """
     if not rows:
         raise error(path, "", "no instances found")
     frames = [r.frame for r in rows]
+    xy = np.stack([r.xy for r in rows]).astype(np.float64)
+    conf = np.stack([r.confidence for r in rows]).astype(np.float64)
+    if names is not None:
+        xy, conf, skeleton = xy[:, list(names.order)], conf[:, list(names.order)], names.skeleton
+    if counted and skeleton.name == "body25":
+        skeleton, reason = _body25_or_25b(xy, conf, path, reason)
     return Keypoints2D(
-        xy=np.stack([r.xy for r in rows]).astype(np.float64),
-        confidence=np.stack([r.confidence for r in rows]).astype(np.float64),
+        xy=xy,
+        confidence=conf,
         skeleton=skeleton,
         image_ids=[r.image_id for r in rows],
         file_names=[r.file_name for r in rows],
@@ -235,7 +353,20 @@ def build(rows: list[Row], skeleton: Skeleton, path: str, fmt: str) -> Keypoints
         path=path,
         format=fmt,
         frame_indices=None if all(f is None for f in frames) else frames,
+        source=SkeletonSource(skeleton.name, reason),
     )
+
+
+def _body25_or_25b(xy: np.ndarray, conf: np.ndarray, path: str, reason: str) -> tuple[Skeleton, str]:
+    """BODY_25 or BODY_25B for 25 unnamed joints, from the geometry; never a silent guess."""
+    variant, detail = body25_variant(xy, conf)
+    if variant is None:
+        raise error(
+            path, "",
+            f"25 joints per person, but the joint geometry does not tell OpenPose BODY_25 from BODY_25B "
+            f"({detail}); pass --skeleton body25 or --skeleton body25b",
+        )  # fmt: skip
+    return SKELETONS[variant], f"{reason}; joint geometry says {variant} ({detail})"
 
 
 _DIGITS = re.compile(r"(\d+)")

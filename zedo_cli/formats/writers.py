@@ -17,19 +17,21 @@ and never replace an existing file unless `overwrite=True`.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import check_writable
-from ..lifting.solver import LiftResult
 from .result_json import build_header, build_result_document, build_summary, iter_frames, write_json
 from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
 from .writers_csv import write_csv
 from .writers_jsonl import write_jsonl
 from .writers_npz import write_npz
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz")
 _EXTENSIONS = {".json": "json", ".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv", ".npz": "npz"}
@@ -71,11 +73,12 @@ def default_output_name(input_path: str | Path, fmt: str = "json") -> Path:
 def _frame_cameras(kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str]) -> list[dict[str, Any]]:
     """Per frame: ids and the K used, for the formats whose rows do not carry a full camera."""
     cameras = []
-    for f, members in enumerate(group_frames(kp.image_ids).members):
+    groups = group_frames(kp.image_ids, kp.frame_indices)
+    for f, members in enumerate(groups.members):
         i = members[0]
         size = kp.image_sizes[i]
         cameras.append({
-            "frame_index": f, "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
+            "frame_index": int(groups.number[f]), "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
             "camera": {"K": intrinsics[i].round(6).tolist(),
                        "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
                        "source": sources[i]},

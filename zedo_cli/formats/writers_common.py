@@ -15,11 +15,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ConfigError
-from ..lifting.solver import LiftResult
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 UNITS = ("m", "mm")
 FRAMES = ("camera", "root")
@@ -70,23 +73,36 @@ def frame_origin(frame: str, root_joints: Sequence[str]) -> str:
 class FrameGroups:
     """Instances grouped into frames by image id, frames in order of first appearance."""
 
-    frame_index: np.ndarray  # (N,) int, the output frame of each instance
+    frame_index: np.ndarray  # (N,) int, the frame number of each instance (`number` of its frame)
     person: np.ndarray  # (N,) int, the position of each instance within its frame
     members: list[list[int]]  # per frame, its instance indices in input order
+    number: np.ndarray  # (F,) int, each frame's number: the input's where it has one, else its position
 
 
-def group_frames(image_ids: Sequence[int | str]) -> FrameGroups:
-    """Group instances by image id (compared by repr, so 1 and "1" stay apart, as in the JSON)."""
+def group_frames(image_ids: Sequence[int | str], frame_numbers: Sequence[int | None] | None = None) -> FrameGroups:
+    """Group instances by image id (compared by repr, so 1 and "1" stay apart, as in the JSON).
+
+    A frame's number is the input's frame number (`frame_numbers`, per instance: OpenPose file
+    names, MMPose frame_id, JSONL frame, ...) when every instance has one, the instances of one
+    image agree and different images differ; so frames the input left empty keep their gap.
+    Otherwise it is the frame's position (0, 1, 2, ...).
+    """
     index: dict[str, int] = {}
     members: list[list[int]] = []
-    frame_index = np.zeros(len(image_ids), dtype=np.int64)
     person = np.zeros(len(image_ids), dtype=np.int64)
+    slot = np.zeros(len(image_ids), dtype=np.int64)
     for i, image_id in enumerate(image_ids):
         key = repr(image_id)
         if key not in index:
             index[key] = len(members)
             members.append([])
         f = index[key]
-        frame_index[i], person[i] = f, len(members[f])
+        slot[i], person[i] = f, len(members[f])
         members[f].append(i)
-    return FrameGroups(frame_index, person, members)
+    number = np.arange(len(members), dtype=np.int64)
+    if frame_numbers is not None and len(frame_numbers) == len(image_ids):
+        per_frame = [{frame_numbers[i] for i in m} for m in members]
+        numbers = [next(iter(n)) for n in per_frame if len(n) == 1]
+        if len(numbers) == len(members) and None not in numbers and len(set(numbers)) == len(numbers):
+            number = np.asarray(numbers, dtype=np.int64)
+    return FrameGroups(number[slot], person, members, number)

@@ -28,14 +28,16 @@ import json
 import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..files import atomic_path, check_writable
-from ..lifting.solver import LiftResult
 from .writers_common import OutputOptions, group_frames, output_poses
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 
 def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:
@@ -74,7 +76,7 @@ def csv_text(
     """The CSV as one string (the header row, then the rows in frame, person, joint order)."""
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
-    groups = group_frames(kp.image_ids)
+    groups = group_frames(kp.image_ids, kp.frame_indices)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(csv_columns(units, frame))
@@ -98,7 +100,10 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
     x, y, z = coordinate_columns(units, frame)
     where = "camera frame" if frame == "camera" else "relative to the person's root point"
     return {
-        "frame_index": "0-based output frame (instances grouped by image_id, in input order)",
+        "frame_index": (
+            "the input's frame number (OpenPose file name, MMPose frame_id, JSONL frame) where it has one, "
+            "else the 0-based output frame (instances grouped by image_id, in input order)"
+        ),
         "person": "0-based position of the instance within its frame",
         "instance_index": "0-based index of the instance in the input",
         f"{x}, {y}, {z}": f"3D joint position in {units}, {where}; empty where not lifted",

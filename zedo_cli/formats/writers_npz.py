@@ -13,7 +13,7 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
     K                      (N, 3, 3) float64  intrinsics of each instance's frame, pixels
     k_source               (N,)      str      pseudo | cli | file
     image_size             (N, 2)    float64  width, height in pixels; NaN where unknown
-    frame_index, person    (N,)      int64    output frame (grouped by image id) and position in it
+    frame_index, person    (N,)      int64    frame (the input's frame number, else the output frame) and position in it
     image_ids              (N,)      int64 when every id is an integer, else str
     file_names             (N,)      str      "" where the input has none
     joint_names            (J,) str, bones (B, 2) int64
@@ -28,15 +28,17 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import atomic_path
-from ..lifting.solver import LiftResult
 from .writers_common import AXES, OutputOptions, group_frames, output_poses
+
+if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..lifting.solver import LiftResult
 
 
 def _ids(image_ids: list[int | str]) -> np.ndarray:
@@ -51,7 +53,7 @@ def npz_arrays(
 ) -> dict[str, np.ndarray]:  # fmt: skip
     """The archive's arrays by name (see the module docstring)."""
     opts = OutputOptions(units, frame)
-    groups = group_frames(kp.image_ids)
+    groups = group_frames(kp.image_ids, kp.frame_indices)
     return {
         "poses": output_poses(res, opts).astype(np.float64),
         "root_translation": np.where(res.lifted[:, None], res.root_translation * opts.scale, np.nan),

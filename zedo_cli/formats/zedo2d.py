@@ -81,14 +81,18 @@ def _parse_instance(entry: Any, i: int, skeleton: Skeleton, default_size: tuple[
     return Row(key, xy, conf, file_name, size, optional_score(entry, path, where))
 
 
-def read_zedo_2d(data: Any, path: str) -> Keypoints2D:
-    """Read a parsed zedo 2D document (layout in the module docstring), instances in file order."""
+def read_zedo_2d(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
+    """Read a parsed zedo 2D document (layout in the module docstring), instances in file order.
+    Its ``skeleton`` field names the joints; `skeleton` (``--skeleton``) must agree with it."""
     doc = as_dict(data, path, "")
     if "schema" in doc and doc["schema"] != ZEDO_2D_SCHEMA:
         found = repr(doc["schema"][:40]) if isinstance(doc["schema"], str) else kind(doc["schema"])
         raise error(path, "schema", f"expected {ZEDO_2D_SCHEMA!r}, got {found}")
-    skeleton = skeleton_name(required(doc, "skeleton", path, ""), path, "skeleton")
+    named = skeleton_name(required(doc, "skeleton", path, ""), path, "skeleton")
+    if skeleton is not None and named != skeleton:
+        raise error(path, "skeleton", f"the file says {named.name}, but --skeleton says {skeleton.name}")
+    skeleton = named
     default_size = size_pair(doc["image_size"], path, "image_size") if "image_size" in doc else NAN_SIZE
     instances = as_list(required(doc, "instances", path, ""), path, "instances")
     rows = [_parse_instance(entry, i, skeleton, default_size, path) for i, entry in enumerate(instances)]
-    return build(rows, skeleton, path, "zedo-2d")
+    return build(rows, skeleton, path, "zedo-2d", reason="skeleton field")

@@ -40,7 +40,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import torch
@@ -50,6 +50,7 @@ from ..prior.sampling import probability_flow_step
 from ..prior.weights import Prior
 from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
+from .config import LiftConfig
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
 # such a ray means a wrong focal length or principal point (or wrong coordinates).
@@ -79,83 +80,6 @@ NOT_LIFTED = {
     "(the 2D pose does not fit the prior, e.g. a tiny, partial or low-confidence detection)",
 }
 LIFTED = "lifted"
-
-
-@dataclass(frozen=True)
-class LiftConfig:
-    """Lifting settings. The defaults are the reference's numbers (`faithful` preset)."""
-
-    preset: str = "faithful"
-    init_steps: int = 500  # Adam steps of the rotation/depth fit
-    init_lr: float = 0.1
-    init_depth_m: float = 1.0  # base distance along the root ray (the reference's IPO_T)
-    scale_min: float = 0.5  # clamp of the depth scale (SyRIP values)
-    scale_max: float = 8.0
-    steps: int = 1000  # prior iterations
-    t_start: float = 0.1
-    t_end: float = 0.01
-    release_fraction: float = 0.05  # root translation re-solved in the last 5 % of iterations
-    step_delta: float | None = 1e-3  # the reference's fixed delta; None: 1 / steps
-    flow: float = 1.0  # the reference's probability-flow factor (textbook: 0.5)
-    min_observed: int = 3  # fewer observed joints: the instance is not lifted
-    chunk_size: int = 4096  # poses lifted together
-    bf16: bool = False  # run the network in bfloat16 (fast on CPUs with AVX512-BF16 or AMX, and on GPUs)
-    # Warm start only (`lift(start_poses=...)`); unused otherwise.
-    warm_steps: int = 3  # prior iterations from a start pose (measured: 3 beat 10)
-    warm_t_start: float = 0.01  # a start pose is nearly right: the lowest noise level of the presets
-    warm_release_fraction: float = 0.0  # keep the start's translation (a smoothed one: re-solving adds jitter)
-    warm_step_delta: float | None = None  # None: the main loop's delta
-
-    def __post_init__(self) -> None:
-        if self.steps < 1 or self.init_steps < 0:
-            raise ConfigError("steps must be >= 1 and init steps >= 0")
-        if self.step_delta is not None and self.step_delta <= 0:
-            raise ConfigError(f"step_delta must be > 0, got {self.step_delta}")
-        if not 0 <= self.release_fraction <= 1:
-            raise ConfigError(f"release_fraction must be in [0, 1], got {self.release_fraction}")
-        if self.chunk_size < 1:
-            raise ConfigError(f"chunk_size must be >= 1, got {self.chunk_size}")
-        if not 0 < self.t_end <= self.t_start <= 1:
-            raise ConfigError(f"need 0 < t_end <= t_start <= 1, got {self.t_end}, {self.t_start}")
-        if self.min_observed < 2:
-            raise ConfigError("min_observed must be >= 2 (the translation solve needs two joints)")
-        if self.warm_steps < 1:
-            raise ConfigError(f"warm_steps must be >= 1, got {self.warm_steps}")
-        if not self.t_end <= self.warm_t_start <= 1:
-            raise ConfigError(f"need t_end <= warm_t_start <= 1, got {self.warm_t_start}")
-        if not 0 <= self.warm_release_fraction <= 1:
-            raise ConfigError(f"warm_release_fraction must be in [0, 1], got {self.warm_release_fraction}")
-        if self.warm_step_delta is not None and self.warm_step_delta <= 0:
-            raise ConfigError(f"warm_step_delta must be > 0, got {self.warm_step_delta}")
-
-    @property
-    def delta(self) -> float:
-        """The probability-flow step size in effect."""
-        return 1.0 / self.steps if self.step_delta is None else self.step_delta
-
-    @property
-    def warm_delta(self) -> float:
-        """The step size of the warm-started loop."""
-        return self.delta if self.warm_step_delta is None else self.warm_step_delta
-
-    def to_dict(self) -> dict[str, float | int | str | bool | None]:
-        return {**asdict(self), "delta": self.delta}
-
-
-_FAST = LiftConfig(preset="fast", init_steps=100, steps=50, step_delta=None, release_fraction=0.15)
-PRESETS: dict[str, LiftConfig] = {
-    "faithful": LiftConfig(),
-    "fast": _FAST,
-    "fast-bf16": replace(_FAST, preset="fast-bf16", bf16=True),
-}
-DEFAULT_PRESET = "fast"
-
-
-def get_preset(name: str) -> LiftConfig:
-    try:
-        return PRESETS[name]
-    except KeyError:
-        raise ConfigError(f"unknown preset {name!r}; presets: {', '.join(PRESETS)}") from None
 
 
 @dataclass(frozen=True)
@@ -205,6 +129,34 @@ class _ChunkResult:
     flipped: torch.Tensor  # (B,) bool: a least-squares translation was behind the camera
 
 
+class _Adam:
+    """Adam (Kingma & Ba 2015; betas 0.9 / 0.999, eps 1e-8) for the two tensors of the rotation fit.
+
+    Written out instead of `torch.optim.Adam` because importing torch.optim loads torch's
+    compiler stack (about 0.8 s of start-up for every `zedo lift`). The operations and their
+    order are those of torch's single-tensor CPU Adam, so results are the same to the bit
+    (tests/lifting/test_lifting.py compares them).
+    """
+
+    def __init__(self, params: list[torch.Tensor], lr: float, betas: tuple[float, float] = (0.9, 0.999),
+                 eps: float = 1e-8) -> None:  # fmt: skip
+        self.params, self.lr, self.betas, self.eps, self.steps = params, lr, betas, eps, 0
+        self.m = [torch.zeros_like(p) for p in params]
+        self.v = [torch.zeros_like(p) for p in params]
+
+    @torch.no_grad()
+    def step(self) -> None:
+        beta1, beta2 = self.betas
+        self.steps += 1
+        step_size = self.lr / (1 - beta1**self.steps)
+        correction2_sqrt = (1 - beta2**self.steps) ** 0.5
+        for p, m, v in zip(self.params, self.m, self.v, strict=True):
+            g = p.grad
+            m.lerp_(g, 1 - beta1)
+            v.mul_(beta2).addcmul_(g, g, value=1 - beta2)
+            p.addcdiv_(m, (v.sqrt() / correction2_sqrt).add_(self.eps), value=-step_size)
+
+
 def fit_rotation_depth(
     template: torch.Tensor, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor,
     root_dir: torch.Tensor, cfg: LiftConfig,
@@ -221,7 +173,7 @@ def fit_rotation_depth(
     s = torch.ones(batch, 1, dtype=xy.dtype, device=xy.device)
     q.requires_grad_(True)
     s.requires_grad_(True)
-    opt = torch.optim.Adam([q, s], lr=cfg.init_lr)
+    opt = _Adam([q, s], lr=cfg.init_lr)
     count = 2.0 * w.sum(1)
     with torch.enable_grad():
         for _ in range(cfg.init_steps):
@@ -229,7 +181,7 @@ def fit_rotation_depth(
             cam = template @ rot.transpose(1, 2) + (s.clamp(cfg.scale_min, cfg.scale_max) * root_dir)[:, None]
             err = (project(cam, k) - xy).abs().sum(-1)  # (B, J)
             loss = ((err * w).sum(1) / count).sum()
-            opt.zero_grad(set_to_none=True)
+            q.grad = s.grad = None
             loss.backward()
             opt.step()
     with torch.no_grad():

@@ -18,7 +18,10 @@ result, a few prior steps): no batching across frames and the pose drifts, since
 at low noise cannot follow large changes (worse than frame-by-frame).
 
 Frames whose person is not lifted (too few observed joints) stay NaN, and the filter ignores
-them (NaN-aware): a gap never spreads into its neighbours. Measured against frame-by-frame in
+them (NaN-aware): a gap never spreads into its neighbours. Where the input numbers its frames
+(`frames`), the filter runs on that time axis: a frame missing from the input (an OpenPose
+frame without people) is a gap too, and a gap longer than the filter's radius (3 sigma) is
+never blended across. Measured against frame-by-frame in
 `benchmarks/temporal.py`.
 """
 
@@ -32,11 +35,8 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..prior.weights import Prior
-from .solver import LIFTED, LiftConfig, LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
-
-TEMPORAL_MODES = ("none", "smooth", "two-pass")
-DEFAULT_TEMPORAL_MODE = "smooth"  # measured best (benchmarks/temporal.py): lowest MPJPE and jitter, cheapest
-DEFAULT_SIGMA_FRAMES = 2.0
+from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
+from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
 
 
 def gaussian_kernel(sigma: float, truncate: float = 3.0) -> np.ndarray:
@@ -94,10 +94,47 @@ def _track_slices(tracks: np.ndarray | None, n: int) -> list[np.ndarray]:
     return [np.flatnonzero(tracks == tracks[i]) for i in np.sort(first)]
 
 
+def smooth_on_frames(values: np.ndarray, frames: np.ndarray | None, sigma: float) -> np.ndarray:
+    """`smooth_sequence` of `values (T, ...)` placed at frame numbers `frames (T,)` (increasing):
+    missing frames are NaN on the time axis, so the weights follow real time and nothing is
+    blended across a gap longer than the filter's radius. Numbers whose median step exceeds 1
+    (timestamps, every n-th frame) are counted in that step. `frames` None (or not increasing):
+    the values are consecutive frames."""
+    values = np.asarray(values, dtype=np.float64)
+    if frames is None or len(values) < 2 or sigma == 0:
+        return smooth_sequence(values, sigma)
+    frames = np.asarray(frames, dtype=np.int64)
+    if frames.shape != (len(values),) or not (np.diff(frames) > 0).all():
+        return smooth_sequence(values, sigma)
+    # Numbers that step by more than 1 as a rule (millisecond timestamps, every 10th frame kept)
+    # are counted in their usual step, so sigma stays in the input's frames and gaps stay gaps.
+    step = int(np.median(np.diff(frames)))
+    if step > 1:
+        frames = np.round((frames - frames[0]) / step).astype(np.int64)
+        if not (np.diff(frames) > 0).all():
+            return smooth_sequence(values, sigma)
+    radius = len(gaussian_kernel(sigma)) // 2
+    out = np.empty_like(values)
+    # Segments split at gaps wider than the radius: no weight reaches across them, and the dense
+    # time axis of a segment stays short (at most (radius + 1) x its frames).
+    breaks = np.flatnonzero(np.diff(frames) > radius) + 1
+    for seg in np.split(np.arange(len(frames)), breaks):
+        offsets = frames[seg] - frames[seg[0]]
+        dense = np.full((int(offsets[-1]) + 1, *values.shape[1:]), np.nan)
+        dense[offsets] = values[seg]
+        out[seg] = smooth_sequence(dense, sigma)[offsets]
+    return out
+
+
 def smooth_tracks(
-    poses_root_relative: np.ndarray, root_translation: np.ndarray, sigma: float, tracks: np.ndarray | None = None
+    poses_root_relative: np.ndarray,
+    root_translation: np.ndarray,
+    sigma: float,
+    tracks: np.ndarray | None = None,
+    frames: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """`smooth_sequence` per track over root-relative poses `(N, J, 3)` and translations `(N, 3)`.
+    """`smooth_sequence` per track over root-relative poses `(N, J, 3)` and translations `(N, 3)`,
+    on the frame numbers `frames (N,)` where given (`smooth_on_frames`).
 
     Root-relative poses and translations are smoothed apart: the body's motion in the camera
     and its articulation are different signals, and the root stays at the origin (the filter
@@ -105,8 +142,9 @@ def smooth_tracks(
     """
     rel, trans = poses_root_relative.copy(), root_translation.copy()
     for idx in _track_slices(tracks, len(rel)):
-        rel[idx] = smooth_sequence(poses_root_relative[idx], sigma)
-        trans[idx] = smooth_sequence(root_translation[idx], sigma)
+        at = None if frames is None else np.asarray(frames)[idx]
+        rel[idx] = smooth_on_frames(poses_root_relative[idx], at, sigma)
+        trans[idx] = smooth_on_frames(root_translation[idx], at, sigma)
     return rel, trans
 
 
@@ -140,13 +178,15 @@ def lift_sequence(
     mode: str = DEFAULT_TEMPORAL_MODE,
     sigma: float = DEFAULT_SIGMA_FRAMES,
     tracks: np.ndarray | None = None,
+    frames: np.ndarray | None = None,
     min_confidence: float = 0.0,
     device: str = "cpu",
     callback: Callable[[LiftProgress], None] | None = None,
 ) -> LiftResult:
     """Lift a video: `xy (N, J, 2)`, `confidence (N, J)`, `intrinsics (N, 3, 3)` as for `lift`,
     the instances being frames in time order (per track: `tracks (N,)` labels one person
-    across frames; None is one track). `mode` in `TEMPORAL_MODES`; `sigma` is the smoothing
+    across frames; None is one track; `frames (N,)`: the input's frame numbers, so that missing
+    frames are gaps, see `smooth_on_frames`; None: consecutive). `mode` in `TEMPORAL_MODES`; `sigma` is the smoothing
     filter's width in frames (modes `smooth` and `two-pass`). `config` is the preset; its
     `warm_*` fields set the warm-started loops. Unlifted frames are NaN, as with `lift`.
     """
@@ -167,7 +207,7 @@ def lift_sequence(
     progress.advance(batches * cold_cost)
     if mode == "none":
         return replace(first, seconds=time.perf_counter() - start)
-    rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks)
+    rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks, frames)
     if mode == "smooth":
         cam = rel + trans[:, None]
         reproj = reprojection_error_px(cam, xy, intrinsics, first.observed)
@@ -176,7 +216,7 @@ def lift_sequence(
     # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
     # go through the detections smoothed by the same filter: rays through the raw pixels would bring
     # back their noise, one pixel being ~0.5 mm at 1 m with f = 2000 px (measured: jitter x3).
-    xy_smooth = smooth_tracks_2d(xy, sigma, tracks)
+    xy_smooth = smooth_tracks_2d(xy, sigma, tracks, frames)
     second = lift(xy_smooth, confidence, intrinsics, prior, config, callback=progress.part(), start_poses=rel,
                   start_translation=trans, min_confidence=min_confidence, device=device)  # fmt: skip
     # An instance the first pass could not lift (its start is NaN) stays not lifted, for the same reason,
@@ -191,9 +231,12 @@ def lift_sequence(
                    seconds=time.perf_counter() - start)  # fmt: skip
 
 
-def smooth_tracks_2d(xy: np.ndarray, sigma: float, tracks: np.ndarray | None = None) -> np.ndarray:
-    """`smooth_sequence` per track over pixels `(N, J, 2)`; missing (NaN) joints stay NaN."""
+def smooth_tracks_2d(
+    xy: np.ndarray, sigma: float, tracks: np.ndarray | None = None, frames: np.ndarray | None = None
+) -> np.ndarray:
+    """`smooth_sequence` per track over pixels `(N, J, 2)` (on `frames` where given); missing
+    (NaN) joints stay NaN."""
     out = xy.astype(np.float64, copy=True)
     for idx in _track_slices(tracks, len(xy)):
-        out[idx] = smooth_sequence(xy[idx], sigma)
+        out[idx] = smooth_on_frames(xy[idx], None if frames is None else np.asarray(frames)[idx], sigma)
     return out

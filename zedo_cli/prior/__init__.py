@@ -7,18 +7,20 @@ Builds on `data` (skeletons, training poses); knows nothing of 2D, cameras or fi
 
 from __future__ import annotations
 
-from .adapt import STRATEGIES, AdaptResult, adapt_prior, write_adapted_prior
-from .control import ControlledScoreNet
-from .model import PriorConfig, ScoreNet
-from .recipes import Recipe, fit_prior, load_recipe, write_fitted_prior
-from .sampling import sample_poses
-from .sde import SubVPSDE
-from .training import TrainConfig, TrainResult, train_score_model
-from .weights import BUNDLED_PRIORS, DEFAULT_PRIOR, Prior, load_prior, resolve_prior_path, save_prior
+from ..lazy import lazy_exports
 
-__all__ = [
-    "BUNDLED_PRIORS", "DEFAULT_PRIOR", "STRATEGIES", "AdaptResult", "ControlledScoreNet", "Prior", "PriorConfig",
-    "Recipe", "ScoreNet", "SubVPSDE", "TrainConfig", "TrainResult", "adapt_prior", "fit_prior", "load_prior",
-    "load_recipe", "resolve_prior_path", "sample_poses", "save_prior", "train_score_model", "write_adapted_prior",
-    "write_fitted_prior",
-]  # fmt: skip
+__getattr__, __dir__, __all__ = lazy_exports(
+    __name__,
+    globals(),
+    {
+        ".adapt": ["AdaptResult", "adapt_prior", "write_adapted_prior"],
+        ".control": ["ControlledScoreNet"],
+        ".model": ["PriorConfig", "ScoreNet"],
+        ".recipes": ["Recipe", "fit_prior", "load_recipe", "write_fitted_prior"],
+        ".sampling": ["sample_poses"],
+        ".sde": ["SubVPSDE"],
+        ".schedules": ["STRATEGIES", "TrainConfig"],
+        ".training": ["TrainResult", "train_score_model"],
+        ".weights": ["BUNDLED_PRIORS", "DEFAULT_PRIOR", "Prior", "load_prior", "resolve_prior_path", "save_prior"],
+    },
+)

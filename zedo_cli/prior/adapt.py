@@ -23,24 +23,9 @@ from ..data.datasets import PoseSet
 from ..errors import ConfigError, DataError
 from .control import ControlledScoreNet
 from .model import ScoreNet, parameter_count
-from .training import TrainConfig, TrainProgress, TrainResult, train_score_model
+from .schedules import ADAPT_TRAINING, STRATEGIES, TrainConfig
+from .training import TrainProgress, TrainResult, train_score_model
 from .weights import Prior, save_prior
-
-STRATEGIES = ("control", "finetune", "scratch")
-
-# The adaptation recipe of `control` and `finetune`: the paper's objective and optimiser with a
-# schedule sized for small sets. `scratch` has nothing to adapt from and keeps the core recipe
-# (8000 epochs, warm-up 5000), which its short-schedule runs needed. Both were chosen on SyRIP
-# training poses held out of the subset (benchmarks/adapt_validation.py, README).
-ADAPT_TRAINING = TrainConfig(epochs=1000, batch_size=5000, warmup_steps=200)
-SCRATCH_TRAINING = TrainConfig()
-
-
-def default_training(strategy: str) -> TrainConfig:
-    """The training settings `strategy` uses unless told otherwise."""
-    if strategy not in STRATEGIES:
-        raise ConfigError(f"unknown strategy {strategy!r}; choose one of {', '.join(STRATEGIES)}")
-    return SCRATCH_TRAINING if strategy == "scratch" else ADAPT_TRAINING
 
 
 def select_subset(data: PoseSet, limit: int | None, seed: int) -> PoseSet:

@@ -20,8 +20,9 @@ from ..data.adult import PoseAugmentation
 from ..data.datasets import PoseSet
 from ..errors import ConfigError
 from .model import PriorConfig, ScoreNet, parameter_count
+from .schedules import TrainConfig
 from .sde import SubVPSDE
-from .training import TrainConfig, TrainProgress, TrainResult, train_score_model
+from .training import TrainProgress, TrainResult, train_score_model
 from .weights import save_prior
 
 SYRIP_LICENSE = (

@@ -1,0 +1,176 @@
+"""`zedo analyze` and `zedo benchmark-symmetry` from the command line: every result format,
+stdin and the documented pipe, outputs, and errors as one line with a documented exit code."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from analysis_results import kicking_poses, result_document, write_document
+from test_cli import lift_args, write_coco
+from typer.testing import CliRunner
+
+from zedo_cli.cli import app
+
+runner = CliRunner()
+
+
+def rows(text: str) -> list[dict[str, str]]:
+    return list(csv.DictReader(io.StringIO(text)))
+
+
+@pytest.fixture()
+def kick(tmp_path: Path) -> Path:
+    return write_document(tmp_path / "kick.zedo.json", result_document(kicking_poses(30), fps=30.0))
+
+
+@pytest.mark.parametrize("fmt", ["json", "jsonl", "csv", "npz"])
+def test_lift_then_analyze_every_format(tiny_prior_path: Path, tmp_path: Path, fmt: str) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    lifted = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--output-format", fmt, "--units", "mm"))
+    assert lifted.exit_code == 0, lifted.output
+    result = runner.invoke(app, ["analyze", str(tmp_path / f"kp.zedo.{fmt}"), "-q"])
+    assert result.exit_code == 0, result.output
+    table = rows((tmp_path / "kp.analysis.csv").read_text())
+    assert len(table) == 3 * 20 and {r["file_name"] for r in table} == {"img0.jpg", "img1.jpg", "img2.jpg"}
+    doc = json.loads((tmp_path / "kp.analysis.json").read_text())
+    assert doc["input"]["format"] == fmt and doc["input"]["units_in_file"] == "mm"
+    assert len(doc["rows"]) == len(table)
+
+
+def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
+    """`zedo lift kp.json -o - -q | zedo analyze -` in a real shell pipe."""
+    src = write_coco(tmp_path / "kp.json", n=2)
+    zedo = [sys.executable, "-c", "from zedo_cli.cli import main; main()"]
+    lift = subprocess.Popen([*zedo, *lift_args(tiny_prior_path, str(src), "-o", "-")], stdout=subprocess.PIPE)
+    done = subprocess.run([*zedo, "analyze", "-", "-q"], stdin=lift.stdout, capture_output=True, text=True, timeout=300)
+    assert lift.wait(timeout=300) == 0
+    assert done.returncode == 0, done.stderr
+    table = rows(done.stdout)
+    assert len(table) == 2 * 20 and table[0]["measure"] == "symmetry_upper_arm_deg"
+    assert table[0]["interval"] == "no_uncertainty_in_result"
+
+
+def test_stdin_in_jsonl_and_csv_output_choices(tiny_prior_path: Path, tmp_path: Path, kick: Path) -> None:
+    src = write_coco(tmp_path / "kp.json", n=2)
+    lifted = runner.invoke(app, lift_args(tiny_prior_path, str(src), "-o", "-", "--output-format", "jsonl"))
+    assert lifted.exit_code == 0
+    result = runner.invoke(app, ["analyze", "-", "--json", "-", "-q"], input=lifted.stdout)
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.stdout)["input"]["format"] == "jsonl"
+    out = tmp_path / "out"
+    out.mkdir()
+    result = runner.invoke(
+        app, ["analyze", str(kick), "--csv", str(out / "k.csv"), "--json", str(out / "k.json"), "-q"]
+    )
+    assert result.exit_code == 0 and (out / "k.csv").is_file() and (out / "k.json").is_file()
+
+
+def test_summary_report_and_overwrite(kick: Path, tmp_path: Path) -> None:
+    report = tmp_path / "report"
+    result = runner.invoke(app, ["analyze", str(kick), "--report", str(report), "--symmetry-threshold", "20"])
+    assert result.exit_code == 0, result.output
+    assert "no per-joint uncertainty" in result.stderr and "shank" in result.stderr
+    page = (report / "kick.report.html").read_text()
+    assert "Time series" in page and "symmetric at ≤ 20°" in page
+    again = runner.invoke(app, ["analyze", str(kick), "--report", str(report)])
+    assert again.exit_code == 2 and "already exists" in again.stderr and "--overwrite" in again.stderr
+    assert runner.invoke(app, ["analyze", str(kick), "--report", str(report), "--overwrite", "-q"]).exit_code == 0
+
+
+def test_a_folder_and_several_inputs(kick: Path, tmp_path: Path) -> None:
+    write_document(tmp_path / "two.zedo.json", result_document(kicking_poses(3)))
+    out = tmp_path / "out"
+    out.mkdir()
+    result = runner.invoke(app, ["analyze", str(tmp_path), "--output-dir", str(out), "-q"])
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in out.iterdir()) == [
+        "kick.analysis.csv", "kick.analysis.json", "two.analysis.csv", "two.analysis.json",
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("", "empty file"),
+        ('{"images": [], "annotations": [], "categories": []}', "schema: expected a zedo result file"),
+        ("not json at all", "not a zedo result"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_3(tmp_path: Path, content: str, message: str) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text(content)
+    result = runner.invoke(app, ["analyze", str(bad)])
+    assert result.exit_code == 3, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"zedo: error: {bad}") and message in lines[0]
+    assert not (tmp_path / "bad.analysis.csv").exists()
+
+
+def test_a_result_without_the_needed_joints_exits_3(tmp_path: Path) -> None:
+    doc = result_document(kicking_poses(2))
+    for frame in doc["frames"]:
+        frame["persons"][0]["keypoints_3d"] = None  # nothing lifted: no joint to measure
+    path = write_document(tmp_path / "none.zedo.json", doc)
+    result = runner.invoke(app, ["analyze", str(path)])
+    assert result.exit_code == 3 and "no lifted person" in result.stderr
+    result = runner.invoke(app, ["analyze", str(tmp_path / "missing.zedo.json")])
+    assert result.exit_code == 3 and "file not found" in result.stderr
+
+
+def test_one_bad_input_of_several_exits_4(kick: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.zedo.json"
+    bad.write_text("{}")
+    result = runner.invoke(app, ["analyze", str(kick), str(bad), "-q"])
+    assert result.exit_code == 4 and (tmp_path / "kick.analysis.csv").is_file()
+    assert "bad.zedo.json: schema" in result.stderr
+
+
+def test_usage_errors_exit_2(kick: Path, tmp_path: Path) -> None:
+    for args in (["--symmetry-threshold", "-5"], ["--fps", "0"], ["--csv", "-", "--json", "-"],
+                 ["--output-dir", str(tmp_path / "nope")]):  # fmt: skip
+        result = runner.invoke(app, ["analyze", str(kick), *args])
+        assert result.exit_code == 2, (args, result.output)
+    two = write_document(tmp_path / "two.zedo.json", result_document(kicking_poses(3)))
+    result = runner.invoke(app, ["analyze", str(kick), str(two), "--csv", "x.csv"])
+    assert result.exit_code == 2 and "--output-dir" in result.stderr
+
+
+def test_help_teaches_with_examples() -> None:
+    result = runner.invoke(app, ["analyze", "--help"])
+    assert result.exit_code == 0
+    for needle in ("symmetry", "uncertainty_m", "zedo lift kp.json -o - -q | zedo analyze -", "--report"):
+        assert needle in result.output
+    assert "benchmark-symmetry" in runner.invoke(app, ["--help"]).output
+
+
+def test_benchmark_symmetry_without_data_exits_3(tmp_path: Path) -> None:
+    result = runner.invoke(app, ["benchmark-symmetry", "--syrip-dir", str(tmp_path), "-q"])
+    assert result.exit_code == 3 and "file not found" in result.stderr
+    result = runner.invoke(app, ["benchmark-symmetry", "--syrip-dir", str(tmp_path), "--inputs", "x"])
+    assert result.exit_code == 2
+
+
+def test_evaluate_reads_every_result_format_through_the_shared_reader(tiny_prior_path: Path, tmp_path: Path) -> None:
+    import numpy as np
+    from helpers import synthetic_poses
+
+    from zedo_cli.data.skeleton import get_skeleton
+
+    src = write_coco(tmp_path / "kp.json", n=3)
+    gt = tmp_path / "gt.npz"
+    np.savez(gt, poses=synthetic_poses(3, seed=3), joint_names=np.array(get_skeleton("syrip12").joints),
+             names=np.array([f"img{i}.jpg" for i in range(3)]))  # fmt: skip
+    scores = {}
+    for fmt in ("json", "csv", "npz"):
+        out = tmp_path / f"r.zedo.{fmt}"
+        assert runner.invoke(app, lift_args(tiny_prior_path, str(src), "-o", str(out), "--units", "mm")).exit_code == 0
+        result = runner.invoke(app, ["evaluate", str(out), "--gt", str(gt), "--json"])
+        assert result.exit_code == 0, result.output
+        scores[fmt] = json.loads(result.stdout)["mpjpe_mm"]
+    assert scores["csv"] == pytest.approx(scores["json"], abs=0.01) and scores["npz"] == pytest.approx(scores["json"])

@@ -1,0 +1,85 @@
+"""`zedo lift --engine ray` gives exactly the local engine's outputs and exit codes (README
+"Large batches on a Ray cluster"). Runs on a local Ray instance with 2 CPUs; skipped when the
+`ray` extra is not installed (`.ci/run` installs it)."""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from test_cli import lift_args, runner, write_coco
+
+from zedo_cli.cli import app
+
+# Timings differ between runs; everything else must be equal to the byte.
+TIMINGS = re.compile(r'"(created|seconds)": [^,\n]*')
+
+
+@pytest.fixture(scope="module")
+def local_ray() -> Iterator[None]:
+    ray = pytest.importorskip("ray")
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, logging_level="ERROR")
+    yield
+    ray.shutdown()
+
+
+def batch(tmp_path: Path) -> list[str]:
+    bad = tmp_path / "in" / "bad.json"
+    bad.parent.mkdir()
+    bad.write_text('{"images": [], "annotations": []}')
+    return [str(write_coco(tmp_path / "in" / "a.json")), str(bad), str(write_coco(tmp_path / "in" / "b.json", n=5))]
+
+
+def run(prior: Path, inputs: list[str], out_dir: Path, *engine: str) -> tuple[int, dict[str, str]]:
+    out_dir.mkdir()
+    result = runner.invoke(app, [*lift_args(prior, *inputs), "--output-dir", str(out_dir), *engine])
+    return result.exit_code, {p.name: TIMINGS.sub("", p.read_text()) for p in sorted(out_dir.iterdir())}
+
+
+@pytest.mark.usefixtures("local_ray")
+def test_ray_engine_writes_what_the_local_engine_writes(tiny_prior_path: Path, tmp_path: Path) -> None:
+    inputs = batch(tmp_path)
+    local_code, local = run(tiny_prior_path, inputs, tmp_path / "local")
+    ray_code, on_ray = run(tiny_prior_path, inputs, tmp_path / "ray", "--engine", "ray", "--workers", "2")
+    assert local_code == ray_code == 4  # the bad input is isolated and counted in both
+    assert sorted(on_ray) == ["a.zedo.json", "b.zedo.json"]
+    assert on_ray == local
+    assert json.loads((tmp_path / "ray" / "b.zedo.json").read_text())["summary"]["instances_lifted"] == 5
+
+
+@pytest.mark.usefixtures("local_ray")
+def test_ray_engine_single_input_error_is_the_commands_error(tiny_prior_path: Path, tmp_path: Path) -> None:
+    bad = batch(tmp_path)[1]
+    result = runner.invoke(app, [*lift_args(tiny_prior_path, bad), "--engine", "ray"])
+    assert result.exit_code == 3 and "bad.json" in result.output
+
+
+@pytest.mark.usefixtures("local_ray")
+def test_ray_engine_never_overwrites(tiny_prior_path: Path, tmp_path: Path) -> None:
+    a = write_coco(tmp_path / "a.json")
+    (tmp_path / "a.zedo.json").write_text("keep me")
+    result = runner.invoke(app, [*lift_args(tiny_prior_path, str(a)), "--engine", "ray"])
+    assert result.exit_code == 2 and (tmp_path / "a.zedo.json").read_text() == "keep me"
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--engine", "bogus"], "--engine must be one of"),
+        (["--engine", "ray", "-o", "-"], "stdin (-) and -o - need --engine local"),
+        (["--engine", "ray", "--workers", "0"], "--workers must be >= 1"),
+    ],
+)
+def test_engine_usage_errors(tiny_prior_path: Path, tmp_path: Path, extra: list[str], message: str) -> None:
+    result = runner.invoke(app, [*lift_args(tiny_prior_path, str(write_coco(tmp_path / "a.json"))), *extra])
+    assert result.exit_code == 2 and message in result.output
+
+
+def test_missing_ray_is_a_usage_error(tiny_prior_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray now raises ImportError
+    result = runner.invoke(app, [*lift_args(tiny_prior_path, str(write_coco(tmp_path / "a.json"))), "--engine", "ray"])
+    assert result.exit_code == 2 and "pip install 'zedo[ray]'" in result.output

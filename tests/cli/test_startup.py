@@ -1,0 +1,52 @@
+"""Cold start (README "Start-up"): help and option errors answer without loading torch, and
+lifting never loads torch's compiler stack (torch._dynamo, which creating a torch.optim
+optimiser imports: about 0.8 s)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from zedo_cli.cli import app
+
+HEAVY = ("torch", "matplotlib", "scipy", "cv2", "safetensors")
+COMMANDS = [c.name for c in app.registered_commands]
+
+# Runs the CLI in a fresh interpreter, then prints which modules it loaded.
+RUN_AND_LIST = """
+import json, sys
+from zedo_cli.cli import app
+try:
+    app(sys.argv[1:], prog_name="zedo")
+except SystemExit:
+    pass
+print(json.dumps(sorted(sys.modules)))
+"""
+
+
+def loaded_modules(*args: str) -> set[str]:
+    out = subprocess.run([sys.executable, "-c", RUN_AND_LIST, *args], capture_output=True, text=True, check=True)
+    return set(json.loads(out.stdout.strip().splitlines()[-1]))
+
+
+@pytest.mark.parametrize("args", [["--help"], *[[name, "--help"] for name in COMMANDS]], ids=lambda a: " ".join(a))
+def test_help_loads_no_heavy_library(args: list[str]) -> None:
+    loaded = loaded_modules(*args)
+    assert not loaded & set(HEAVY), f"zedo {' '.join(args)} imported {sorted(loaded & set(HEAVY))}"
+
+
+def test_option_errors_answer_before_torch_loads(tmp_path: Path) -> None:
+    loaded = loaded_modules("lift", str(tmp_path / "x.json"), "--preset", "nonsense")
+    assert "torch" not in loaded
+
+
+def test_lifting_does_not_load_the_compiler_stack(tmp_path: Path) -> None:
+    example = Path(__file__).resolve().parents[2] / "examples" / "prior_samples_coco.json"
+    loaded = loaded_modules("lift", str(example), "-o", str(tmp_path / "out.json"), "--quiet")
+    assert (tmp_path / "out.json").is_file()
+    assert "torch" in loaded
+    assert "torch._dynamo" not in loaded

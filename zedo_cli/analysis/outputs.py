@@ -1,0 +1,127 @@
+"""The analysis as a tidy CSV and as JSON, written atomically (or to stdout for "-").
+
+CSV (plain RFC 4180, one header line, read by pandas / R with their defaults): the columns of
+`analyse.COLUMNS`, one row per frame, person and measure, then the per-clip features (frame
+columns empty). Unknown values are empty fields, never 0. The last column, `interval`, says why
+low_90 / high_90 are filled or empty: `from_uncertainty_m` (a 90 % interval sampled from the
+result's per-joint radii), `no_uncertainty_in_result` (the result has none), `radius_unknown`
+(a joint the measure uses has a null radius) or `not_for_clip_features`.
+
+JSON (schema `zedo.analysis/1`): the same rows, plus the input, the settings, the notes (e.g.
+that no uncertainty was available), the measures' units and descriptions, and a summary.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import sys
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+from ..files import write_text_atomic
+from ..version import __version__
+from .analyse import COLUMNS, NO_UNCERTAINTY_NOTE, Analysis, summary
+from .symmetry import BAND_EDGES_DEG, PAIRS
+from .uncertainty import CHI3_Q90
+
+SCHEMA = "zedo.analysis/1"
+_DIGITS = 3
+
+
+def _num(value: Any) -> Any:
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            return None
+        return int(value) if float(value).is_integer() else round(float(value), _DIGITS)
+    return value
+
+
+def csv_text(a: Analysis) -> str:
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(COLUMNS)
+    for row in a.rows:
+        writer.writerow(["" if (v := _num(x)) is None else v for x in row.as_list()])
+    return buf.getvalue()
+
+
+def measure_descriptions() -> dict[str, str]:
+    """One line per measure family, for the JSON and the report."""
+    return {
+        "symmetry_<pair>_deg": "angle between the left segment and the right one mirrored through the body's "
+        "mid-plane (shoulders for arms, hips for legs); 0 = mirror-symmetric. Pairs: "
+        + ", ".join(f"{p} ({a} -> {b})" for p, (a, b, _) in PAIRS.items()),
+        "symmetry_<pair>_band": "the paper's band of that angle: 1 (< 30 deg), 2 (30 to < 60), 3 (>= 60)",
+        "<side>_knee_flexion_deg, <side>_elbow_flexion_deg": "angle between the proximal and distal segment; "
+        "0 = straight",
+        "<side>_hip_flexion_deg, <side>_shoulder_flexion_deg": "thigh / upper arm in the trunk's sagittal plane "
+        "from straight down the trunk, positive forward; [-90, 270); empty beyond 80 deg abduction",
+        "<side>_hip_abduction_deg, <side>_shoulder_abduction_deg": "thigh / upper arm out of the sagittal plane, "
+        "positive away from the midline",
+        "<angle>_median_abs_velocity_deg_s, <angle>_abs_velocity_iqr_deg_s": "per clip: median and IQR of "
+        "|angular velocity| between consecutive known frames",
+        "<angle>_range_deg": "per clip: max - min of the angle",
+        "<base>_left_right_correlation": "per clip: Pearson r of the left and right series",
+        "symmetry_<pair>_fraction_symmetric": "per clip: share of the frames called symmetric",
+    }
+
+
+def analysis_document(a: Analysis) -> dict[str, Any]:
+    res = a.result
+    uncertainty = {
+        "available": a.uncertainty_available,
+        "note": None if a.uncertainty_available else NO_UNCERTAINTY_NOTE,
+        "method": "per joint, an isotropic Gaussian whose 90 % ball has the result's radius uncertainty_m "
+        f"(sigma = r / {CHI3_Q90}); measures of {a.settings.samples} seeded samples; 5th-95th percentile",
+    }
+    return {
+        "schema": SCHEMA,
+        "zedo_version": __version__,
+        "created": datetime.now(UTC).isoformat(timespec="seconds"),
+        "input": {
+            "path": res.source,
+            "format": res.format,
+            "skeleton": res.skeleton.name,
+            "coordinate_frame": res.coordinate_frame,
+            "units_in_file": res.units_in_file,
+            "persons": len(res),
+            "persons_analysed": len(a.index),
+            "frames": len(set(res.frame_index.tolist())),
+        },  # fmt: skip
+        "settings": {
+            "symmetry_threshold_deg": a.settings.threshold_deg,
+            "symmetry_bands_deg": list(BAND_EDGES_DEG),
+            "fps": a.fps,
+            "fps_source": a.fps_source,
+            "samples": a.settings.samples,
+            "seed": a.settings.seed,
+        },  # fmt: skip
+        "uncertainty": uncertainty,
+        "notes": a.notes,
+        "columns": list(COLUMNS),
+        "measures": measure_descriptions(),
+        "summary": {k: {s: _num(v) for s, v in d.items()} for k, d in summary(a).items()},
+        "rows": [{c: _num(v) for c, v in zip(COLUMNS, row.as_list(), strict=True)} for row in a.rows],
+    }
+
+
+def _emit(text: str, out: str | Path, overwrite: bool) -> None:
+    if str(out) == "-":
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    else:
+        write_text_atomic(out, text, overwrite=overwrite)
+
+
+def write_csv(a: Analysis, out: str | Path, *, overwrite: bool = False) -> None:
+    """The tidy CSV to `out` ("-" = stdout), atomically; an existing file only with `overwrite`."""
+    _emit(csv_text(a), out, overwrite)
+
+
+def write_json(a: Analysis, out: str | Path, *, overwrite: bool = False) -> None:
+    """The JSON document to `out` ("-" = stdout), atomically; an existing file only with `overwrite`."""
+    _emit(json.dumps(analysis_document(a), indent=1, allow_nan=False) + "\n", out, overwrite)

@@ -1,0 +1,316 @@
+"""`zedo analyze` (clinical measures of lifted poses) and `zedo benchmark-symmetry` (their
+accuracy on SyRIP Test100)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import asdict
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from ..analysis.analyse import SYMMETRY_NAMES, Analysis, AnalysisSettings, analyse, summary
+from ..analysis.joint_angles import ANGLE_NAMES
+from ..analysis.outputs import write_csv, write_json
+from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
+from ..analysis.uncertainty import DEFAULT_SAMPLES
+from ..errors import ConfigError, InputFormatError, ZedoError
+from ..files import check_writable
+from ..formats.result_reader import read_result
+from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
+from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
+from .lift_plan import STDIN, expand_inputs
+
+if TYPE_CHECKING:
+    from ..evaluation.symmetry_benchmark import SymmetryBenchmark
+    from ..lifting.solver import LiftProgress
+
+_RESULT_SUFFIXES = (".json", ".jsonl", ".ndjson", ".csv", ".npz")
+
+
+def _is_result_name(path: Path) -> bool:
+    return ".zedo." in path.name and path.suffix in _RESULT_SUFFIXES and not path.name.endswith(".meta.json")
+
+
+def _result_files(folder: Path) -> list[str]:
+    found = sorted(str(p) for p in folder.iterdir() if _is_result_name(p))
+    if not found:
+        raise InputFormatError(f"{folder}: folder holds no zedo results (*.zedo.json/.jsonl/.csv/.npz)")
+    return found
+
+
+def expand_results(args: list[str]) -> list[str]:
+    """Result paths in the order given: `-`, files, folders (their `*.zedo.*` results) and glob
+    patterns the shell did not expand (sidecars left out). Duplicates are dropped."""
+    return expand_inputs(args, folder=_result_files, keep=lambda p: not p.name.endswith(".meta.json"))
+
+
+def output_stem(source: str) -> str:
+    """`clip` for `clip.zedo.json` (else the file's stem; `stdin` for -)."""
+    if source == STDIN:
+        return "stdin"
+    name = Path(source).name
+    return name.split(".zedo.")[0] if ".zedo." in name else Path(source).stem
+
+
+def plan_outputs(
+    sources: list[str], csv_out: str | None, json_out: str | None, output_dir: Path | None, report: Path | None,
+    overwrite: bool,
+) -> list[dict[str, str | None]]:  # fmt: skip
+    """Per input: its csv, json and report paths (None = not written), checked before any work."""
+    if (csv_out or json_out) and len(sources) > 1:
+        raise ConfigError("--csv / --json name one output; for several inputs use --output-dir (or none: beside each)")
+    if (csv_out or json_out) and output_dir is not None:
+        raise ConfigError("give --csv / --json or --output-dir, not both")
+    if csv_out == STDIN and json_out == STDIN:
+        raise ConfigError("only one of --csv and --json can be - (stdout)")
+    if output_dir is not None and not output_dir.is_dir():
+        raise ConfigError(f"{output_dir}: output folder does not exist")
+    plans: list[dict[str, str | None]] = []
+    for source in sources:
+        stem = output_stem(source)
+        if csv_out or json_out:
+            plan = {"csv": csv_out, "json": json_out}
+        elif source == STDIN and output_dir is None:
+            plan = {"csv": STDIN, "json": None}  # a pipeline: the tidy CSV to stdout
+        else:
+            folder = output_dir if output_dir is not None else Path(source).parent
+            plan = {"csv": str(folder / f"{stem}.analysis.csv"), "json": str(folder / f"{stem}.analysis.json")}
+        plan["report"] = str(report / f"{stem}.report.html") if report is not None else None
+        plans.append(plan)
+    seen: set[str] = set()
+    for plan in plans:
+        for path in plan.values():
+            if path is None or path == STDIN:
+                continue
+            key = str(Path(path).resolve())
+            if key in seen:
+                raise ConfigError(f"{path}: two inputs would write it; use separate runs or rename the inputs")
+            seen.add(key)
+            if path == plan["report"] and not Path(path).parent.exists():
+                continue  # the report folder is made before any work; nothing there to overwrite
+            check_writable(Path(path), overwrite)
+    return plans
+
+
+def _summary_table(a: Analysis) -> Table:
+    res = a.result
+    table = Table(title=f"{res.source}: {len(a.index)} persons, symmetric at <= {a.settings.threshold_deg:g} deg")
+    for col in ("pair", "mean deg", "median deg", "symmetric", "asymmetric", "uncertain"):
+        table.add_column(col, justify="left" if col == "pair" else "right")
+    stats = summary(a)
+    for name in SYMMETRY_NAMES:
+        s = stats[name]
+        mean = f"{s['mean']:.1f}" if "mean" in s else "-"
+        median = f"{s['median']:.1f}" if "median" in s else "-"
+        pair = name.removeprefix("symmetry_").removesuffix("_deg")
+        table.add_row(pair, mean, median, str(s["symmetric"]), str(s["asymmetric"]), str(s["uncertain"]))
+    return table
+
+
+def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSettings, *, overwrite: bool,
+                 quiet: bool) -> Analysis:  # fmt: skip
+    """Read, analyse and write one result (errors are raised; the batch loop isolates them)."""
+    a = analyse(read_result(source), settings)
+    if plan["csv"]:
+        write_csv(a, plan["csv"], overwrite=overwrite)
+    if plan["json"]:
+        write_json(a, plan["json"], overwrite=overwrite)
+    if plan["report"]:
+        from ..analysis.report import write_report  # matplotlib loads only when a report is asked for
+
+        write_report(a, plan["report"], overwrite=overwrite)
+    if not quiet:
+        err_console.print(_summary_table(a))
+        for note in a.notes:
+            err_console.print(f"note: {note}", markup=False, soft_wrap=True)
+        written = [p for p in plan.values() if p and p != STDIN]
+        if written:
+            err_console.print(f"wrote {', '.join(written)}", markup=False, soft_wrap=True)
+    return a
+
+
+@error_boundary
+def analyze_command(
+    results: Annotated[
+        list[str],
+        typer.Argument(
+            help="zedo results (from zedo lift): .json, .jsonl, .csv (with its .meta.json), .npz; folders, "
+            "glob patterns; - reads stdin (JSON, JSON Lines or CSV).",
+            show_default=False,
+        ),
+    ],
+    csv_out: Annotated[
+        Optional[str], typer.Option("--csv", help="The tidy CSV to this file (one input), or - for stdout.")
+    ] = None,
+    json_out: Annotated[
+        Optional[str], typer.Option("--json", help="The JSON (rows + settings) to this file (one input), or -.")
+    ] = None,
+    output_dir: Annotated[
+        Optional[Path], typer.Option(help="Write <stem>.analysis.csv and .json of every input into this folder.")
+    ] = None,
+    report: Annotated[
+        Optional[Path],
+        typer.Option(help="Also write a self-contained HTML report per input, <stem>.report.html, into this folder."),
+    ] = None,
+    symmetry_threshold: Annotated[
+        float,
+        typer.Option(help="Symmetric when the symmetry angle is at most this many degrees (the paper's 3D value)."),
+    ] = DEFAULT_THRESHOLD_DEG,
+    fps: Annotated[
+        Optional[float],
+        typer.Option(
+            help="Frame rate: treat the result as a video (movement features). Default: the fps zedo lift "
+            "recorded, else the frames are separate images."
+        ),  # fmt: skip
+    ] = None,
+    samples: Annotated[
+        int, typer.Option(help="Samples per pose for the 90 % intervals (only when the result has uncertainty_m).")
+    ] = DEFAULT_SAMPLES,
+    seed: Annotated[int, typer.Option(help="Seed of the interval sampling, recorded in the JSON.")] = 0,
+    overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No summary on stderr.")] = False,
+) -> None:
+    """Clinical measures of lifted poses: symmetry, joint angles, movement.
+
+    Per frame and person: the symmetry angle of upper arm, forearm, thigh
+    and shank (Huang et al. 2022: the left segment against the right one
+    mirrored through the body's mid-plane), called symmetric at most
+    --symmetry-threshold degrees (28), with the paper's bands (< 30, 30-60,
+    >= 60); knee and elbow flexion, hip and shoulder flexion and abduction
+    in a trunk frame (conventions: README, "zedo analyze").
+
+    For a video (--fps, or the fps given to zedo lift), per person: median
+    and IQR of |angular velocity|, range of motion and the left-right
+    correlation of every angle.
+
+    Where the result carries per-joint uncertainty (uncertainty_m), every
+    measure gets a 90 % interval and a call whose interval straddles the
+    threshold is "uncertain"; otherwise every output says none was there.
+
+    Outputs: a tidy CSV (frame_index, image_id, file_name, person, measure,
+    value, unit, low_90, high_90, call, interval), a JSON with the same rows,
+    the settings and a summary, and with --report DIR a self-contained HTML
+    report. Files are replaced only with --overwrite. A file that is not a
+    zedo result, or has no lifted person, exits with code 3.
+
+    Examples:
+
+      zedo analyze test100.zedo.json      # test100.analysis.csv + .json
+
+      zedo lift kp.json -o - -q | zedo analyze -      # CSV on stdout
+
+      zedo analyze clip.zedo.csv --fps 30 --report report/
+
+      zedo analyze results/ --output-dir analysis/ --symmetry-threshold 30
+    """
+    settings = AnalysisSettings(symmetry_threshold, fps, samples, seed)
+    sources = expand_results(results)
+    plans = plan_outputs(sources, csv_out, json_out, output_dir, report, overwrite)
+    if report is not None:
+        report.mkdir(parents=True, exist_ok=True)
+    if len(sources) == 1:
+        analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet)
+        return
+    codes = []
+    for source, plan in zip(sources, plans, strict=True):
+        try:
+            analyze_file(source, plan, settings, overwrite=overwrite, quiet=quiet)
+        except ZedoError as exc:
+            err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
+            codes.append(exc.exit_code)
+    if codes:  # 4 when some inputs were analysed, else the failures' common code (1 when they differ)
+        raise typer.Exit(
+            EXIT_PARTIAL if len(codes) < len(sources) else codes[0] if len(set(codes)) == 1 else EXIT_RUNTIME
+        )
+
+
+def _benchmark_tables(bench: SymmetryBenchmark) -> list[Table]:
+    labels = {"gt": "GT 2D", "detected": "FiDIP 2D", "hwhup": "HW-HuP"}
+    sym = Table(title=f"SyRIP Test100 symmetry vs weak 3D truth, threshold {bench.threshold_deg:g} deg "
+                f"(truth: {100 * bench.truth_asymmetric_share:.0f}% asymmetric)")  # fmt: skip
+    sym.add_column("pair", justify="left")
+    for s in bench.scores:
+        sym.add_column(f"{labels.get(s.source, s.source)} err", justify="right")
+        sym.add_column("kappa", justify="right")
+    for pair in PAIRS:
+        n = measure_name(pair)
+        cells = [c for s in bench.scores for c in (f"{s.angle_error_deg[n]:.1f}", f"{s.kappa[n]:.2f}")]
+        sym.add_row(pair.replace("_", " "), *cells)
+    pooled = [c for s in bench.scores for c in (f"{s.mean_angle_error_deg:.1f}", f"{s.pooled_kappa:.2f}")]
+    sym.add_row("[b]all (pooled)[/b]", *(f"[b]{c}[/b]" for c in pooled))
+    sym.add_row("equal calls", *(c for s in bench.scores for c in (f"{100 * s.agreement:.0f}%", "")))
+    sym.add_row("asymmetric", *(c for s in bench.scores for c in (f"{100 * s.asymmetric_share:.0f}%", "")))
+    ang = Table(title="Joint-angle error vs the weak 3D ground truth (mean |difference|, deg)")
+    ang.add_column("angle", justify="left")
+    for s in bench.scores:
+        ang.add_column(labels.get(s.source, s.source), justify="right")
+    for n in ANGLE_NAMES:
+        ang.add_row(n.removesuffix("_deg"), *(f"{s.joint_angle_error_deg[n]:.1f}" for s in bench.scores))
+    ang.add_row("[b]mean[/b]", *(f"[b]{s.mean_joint_angle_error_deg:.1f}[/b]" for s in bench.scores))
+    return [sym, ang]
+
+
+@error_boundary
+def benchmark_symmetry_command(
+    syrip_dir: Annotated[Path, typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip).")],
+    prior_spec: Annotated[
+        Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file (syrip12).")
+    ] = None,
+    preset: Annotated[str, typer.Option(help=f"Lifting preset: {', '.join(PRESETS)}.")] = DEFAULT_PRESET,
+    inputs: Annotated[str, typer.Option(help="2D inputs: gt, detected or gt,detected.")] = "gt,detected",
+    symmetry_threshold: Annotated[float, typer.Option(help="Threshold of the calls, degrees.")] = DEFAULT_THRESHOLD_DEG,
+    reference: Annotated[
+        bool, typer.Option(help="Also score HW-HuP's 3D predictions (the weak truth's origin) as a reference.")
+    ] = True,
+    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    as_json: Annotated[bool, typer.Option("--json", help="Print the figures as JSON on stdout.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """How accurate zedo analyze's measures are, on SyRIP Test100.
+
+    Lifts the 100 test images from ground-truth and FiDIP-detected 2D
+    (pseudo camera, the chosen preset), measures symmetry and joint angles,
+    and compares them with the same measures on the weak 3D ground truth:
+    per pair the mean absolute symmetry-angle error and Cohen's kappa of the
+    symmetric / asymmetric calls at the threshold, the kappa pooled over the
+    four pairs, and the mean absolute error of every joint angle. HW-HuP's
+    3D predictions, from which the ground truth was hand-corrected, are
+    scored too, as a reference (an upper bound more than a competitor).
+
+    Example:
+
+      zedo benchmark-symmetry --syrip-dir ../shared/data/syrip
+    """
+    chosen = tuple(i.strip() for i in inputs.split(","))
+    if not chosen or any(i not in ("gt", "detected") for i in chosen):
+        raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
+    AnalysisSettings(symmetry_threshold)  # validates the threshold
+    cfg = get_preset(preset)
+    from ..evaluation.symmetry_benchmark import run_symmetry_benchmark  # torch from here on
+    from ..prior.weights import load_prior, resolve_prior_path
+
+    prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
+    with progress_bar(quiet) as bar:
+        tasks = {k: bar.add_task(f"lift {k}", total=1, status="") for k in chosen}
+
+        def on_step(key: str, p: LiftProgress) -> None:
+            bar.update(tasks[key], completed=p.done, total=p.total)
+
+        bench = run_symmetry_benchmark(syrip_dir, prior, cfg, inputs=chosen, threshold=symmetry_threshold,
+                                       reference=reference, device=device, callback=on_step)  # fmt: skip
+    if as_json:
+        doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": preset, **asdict(bench)}
+        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        return
+    console = Console()
+    for table in _benchmark_tables(bench):
+        console.print(table)
+    console.print("err: mean |symmetry-angle error| (deg); kappa: Cohen's kappa of the symmetric / asymmetric "
+                  "calls against the truth's; HW-HuP: the image model the weak truth was corrected from (reference)",
+                  markup=False)  # fmt: skip
+    err_console.print(f"prior {prior.label}; preset {preset}; device {device}", markup=False)

@@ -1,0 +1,378 @@
+"""Reading zedo's own 3D results back: JSON, JSON Lines, CSV (with or without its sidecar) and NPZ.
+
+    res = read_result("clip.zedo.csv")   # or .json / .jsonl / .npz, or "-" for stdin
+    res.poses            # (N, J, 3) metres, one row per (frame, person); NaN where missing
+
+The format is told from the content, not the name (a NPZ is a zip archive; a JSON document
+has `schema`; JSON Lines start with a `header` line; a CSV starts with `frame_index,`), so
+`zedo lift ... -o - | zedo analyze -` works for every format lift writes to stdout. Whatever
+the file's `--units` and `--frame`, poses come back in metres in the frame the file states.
+
+Per-joint uncertainty: a person may carry `uncertainty_m`, one radius in metres per joint
+(null where unknown): the ball around the reported root-relative joint that holds the true
+joint with 90 % probability. JSON / JSONL persons carry it as a list, the CSV as a column
+`uncertainty_m`, the NPZ as an `(N, J)` array. `ResultPoses.uncertainty_m` is None when the
+file has no such field at all.
+
+Errors are `InputFormatError`s (exit code 3) naming the file and the field.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import sys
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
+from ..errors import ConfigError, InputFormatError
+
+SCHEMA = "zedo.pose3d/1"
+RESULT_FORMATS = ("json", "jsonl", "csv", "npz")
+_SCALE_TO_M = {"m": 1.0, "mm": 1e-3}
+_FRAMES = {"cam": "camera", "root": "root"}
+
+
+@dataclass
+class ResultPoses:
+    """Every person of every frame of a zedo result, in file order."""
+
+    source: str  # the path read, or "-"
+    format: str  # json | jsonl | csv | npz
+    skeleton: Skeleton
+    poses: np.ndarray  # (N, J, 3) metres, in `coordinate_frame`; NaN where missing or not lifted
+    frame_index: np.ndarray  # (N,) int, output frame of each person
+    person: np.ndarray  # (N,) int, position of the person in its frame (the track in a video)
+    image_ids: list[int | str]  # (N,)
+    file_names: list[str | None]  # (N,)
+    lifted: np.ndarray  # (N,) bool
+    observed: np.ndarray  # (N, J) bool: the joint was a 2D constraint (False: filled by the prior)
+    uncertainty_m: np.ndarray | None  # (N, J) 90 % ball radius in metres, NaN unknown; None: no such field
+    fps: float | None  # recorded by `zedo lift --fps`
+    coordinate_frame: str  # camera | root
+    units_in_file: str  # m | mm (poses are converted to metres)
+
+    def __len__(self) -> int:
+        return len(self.poses)
+
+
+def read_result(path: str | Path) -> ResultPoses:
+    """Read a zedo result file (`-` = stdin) of any format zedo lift writes."""
+    name = str(path)
+    if name == "-":
+        data = sys.stdin.buffer.read()
+    else:
+        try:
+            data = Path(path).read_bytes()
+        except FileNotFoundError:
+            raise InputFormatError(f"{name}: file not found") from None
+        except IsADirectoryError:
+            raise InputFormatError(f"{name}: is a folder, not a result file") from None
+        except OSError as exc:
+            raise InputFormatError(f"{name}: cannot read ({exc.strerror})") from None
+    return read_result_bytes(data, name, sidecar=None if name == "-" else _sidecar_of(Path(path)))
+
+
+def _sidecar_of(path: Path) -> Path:
+    return path.with_suffix(".meta.json") if path.suffix.lower() == ".csv" else path.with_name(path.name + ".meta.json")
+
+
+def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) -> ResultPoses:
+    """Parse the bytes of a result; `name` is used in messages, `sidecar` is the CSV's
+    `.meta.json` (read when the data is a CSV and the file exists)."""
+    if not data.strip():
+        raise InputFormatError(f"{name}: empty file (expected a zedo result: {', '.join(RESULT_FORMATS)})")
+    if data[:4] == b"PK\x03\x04":
+        return _read_npz(data, name)
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputFormatError(f"{name}: not a zedo result (neither UTF-8 text nor a NPZ archive)") from None
+    stripped = text.lstrip()
+    if stripped.startswith("frame_index,"):
+        meta = _read_sidecar(sidecar) if sidecar is not None and sidecar.is_file() else None
+        return _read_csv(text, name, meta)
+    if stripped.startswith("{"):
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError:
+            doc = None  # several lines: JSON Lines
+        if isinstance(doc, dict) and doc.get("type") != "header":
+            return _from_document(doc, name, "json")
+        return _read_jsonl(text, name)
+    raise InputFormatError(f"{name}: not a zedo result (expected a {SCHEMA} JSON / JSON Lines document, "
+                           "a zedo CSV or a NPZ archive)")  # fmt: skip
+
+
+# --- JSON and JSON Lines ------------------------------------------------------------------------
+
+
+def _check_schema(doc: dict[str, Any], name: str) -> None:
+    if doc.get("schema") != SCHEMA:
+        raise InputFormatError(f"{name}: schema: expected a zedo result file (schema {SCHEMA}), "
+                               f"got {doc.get('schema')!r}")  # fmt: skip
+
+
+def _read_jsonl(text: str, name: str) -> ResultPoses:
+    header: dict[str, Any] | None = None
+    frames: list[dict[str, Any]] = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            obj = json.loads(line)
+        except json.JSONDecodeError as exc:
+            raise InputFormatError(f"{name}: line {number}: not JSON ({exc.msg})") from None
+        kind = obj.get("type") if isinstance(obj, dict) else None
+        if header is None:
+            if kind != "header":
+                raise InputFormatError(f"{name}: line {number}: not a zedo result (expected a JSON document "
+                                       f"with schema {SCHEMA}, or JSON Lines starting with a header line)")  # fmt: skip
+            header = obj
+        elif kind == "frame":
+            frames.append(obj)
+        elif kind != "summary":
+            raise InputFormatError(f"{name}: line {number}: type: expected frame or summary, got {kind!r}")
+    assert header is not None  # the text is not blank
+    return _from_document({**header, "frames": frames}, name, "jsonl")
+
+
+def _points(value: Any, joints: int, where: str) -> np.ndarray:
+    """`(J, 3)` from a list of [x, y, z] or null; all NaN for null."""
+    if value is None:
+        return np.full((joints, 3), np.nan)
+    if not isinstance(value, list) or len(value) != joints:
+        raise InputFormatError(f"{where}: expected a list of {joints} points [x, y, z] or null")
+    out = np.full((joints, 3), np.nan)
+    for j, p in enumerate(value):
+        if p is None:
+            continue
+        if not isinstance(p, list) or len(p) != 3 or not all(isinstance(v, int | float) or v is None for v in p):
+            raise InputFormatError(f"{where}[{j}]: expected [x, y, z] numbers or null")
+        out[j] = [np.nan if v is None else float(v) for v in p]
+    return out
+
+
+def _radii(value: Any, joints: int, where: str) -> np.ndarray:
+    if value is None:
+        return np.full(joints, np.nan)
+    if not isinstance(value, list) or len(value) != joints:
+        raise InputFormatError(f"{where}: expected {joints} radii in metres (or null)")
+    out = np.array([np.nan if v is None else v for v in value], dtype=object)
+    try:
+        radii = out.astype(float)
+    except (TypeError, ValueError):
+        raise InputFormatError(f"{where}: expected numbers or null") from None
+    if (radii[np.isfinite(radii)] < 0).any():
+        raise InputFormatError(f"{where}: a radius is negative")
+    return radii
+
+
+def _skeleton_of(doc: dict[str, Any], name: str) -> Skeleton:
+    skel = doc.get("skeleton")
+    if not isinstance(skel, dict) or not isinstance(skel.get("name"), str):
+        raise InputFormatError(f"{name}: skeleton.name: missing")
+    try:
+        return get_skeleton(skel["name"])
+    except ConfigError as exc:
+        raise InputFormatError(f"{name}: skeleton.name: {exc}") from None
+
+
+def _units(value: Any, name: str, field: str = "units") -> str:
+    if value not in _SCALE_TO_M:
+        raise InputFormatError(f"{name}: {field}: expected m or mm, got {value!r}")
+    return str(value)
+
+
+def _fps(params: Any, name: str) -> float | None:
+    fps = params.get("fps") if isinstance(params, dict) else None
+    if fps is None:
+        return None
+    if not isinstance(fps, int | float) or not fps > 0:
+        raise InputFormatError(f"{name}: params.fps: expected a positive number or null, got {fps!r}")
+    return float(fps)
+
+
+def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
+    _check_schema(doc, name)
+    skel = _skeleton_of(doc, name)
+    scale = _SCALE_TO_M[_units(doc.get("units", "m"), name)]
+    coord = doc.get("coordinate_frame", "camera")
+    frames = doc.get("frames")
+    if not isinstance(frames, list):
+        raise InputFormatError(f"{name}: frames: expected a list")
+    j = skel.num_joints
+    poses, frame_index, person, ids, files, lifted, observed, radii = [], [], [], [], [], [], [], []
+    has_radii = False
+    for f, frame in enumerate(frames):
+        where = f"{name}: frames[{f}]"
+        if not isinstance(frame, dict) or not isinstance(frame.get("persons"), list):
+            raise InputFormatError(f"{where}.persons: expected a list")
+        for p, pers in enumerate(frame["persons"]):
+            at = f"{where}.persons[{p}]"
+            if not isinstance(pers, dict) or "keypoints_3d" not in pers:
+                raise InputFormatError(f"{at}.keypoints_3d: missing")
+            pts = _points(pers["keypoints_3d"], j, f"{at}.keypoints_3d") * scale
+            poses.append(pts)
+            frame_index.append(int(frame.get("frame_index", f)))
+            person.append(p)
+            ids.append(frame.get("image_id", f))
+            files.append(frame.get("file_name"))
+            lifted.append(pers["keypoints_3d"] is not None)
+            obs = pers.get("observed")
+            observed.append(np.array(obs, dtype=bool) if isinstance(obs, list) and len(obs) == j else np.ones(j, bool))
+            if "uncertainty_m" in pers:
+                has_radii = True
+            radii.append(_radii(pers.get("uncertainty_m"), j, f"{at}.uncertainty_m"))
+    fps = _fps(doc.get("params"), name)
+    return _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
+                   radii if has_radii else None, fps, str(coord), doc.get("units", "m"))  # fmt: skip
+
+
+def _finish(
+    name: str, fmt: str, skel: Skeleton, poses: list[np.ndarray], frame_index: list[int], person: list[int],
+    ids: list[Any], files: list[Any], lifted: list[bool], observed: list[np.ndarray],
+    radii: list[np.ndarray] | None, fps: float | None, coord: str, units: str,
+) -> ResultPoses:  # fmt: skip
+    if not poses:
+        raise InputFormatError(f"{name}: no persons in the result")
+    j = skel.num_joints
+    return ResultPoses(
+        name, fmt, skel, np.asarray(poses, dtype=float).reshape(-1, j, 3), np.asarray(frame_index, dtype=np.int64),
+        np.asarray(person, dtype=np.int64), list(ids), [None if not f else str(f) for f in files],
+        np.asarray(lifted, dtype=bool), np.asarray(observed, dtype=bool).reshape(-1, j),
+        None if radii is None else np.asarray(radii, dtype=float).reshape(-1, j), fps, coord, units,
+    )  # fmt: skip
+
+
+# --- CSV ----------------------------------------------------------------------------------------
+
+
+def _read_sidecar(path: Path) -> dict[str, Any]:
+    try:
+        meta = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputFormatError(f"{path}: not a readable JSON sidecar ({exc})") from None
+    if not isinstance(meta, dict):
+        raise InputFormatError(f"{path}: expected a JSON object")
+    _check_schema(meta, str(path))
+    return meta
+
+
+def _coordinate_columns(columns: list[str], name: str) -> tuple[list[str], str, str]:
+    for tag, frame in _FRAMES.items():
+        for units in _SCALE_TO_M:
+            cols = [f"{axis}_{tag}_{units}" for axis in "xyz"]
+            if all(c in columns for c in cols):
+                return cols, frame, units
+    raise InputFormatError(f"{name}: no coordinate columns (x_cam_m, x_cam_mm, x_root_m or x_root_mm): "
+                           "not a zedo result CSV")  # fmt: skip
+
+
+def _cell(value: str, where: str) -> float:
+    if value == "":
+        return np.nan
+    try:
+        return float(value)
+    except ValueError:
+        raise InputFormatError(f"{where}: not a number: {value!r}") from None
+
+
+def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
+    rows = list(csv.DictReader(io.StringIO(text)))
+    columns = list(rows[0].keys()) if rows else text.splitlines()[0].split(",")
+    required = ("frame_index", "image_id", "person", "joint", "joint_index", "lifted")
+    lacking = [c for c in required if c not in columns]
+    if lacking:
+        raise InputFormatError(f"{name}: column(s) {', '.join(lacking)} missing: not a zedo result CSV")
+    xyz, coord, units = _coordinate_columns(columns, name)
+    if not rows:
+        raise InputFormatError(f"{name}: no persons in the result")
+    # Rows come per (frame, person), joints in order; an instance is one (frame_index, person).
+    order: dict[tuple[int, int], dict[str, Any]] = {}
+    joint_names: dict[int, str] = {}
+    for r, row in enumerate(rows, 2):
+        where = f"{name}: line {r}"
+        try:
+            key = (int(row["frame_index"]), int(row["person"]))
+            j = int(row["joint_index"])
+        except (TypeError, ValueError):
+            raise InputFormatError(f"{where}: frame_index, person and joint_index must be integers") from None
+        joint_names.setdefault(j, row["joint"])
+        inst = order.setdefault(key, {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
+                                      "lifted": row["lifted"] == "true",
+                                      "points": {}, "observed": {}, "radii": {}})  # fmt: skip
+        inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
+        inst["observed"][j] = row.get("observed", "true") == "true"
+        if "uncertainty_m" in row:
+            inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
+    names = tuple(joint_names[j] for j in sorted(joint_names))
+    skel = _skeleton_of(meta, name) if meta is not None else skeleton_from_joint_names(names)
+    if skel is None or skel.joints != names:
+        raise InputFormatError(f"{name}: joint: the joints {', '.join(names)} are not a zedo skeleton's")
+    scale = _SCALE_TO_M[units]
+    poses, frame_index, person, ids, files, lifted, observed, radii = [], [], [], [], [], [], [], []
+    for (f, p), inst in order.items():
+        if len(inst["points"]) != skel.num_joints:
+            raise InputFormatError(f"{name}: frame {f}, person {p}: expected {skel.num_joints} joint rows")
+        poses.append(np.array([inst["points"][j] for j in range(skel.num_joints)]) * scale)
+        frame_index.append(f)
+        person.append(p)
+        ids.append(int(inst["image_id"]) if inst["image_id"].lstrip("-").isdigit() else inst["image_id"])
+        files.append(inst["file_name"])
+        lifted.append(inst["lifted"])
+        observed.append([inst["observed"][j] for j in range(skel.num_joints)])
+        radii.append([inst["radii"].get(j, np.nan) for j in range(skel.num_joints)])
+    fps = _fps(meta.get("params"), name) if meta is not None else None
+    return _finish(name, "csv", skel, poses, frame_index, person, ids, files, lifted,
+                   [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
+                   if "uncertainty_m" in columns else None, fps, coord, units)  # fmt: skip
+
+
+# --- NPZ ----------------------------------------------------------------------------------------
+
+
+def _read_npz(data: bytes, name: str) -> ResultPoses:
+    try:
+        with np.load(io.BytesIO(data), allow_pickle=False) as npz:
+            arrays = {k: npz[k] for k in npz.files}
+    except (OSError, ValueError, zipfile.BadZipFile) as exc:
+        raise InputFormatError(f"{name}: not a readable NPZ archive ({exc})") from None
+    lacking = [k for k in ("poses", "joint_names", "units", "frame_index", "person") if k not in arrays]
+    if lacking:
+        raise InputFormatError(f"{name}: array(s) {', '.join(lacking)} missing: not a zedo result NPZ")
+    names = tuple(str(n) for n in arrays["joint_names"])
+    meta: dict[str, Any] = {}
+    if "metadata" in arrays:
+        try:
+            meta = json.loads(str(arrays["metadata"]))
+        except json.JSONDecodeError:
+            raise InputFormatError(f"{name}: metadata: not JSON") from None
+        _check_schema(meta, name)
+    skel = _skeleton_of(meta, name) if meta else skeleton_from_joint_names(names)
+    if skel is None or skel.joints != names:
+        raise InputFormatError(f"{name}: joint_names: {', '.join(names)} are not a zedo skeleton's joints")
+    poses = np.asarray(arrays["poses"], dtype=float)
+    n = len(poses)
+    if poses.shape != (n, skel.num_joints, 3):
+        raise InputFormatError(f"{name}: poses: expected shape (N, {skel.num_joints}, 3), got {poses.shape}")
+    scale = _SCALE_TO_M[_units(str(arrays["units"]), name)]
+    radii = arrays.get("uncertainty_m")
+    if radii is not None and np.shape(radii) != (n, skel.num_joints):
+        raise InputFormatError(f"{name}: uncertainty_m: expected shape ({n}, {skel.num_joints})")
+    ids = arrays.get("image_ids", arrays["frame_index"])
+    files = arrays.get("file_names", np.array([""] * n))
+    return ResultPoses(
+        name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
+        np.asarray(arrays["person"], dtype=np.int64), [i.item() for i in np.asarray(ids)],
+        [str(f) or None for f in files], np.asarray(arrays.get("lifted", np.isfinite(poses).all((1, 2))), dtype=bool),
+        np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
+        None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
+        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]),
+    )  # fmt: skip

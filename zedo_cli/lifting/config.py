@@ -1,0 +1,93 @@
+"""What a lift is asked to do: `LiftConfig`, the named presets and the temporal modes.
+
+Kept apart from the solver (and free of torch) so that option parsing and `--help` can show
+the presets and defaults without loading the network code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+
+from ..errors import ConfigError
+
+
+@dataclass(frozen=True)
+class LiftConfig:
+    """Lifting settings. The defaults are the reference's numbers (`faithful` preset)."""
+
+    preset: str = "faithful"
+    init_steps: int = 500  # Adam steps of the rotation/depth fit
+    init_lr: float = 0.1
+    init_depth_m: float = 1.0  # base distance along the root ray (the reference's IPO_T)
+    scale_min: float = 0.5  # clamp of the depth scale (SyRIP values)
+    scale_max: float = 8.0
+    steps: int = 1000  # prior iterations
+    t_start: float = 0.1
+    t_end: float = 0.01
+    release_fraction: float = 0.05  # root translation re-solved in the last 5 % of iterations
+    step_delta: float | None = 1e-3  # the reference's fixed delta; None: 1 / steps
+    flow: float = 1.0  # the reference's probability-flow factor (textbook: 0.5)
+    min_observed: int = 3  # fewer observed joints: the instance is not lifted
+    chunk_size: int = 4096  # poses lifted together
+    bf16: bool = False  # run the network in bfloat16 (fast on CPUs with AVX512-BF16 or AMX, and on GPUs)
+    # Warm start only (`lift(start_poses=...)`); unused otherwise.
+    warm_steps: int = 3  # prior iterations from a start pose (measured: 3 beat 10)
+    warm_t_start: float = 0.01  # a start pose is nearly right: the lowest noise level of the presets
+    warm_release_fraction: float = 0.0  # keep the start's translation (a smoothed one: re-solving adds jitter)
+    warm_step_delta: float | None = None  # None: the main loop's delta
+
+    def __post_init__(self) -> None:
+        if self.steps < 1 or self.init_steps < 0:
+            raise ConfigError("steps must be >= 1 and init steps >= 0")
+        if self.step_delta is not None and self.step_delta <= 0:
+            raise ConfigError(f"step_delta must be > 0, got {self.step_delta}")
+        if not 0 <= self.release_fraction <= 1:
+            raise ConfigError(f"release_fraction must be in [0, 1], got {self.release_fraction}")
+        if self.chunk_size < 1:
+            raise ConfigError(f"chunk_size must be >= 1, got {self.chunk_size}")
+        if not 0 < self.t_end <= self.t_start <= 1:
+            raise ConfigError(f"need 0 < t_end <= t_start <= 1, got {self.t_end}, {self.t_start}")
+        if self.min_observed < 2:
+            raise ConfigError("min_observed must be >= 2 (the translation solve needs two joints)")
+        if self.warm_steps < 1:
+            raise ConfigError(f"warm_steps must be >= 1, got {self.warm_steps}")
+        if not self.t_end <= self.warm_t_start <= 1:
+            raise ConfigError(f"need t_end <= warm_t_start <= 1, got {self.warm_t_start}")
+        if not 0 <= self.warm_release_fraction <= 1:
+            raise ConfigError(f"warm_release_fraction must be in [0, 1], got {self.warm_release_fraction}")
+        if self.warm_step_delta is not None and self.warm_step_delta <= 0:
+            raise ConfigError(f"warm_step_delta must be > 0, got {self.warm_step_delta}")
+
+    @property
+    def delta(self) -> float:
+        """The probability-flow step size in effect."""
+        return 1.0 / self.steps if self.step_delta is None else self.step_delta
+
+    @property
+    def warm_delta(self) -> float:
+        """The step size of the warm-started loop."""
+        return self.delta if self.warm_step_delta is None else self.warm_step_delta
+
+    def to_dict(self) -> dict[str, float | int | str | bool | None]:
+        return {**asdict(self), "delta": self.delta}
+
+
+_FAST = LiftConfig(preset="fast", init_steps=100, steps=50, step_delta=None, release_fraction=0.15)
+PRESETS: dict[str, LiftConfig] = {
+    "faithful": LiftConfig(),
+    "fast": _FAST,
+    "fast-bf16": replace(_FAST, preset="fast-bf16", bf16=True),
+}
+DEFAULT_PRESET = "fast"
+
+
+def get_preset(name: str) -> LiftConfig:
+    try:
+        return PRESETS[name]
+    except KeyError:
+        raise ConfigError(f"unknown preset {name!r}; presets: {', '.join(PRESETS)}") from None
+
+
+TEMPORAL_MODES = ("none", "smooth", "two-pass")
+DEFAULT_TEMPORAL_MODE = "smooth"  # measured best (benchmarks/temporal.py): lowest MPJPE and jitter, cheapest
+DEFAULT_SIGMA_FRAMES = 2.0
