@@ -36,6 +36,13 @@ class IntrinsicsError(ZedoError):
     exit_code = 2
 
 
+class CameraInputError(IntrinsicsError):
+    """The camera cannot be settled from an input file: a malformed intrinsics file, or an
+    image size that is missing or out of range where the principal point needs it."""
+
+    exit_code = 3
+
+
 class WeightsError(ZedoError):
     """A weights file is missing, corrupt, of another format version or of another skeleton."""
 

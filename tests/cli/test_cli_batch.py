@@ -108,7 +108,7 @@ def test_batch_exit_codes() -> None:
     assert batch_exit_code([ok, ok]) == 0
     assert batch_exit_code([ok, bad_input]) == 4
     assert batch_exit_code([bad_input, bad_input]) == 3
-    assert batch_exit_code([bad_input, bad_usage]) == 1
+    assert batch_exit_code([bad_input, bad_usage]) == 4  # mixed failure codes: 4, the table says which
 
 
 def test_missing_image_size_names_the_input(tiny_prior_path: Path, tmp_path: Path) -> None:
@@ -117,5 +117,7 @@ def test_missing_image_size_names_the_input(tiny_prior_path: Path, tmp_path: Pat
     src = tmp_path / "op_000000000000_keypoints.json"
     src.write_text(json.dumps(frame))
     result = runner.invoke(app, lift_args(tiny_prior_path, str(src)))
-    assert result.exit_code == 2 and "op_000000000000_keypoints.json" in result.output
+    # The input lacks what lifting needs (an image size for the principal point): exit 3, as for
+    # any input that cannot work, naming the input and the options that would supply it.
+    assert result.exit_code == 3 and "op_000000000000_keypoints.json" in result.output
     assert "--image-size" in result.output

@@ -14,7 +14,7 @@ from zedo_cli.prior.weights import BUNDLED_PRIORS, DEFAULT_PRIOR, bundled_prior_
 
 
 def _rewrite(src: Path, dst: Path, *, meta: dict[str, str] | None = None, drop: str | None = None,
-             add: str | None = None) -> Path:  # fmt: skip
+             add: str | None = None, nan: str | None = None) -> Path:  # fmt: skip
     from safetensors import safe_open
 
     with safe_open(str(src), framework="pt") as fh:
@@ -25,6 +25,9 @@ def _rewrite(src: Path, dst: Path, *, meta: dict[str, str] | None = None, drop: 
         tensors.pop(drop)
     if add:
         tensors[add] = torch.zeros(2)
+    if nan:
+        tensors[nan] = tensors[nan].clone()
+        tensors[nan].view(-1)[0] = float("nan")
     save_file(tensors, str(dst), metadata=metadata)
     return dst
 
@@ -53,13 +56,39 @@ def test_loading_for_another_skeleton_is_an_error(tiny_prior_path: Path) -> None
         ({"drop": "model.head.bias"}, "do not match the model"),
         ({"drop": "template"}, "template"),
         ({"add": "surprise"}, "unexpected tensors"),
+        # Issue 16: every problem of the file is a WeightsError (exit 3), checked before allocating.
+        ({"meta": {"skeleton": "nope"}}, "metadata 'skeleton': unknown skeleton 'nope'"),
+        ({"meta": {"model_config": json.dumps({"num_joints": 12, "hidden": 0})}}, "model hidden must be a positive"),
+        ({"meta": {"model_config": json.dumps({"num_joints": 12, "hidden": 128, "embed": 32, "groups": 8,
+                                               "num_blocks": 1, "time_scale": float("nan")})}},
+         "model_config.time_scale is nan"),
+        ({"meta": {"sde_config": json.dumps({"type": "subvp", "beta_min": float("nan"), "beta_max": 20.0,
+                                             "num_scales": 1000})}}, "beta_min"),
+        ({"meta": {"sde_config": json.dumps({"type": "subvp", "beta_min": 0.1, "beta_max": 1e9, "num_scales": 1000})}},
+         "beta_max"),
+        ({"meta": {"sde_config": json.dumps({"type": "subvp", "beta_min": 0.1, "beta_max": 20.0, "num_scales": 0})}},
+         "num_scales"),
+        ({"meta": {"model_config": json.dumps([1, 2])}}, "must be a JSON object"),
+        ({"nan": "model.head.weight"}, "'model.head.weight' holds NaN"),
+        ({"nan": "template"}, "'template' holds NaN"),
     ],
-)
+)  # fmt: skip
 def test_strict_loading_rejects_altered_files(
     tiny_prior_path: Path, tmp_path: Path, change: dict, message: str
 ) -> None:
     bad = _rewrite(tiny_prior_path, tmp_path / "bad.safetensors", **change)
     with pytest.raises(WeightsError, match=message):
+        load_prior(bad)
+
+
+def test_declared_sizes_are_checked_against_the_tensors_before_any_allocation(
+    tiny_prior_path: Path, tmp_path: Path
+) -> None:
+    """A small file whose metadata declares a huge network (hidden 2**20: 4 TiB of float32 per
+    layer) fails on the tensor shapes; the network is never built in memory."""
+    config = {"num_joints": 12, "hidden": 2**20, "embed": 32, "groups": 8, "num_blocks": 1, "dropout": 0.0}
+    bad = _rewrite(tiny_prior_path, tmp_path / "huge.safetensors", meta={"model_config": json.dumps(config)})
+    with pytest.raises(WeightsError, match=r"model.stem.dense.weight has shape \[128, 36\], .* needs \[1048576, 36\]"):
         load_prior(bad)
 
 

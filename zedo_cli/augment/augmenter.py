@@ -29,6 +29,7 @@ from ..prior.sde import SubVPSDE
 from ..prior.training import TrainProgress, TrainResult, train_score_model
 from ..prior.weights import (
     Prior,
+    check_tensor_header,
     file_sha256,
     json_field,
     load_model_state,
@@ -36,6 +37,7 @@ from ..prior.weights import (
     network_metadata,
     read_network_configs,
     read_safetensors,
+    read_safetensors_header,
     write_safetensors_atomic,
 )
 from .conversion import SizeModel, domain_training_set, fit_size_model
@@ -140,7 +142,7 @@ def save_augmenter(
 def load_augmenter(path: str | Path, *, device: str = "cpu") -> Augmenter:
     """Load an augmenter strictly (format, version, configs, every tensor)."""
     path = Path(path)
-    meta, tensors = read_safetensors(path)
+    meta, header = read_safetensors_header(path)
     if meta.get("format") != AUGMENTER_FORMAT:
         hint = " (that is a prior: give it to lift or adapt)" if meta.get("format") == "zedo.prior" else ""
         raise WeightsError(f"{path}: metadata 'format' is {meta.get('format')!r}, not {AUGMENTER_FORMAT!r}{hint}")
@@ -156,9 +158,11 @@ def load_augmenter(path: str | Path, *, device: str = "cpu") -> Augmenter:
         sizes = SizeModel(**json_field(meta, "sizes", path))
     except TypeError as exc:
         raise WeightsError(f"{path}: metadata 'sizes' has unknown or missing fields ({exc})") from None
+    check_tensor_header(path, header, lambda: DomainScoreNet(ScoreNet(cfg)))  # before any allocation
+    _, tensors = read_safetensors(path)
     model = DomainScoreNet(ScoreNet(cfg))
     load_model_state(model, tensors, path)
     model.to(device).eval()
     parsed = ("model_config", "sde_config", "domains", "sizes", "training", "data", "initialised_from")
-    metadata = {k: (json.loads(v) if k in parsed else v) for k, v in meta.items()}
+    metadata = {k: (json_field(meta, k, path) if k in parsed else v) for k, v in meta.items()}
     return Augmenter(model, sde, skel, sizes, metadata, file_sha256(path), str(path))

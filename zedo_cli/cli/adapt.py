@@ -12,6 +12,7 @@ from ..data.datasets import load_npz_poses, npz_license
 from ..errors import ConfigError
 from ..files import check_writable
 from ..prior.schedules import ADAPT_TRAINING, STRATEGIES, default_training
+from .checks import check_device, check_seed, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
 
@@ -95,6 +96,9 @@ def adapt_command(
     if strategy not in STRATEGIES:
         raise ConfigError(f"--strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
     check_weights_output(weights, dtype)
+    check_syrip_split(split)
+    check_seed(seed)
+    check_device(device)
     from ..prior.adapt import adapt_prior, select_subset, with_added_poses, write_adapted_prior  # torch from here on
     from ..prior.recipes import DTYPES, SYRIP_LICENSE
     from ..prior.weights import load_prior, resolve_prior_path

@@ -14,6 +14,7 @@ from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..files import atomic_path, check_writable
 from ..prior.schedules import AUGMENTER_TRAINING
+from .checks import MAX_COUNT, check_device, check_range, check_seed, check_steps, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
 ORIENT_MODES = ("keep", "infant")
@@ -101,6 +102,9 @@ def fit_augmenter_command(
     from ..prior.weights import load_prior, resolve_prior_path
 
     check_weights_output(weights, dtype)
+    check_syrip_split(split)
+    check_seed(seed)
+    check_device(device)
     check_writable(out, overwrite)
     cfg = replace(AUGMENTER_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     start = None if init == "none" else load_prior(resolve_prior_path(init), device="cpu")
@@ -224,6 +228,9 @@ def augment_command(
     from ..augment.plots import PLOT_NAMES
 
     check_strength(strength)
+    check_range("--count", count, 1, MAX_COUNT)
+    check_steps(steps)
+    check_seed(seed)
     if scale not in SCALE_MODES:
         raise ConfigError(f"--scale must be one of {', '.join(SCALE_MODES)}, got {scale!r}")
     if orient not in ORIENT_MODES:

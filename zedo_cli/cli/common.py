@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import os
+import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -32,8 +33,9 @@ EXIT_OK = 0
 EXIT_RUNTIME = 1
 EXIT_USAGE = 2
 EXIT_INPUT = 3
-EXIT_PARTIAL = 4  # batch: some inputs lifted, some failed
+EXIT_PARTIAL = 4  # batch: some inputs failed (the others were written)
 EXIT_INTERRUPTED = 130
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE: what a shell reports for a tool whose reader went away
 
 # When zedo's own code began (Python's start, about 0.02 s, comes before): start-up is
 # reported apart from the work, so a rate is never diluted by imports and model loading.
@@ -52,8 +54,11 @@ def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
         try:
             return func(*args, **kwargs)
         except ZedoError as exc:
-            err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
+            err_console.print(f"zedo: error: {one_line(str(exc))}", markup=False, soft_wrap=True)
             raise typer.Exit(exc.exit_code) from None
+        except BrokenPipeError:  # stdout's reader stopped reading (`zedo lift x.json -o - | head -1`): quietly
+            silence_stdout()
+            raise typer.Exit(EXIT_BROKEN_PIPE) from None
         except KeyboardInterrupt:
             err_console.print("zedo: interrupted", markup=False, soft_wrap=True)
             raise typer.Exit(EXIT_INTERRUPTED) from None
@@ -63,13 +68,28 @@ def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
             if os.environ.get("ZEDO_DEBUG"):
                 raise
             err_console.print(
-                f"zedo: internal error: {type(exc).__name__}: {exc} (set ZEDO_DEBUG=1 for a traceback)",
+                f"zedo: internal error: {type(exc).__name__}: {one_line(str(exc))} (set ZEDO_DEBUG=1 for a traceback)",
                 markup=False,
                 soft_wrap=True,
             )
             raise typer.Exit(EXIT_RUNTIME) from None
 
     return wrapper
+
+
+def one_line(text: str) -> str:
+    """`text` on one line, control characters escaped (a newline or a terminal escape sequence
+    in a file name or an exception's text must not break or rewrite the terminal's line)."""
+    return "".join(ch if ch.isprintable() else ch.encode("unicode_escape").decode("ascii") for ch in text)
+
+
+def silence_stdout() -> None:
+    """Point stdout at /dev/null, so that Python's final flush of a closed pipe stays quiet."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # no real file descriptor (e.g. captured by a test runner)
+        pass
 
 
 class LineProgress:

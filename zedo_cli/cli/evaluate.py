@@ -15,6 +15,7 @@ from ..data.datasets import load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
 from ..lifting.config import PRESETS, get_preset
+from .checks import check_device, check_syrip_split
 from .common import err_console, error_boundary, progress_bar
 
 if TYPE_CHECKING:
@@ -50,6 +51,7 @@ def evaluate_command(
     """
     if (syrip_dir is None) == (gt is None):
         raise ConfigError("give the ground truth as either --syrip-dir or --gt")
+    check_syrip_split(split)
     truth = load_syrip_3d(syrip_dir, split) if syrip_dir is not None else load_npz_poses(gt)  # type: ignore[arg-type]
     from ..evaluation.syrip_benchmark import score_poses  # heavy imports only once the options are read
 
@@ -144,6 +146,7 @@ def benchmark_command(
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
     configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
+    check_device(device)
     from ..evaluation.syrip_benchmark import load_throughput_inputs, measure_throughput, run_syrip_benchmark
     from ..prior.weights import load_prior, resolve_prior_path
 

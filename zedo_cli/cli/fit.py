@@ -11,6 +11,7 @@ from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
+from .checks import check_device, check_seed, check_syrip_split
 from .common import epoch_progress, err_console, error_boundary
 
 
@@ -111,6 +112,9 @@ def fit_prior_command(
 
       zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
     """
+    check_syrip_split(split)  # option errors before any data is read
+    check_seed(seed)
+    check_device(device)
     from ..data.adult import ADULT_LICENSE  # the training stack loads here, not for --help
     from ..prior.recipes import (
         SYRIP_LICENSE,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections import Counter
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Optional
@@ -10,6 +11,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Optional
 import numpy as np
 import typer
 from rich.table import Table
+from rich.text import Text
 
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, get_skeleton
@@ -19,8 +21,9 @@ from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
 from ..lifting.people import PERSON_MODES, select_people
 from ..version import __version__
-from .common import COMMAND_START, EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
-from .lift_plan import STDIN, expand_inputs, plan_outputs
+from .checks import MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
+from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, one_line, progress_bar
+from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
 
 if TYPE_CHECKING:
     from ..lifting.solver import LiftProgress, LiftResult
@@ -121,7 +124,7 @@ def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoint
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
     """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
     from ..lifting.camera import resolve_intrinsics
-    from ..lifting.solver import observed_mask
+    from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
 
     kp, places = read_selected(source, prior, st)
     try:
@@ -129,20 +132,29 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
             kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
             intrinsics_file=str(st.intrinsics) if st.intrinsics else None,
         )  # fmt: skip
-    except IntrinsicsError as exc:  # name the input whose camera could not be settled
-        raise IntrinsicsError(f"{source}: {exc}") from None
-    usable = observed_mask(kp.xy, kp.confidence, st.min_confidence).sum(1) >= st.cfg.min_observed
-    if not usable.any():
+    except IntrinsicsError as exc:  # name the input whose camera could not be settled (same type: exit code)
+        raise type(exc)(f"{source}: {exc}") from None
+    obs = observed_mask(kp.xy, kp.confidence, st.min_confidence)
+    status = geometry_status(kp.xy, mats, obs, st.cfg.min_observed)  # cheap: before any lifting
+    if (status == "too_few_observed_joints").all():
         raise InputFormatError(
             f"{source}: no instance has {st.cfg.min_observed} or more observed {prior.skeleton.name} joints "
             f"(all missing, or below --min-confidence {st.min_confidence})"
         )
+    if not (status == LIFTED).any():
+        first = str(Counter(str(s) for s in status).most_common(1)[0][0])
+        raise InputFormatError(f"{source}: no instance can be lifted ({_reason_counts(status)}; "
+                               f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     if not st.quiet:
         err_console.print(f"lifting {len(kp)} instances from {source} ({kp.format}) with {prior.label}, "
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
                    frames=_frame_numbers(kp))  # fmt: skip
+    if not res.lifted.any():  # nothing but flags to write: fail loudly instead
+        first = str(Counter(str(s) for s in res.status).most_common(1)[0][0])
+        raise InputFormatError(f"{source}: no instance could be lifted ({_not_lifted_counts(res)}; "
+                               f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
     params.update(person=st.person, fps=st.fps, temporal={"mode": st.temporal, "sigma_frames": st.sigma})
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
@@ -150,9 +162,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
                   "zedo_version": __version__}  # fmt: skip
     write_result(output, kp, res, mats, sources, params, input_info, fmt=st.output_format, units=st.units,
                  frame=st.frame, overwrite=st.overwrite)  # fmt: skip
-    if st.plot_dir is not None:
-        stem = Path(output).name.split(".zedo.")[0] if output != STDIN else "stdin"
-        written = write_plots(st.plot_dir / stem, kp, res, st)
+    if st.plot_dir is not None:  # its paths were checked before any work (lift_plan.check_plot_paths)
+        written = write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
         if not st.quiet and written:
             err_console.print(f"plots: {', '.join(str(p) for p in written)}", markup=False)
     lifted = int(res.lifted.sum())
@@ -181,30 +192,45 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
                           f"mean reprojection error {reproj:.2f} px"
                           + ("" if output == STDIN else f"; wrote {output}"), markup=False)  # fmt: skip
     if lifted < len(kp):
-        err_console.print(f"zedo: warning: {source}: {len(kp) - lifted} instances had too few observed joints "
-                          "and were not lifted (null in the output)", markup=False)  # fmt: skip
+        err_console.print(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
+                          "(null in the output, flagged not_lifted_<reason>)", markup=False, soft_wrap=True)  # fmt: skip
+
+
+def _not_lifted_counts(res: LiftResult) -> str:
+    """Why instances were not lifted, most common first ("2 too_few_observed_joints, 1 poor_fit")."""
+    return _reason_counts(res.status[~res.lifted])
+
+
+def _reason_counts(status: np.ndarray) -> str:
+    return ", ".join(f"{c} {reason}" for reason, c in Counter(str(s) for s in status).most_common())
 
 
 def _summary_table(outcomes: list[FileOutcome]) -> Table:
     table = Table(title=f"zedo lift: {len(outcomes)} inputs")
     for col in ("input", "instances", "lifted", "s", "output / error"):
         table.add_column(col, justify="right" if col in ("instances", "lifted", "s") else "left")
-    for o in outcomes:
-        result = f"[red]{o.error}[/red]" if o.error else o.output
-        table.add_row(o.source, str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
+    for o in outcomes:  # Text: names and messages are shown as they are, never read as rich markup
+        result = Text(one_line(str(o.error)), style="red") if o.error else Text(one_line(o.output))
+        table.add_row(Text(one_line(o.source)), str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
     return table
 
 
 def batch_exit_code(outcomes: list[FileOutcome]) -> int:
-    """0 when every input was lifted, EXIT_PARTIAL when some were, else the failures' common
-    exit code (1 when they differ)."""
+    """0 when every input was lifted; EXIT_PARTIAL when some failed and others were written, or
+    when all failed for different reasons (e.g. 2 and 3: the table says which); else the
+    failures' common exit code."""
     failed = [o.error for o in outcomes if o.error is not None]
     if not failed:
         return 0
-    if len(failed) < len(outcomes):
-        return EXIT_PARTIAL
     codes = {e.exit_code for e in failed}
-    return codes.pop() if len(codes) == 1 else EXIT_RUNTIME
+    if len(failed) < len(outcomes) or len(codes) > 1:
+        return EXIT_PARTIAL
+    return codes.pop()
+
+
+def internal_error(source: str, exc: Exception) -> ZedoError:
+    """An unexpected exception of one input, as that input's error (exit 1)."""
+    return ZedoError(f"{source}: internal error: {type(exc).__name__}: {exc}")
 
 
 def _check_options(st: LiftSettings) -> None:
@@ -218,10 +244,8 @@ def _check_options(st: LiftSettings) -> None:
         raise ConfigError(f"--person must be one of {', '.join(PERSON_MODES)}, got {st.person!r}")
     if st.temporal not in TEMPORAL_MODES:
         raise ConfigError(f"--temporal must be one of {', '.join(TEMPORAL_MODES)}, got {st.temporal!r}")
-    if not st.sigma > 0:
-        raise ConfigError(f"--sigma must be > 0 frames, got {st.sigma}")
-    if st.fps is not None and not st.fps > 0:
-        raise ConfigError(f"--fps must be > 0, got {st.fps}")
+    check_range("--sigma", st.sigma, 0, MAX_SIGMA_FRAMES, low_open=True, unit=" frames")
+    check_range("--fps", st.fps, 0, MAX_FPS, low_open=True)
 
 
 ENGINES = ("local", "ray")
@@ -365,7 +389,10 @@ def lift_command(
     min_confidence: Annotated[
         float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")
     ] = 0.0,
-    seed: Annotated[int, typer.Option(help="Seed, recorded in the output (every preset is deterministic).")] = 0,
+    seed: Annotated[
+        int,
+        typer.Option(help="Seed, recorded in the output. Lifting has no randomness: the poses do not depend on it."),
+    ] = 0,
     device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
@@ -411,6 +438,8 @@ def lift_command(
 
       zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
     """
+    check_steps(steps)  # usage errors fail before torch and the prior load
+    check_seed(seed)
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
     if skeleton is not None:
@@ -422,11 +451,16 @@ def lift_command(
     _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
-    from ..lifting.camera import check_focal  # torch loads here: help and the errors above answer at once
+    # torch loads here: help and the errors above answer at once
+    from ..lifting.camera import check_focal, check_image_size, check_principal_point
     from ..prior.weights import load_prior, resolve_prior_path
 
     check_focal(focal)  # usage errors fail before the prior is loaded
+    check_principal_point(principal_point)
+    check_image_size(image_size)
+    check_device(device)
     if plot is not None:
+        check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
     if not quiet:
@@ -442,9 +476,12 @@ def lift_command(
         for source, output in zip(sources, outputs, strict=True):
             try:
                 outcomes.append(lift_file(source, output, prior, st))
-            except ZedoError as exc:
-                err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
-                outcomes.append(FileOutcome(source, output, error=exc))
+            except BrokenPipeError:  # stdout went away: the run ends (quietly, in the error boundary)
+                raise
+            except Exception as exc:  # any failure of one input is that input's alone
+                error = exc if isinstance(exc, ZedoError) else internal_error(source, exc)
+                err_console.print(f"zedo: error: {one_line(str(error))}", markup=False, soft_wrap=True)
+                outcomes.append(FileOutcome(source, output, error=error))
     if not quiet:
         err_console.print(_summary_table(outcomes))
     code = batch_exit_code(outcomes)

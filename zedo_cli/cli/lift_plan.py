@@ -4,16 +4,19 @@ one output path per input, all checked before anything is lifted."""
 from __future__ import annotations
 
 import glob
+import os
 from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
 from ..formats.openpose import is_openpose_folder, is_zedo_output
 from ..formats.writers import default_output_name, output_format
+from ..formats.writers_csv import sidecar_path
 
 STDIN = "-"
 _INPUT_SUFFIXES = (".json", ".jsonl", ".ndjson")
 _GLOB_CHARS = set("*?[")
+PLOT_ROLES = ("first", "median", "worst")  # formats.plots writes <prefix>.<role>.png
 
 
 def _folder_inputs(folder: Path) -> list[str]:
@@ -83,7 +86,81 @@ def plan_outputs(
             default = default_output_name(Path(name.rstrip("/")), fmt or "json")
             outputs.append(str(output_dir / default.name if output_dir is not None else default))
     _check_outputs(inputs, outputs, overwrite)
+    _check_inputs_kept(inputs, outputs, fmt)
     return outputs
+
+
+def _input_files(inputs: list[str]) -> list[Path]:
+    """Every file the inputs read: the files given, and the files inside a folder input."""
+    files: list[Path] = []
+    for name in inputs:
+        if name == STDIN:
+            continue
+        path = Path(name)
+        files += sorted(p for p in path.iterdir() if p.is_file()) if path.is_dir() else [path]
+    return files
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """The same file: the same real path, or (both existing) the same inode (a hard link)."""
+    if os.path.realpath(a) == os.path.realpath(b):  # never raises: a symlink loop is the reader's to report
+        return True
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def _written_files(outputs: list[str], fmt: str | None) -> list[Path]:
+    """The files the outputs create: each output, and a CSV output's `.meta.json` sidecar."""
+    written = []
+    for out in outputs:
+        if out != STDIN:
+            written.append(Path(out))
+            if output_format(out, fmt) == "csv":
+                written.append(sidecar_path(out))
+    return written
+
+
+def _check_inputs_kept(inputs: list[str], outputs: list[str], fmt: str | None) -> None:
+    """No output (or sidecar) may replace an input of the batch, even with --overwrite: the
+    input would be lost, and a later input of the batch would read a result instead."""
+    files = _input_files(inputs)
+    for written in _written_files(outputs, fmt):
+        for src in files:
+            if _same_file(written, src):
+                raise ConfigError(f"{written}: is an input of this run ({src}); it is never overwritten, "
+                                  "not even with --overwrite: choose another -o or --output-dir")  # fmt: skip
+
+
+def plot_prefix(output: str) -> str:
+    """The plots' file-name prefix for an output: its name before `.zedo.` (`stdin` for stdout)."""
+    return "stdin" if output == STDIN else Path(output).name.split(".zedo.")[0]
+
+
+def check_plot_paths(inputs: list[str], outputs: list[str], plot_dir: Path, overwrite: bool) -> None:
+    """Every PNG `--plot DIR` may write, checked before any work: the folder is a folder (or
+    can be made), no two inputs share a plot name, and no plot replaces an input, or an
+    existing file without `overwrite`."""
+    if plot_dir.exists() and not plot_dir.is_dir():
+        raise ConfigError(f"--plot {plot_dir}: exists and is not a folder")
+    owner: dict[str, str] = {}
+    existing = []
+    files = _input_files(inputs)
+    for src, out in zip(inputs, outputs, strict=True):
+        for role in PLOT_ROLES:
+            png = plot_dir / f"{plot_prefix(out)}.{role}.png"
+            key = os.path.realpath(png)
+            if key in owner:
+                raise ConfigError(f"{owner[key]} and {src} would both be plotted to {png}; use separate --plot folders")
+            owner[key] = src
+            if any(_same_file(png, f) for f in files):
+                raise ConfigError(f"{png}: is an input of this run; plots never overwrite an input")
+            if png.exists() and not overwrite:
+                existing.append(str(png))
+    if existing:
+        more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
+        raise ConfigError(f"{', '.join(existing[:3])}{more}: already exist(s); pass --overwrite to replace")
 
 
 def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> None:
@@ -92,7 +169,7 @@ def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> No
     for src, dst in zip(inputs, outputs, strict=True):
         if dst == STDIN:
             continue
-        key = str(Path(dst).resolve())
+        key = os.path.realpath(dst)
         if key in seen:
             raise ConfigError(f"{seen[key]} and {src} would both be written to {dst}; use separate --output-dir runs")
         seen[key] = src

@@ -14,6 +14,7 @@ from rich.table import Table
 
 from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
 from ..lifting.config import PRESETS, get_preset
+from .checks import check_device, check_steps
 from .common import err_console, error_boundary, progress_bar
 
 if TYPE_CHECKING:
@@ -70,8 +71,10 @@ def benchmark_minirgbd_command(
     """
     # Option errors before the prior and the data are read.
     cfg = get_preset(preset)
+    check_steps(steps)
     if steps is not None:
         cfg = replace(cfg, steps=steps)
+    check_device(device)
     sequences = split_sequences(split, side)
     protocol_joints(protocol, drop_joint)
     get_mapping(mapping)

@@ -51,7 +51,7 @@ def _skeleton_doc(skeleton: Skeleton) -> dict[str, Any]:
 
 
 def _person(kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: OutputOptions) -> dict[str, Any]:
-    flags = [] if res.lifted[i] else ["not_lifted_too_few_observed_joints"]
+    flags = [] if res.lifted[i] else [f"not_lifted_{res.status[i]}"]  # reasons: lifting.solver.NOT_LIFTED
     missing = [kp.skeleton.joints[j] for j in np.flatnonzero(~res.observed[i])]
     if missing and res.lifted[i]:
         flags.append("joints_filled_by_prior: " + ", ".join(missing))
@@ -137,14 +137,20 @@ def iter_frames(
 def build_summary(kp: Keypoints2D, res: LiftResult) -> dict[str, Any]:
     lifted = int(res.lifted.sum())
     mean_error = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
-    return {
+    summary: dict[str, Any] = {
         "instances_total": len(kp),
         "instances_lifted": lifted,
         "instances_skipped": len(kp) - lifted,
+    }
+    if lifted < len(kp):  # why, by reason (only then, so that a fully lifted document stays as it was)
+        reasons, counts = np.unique(res.status[~res.lifted], return_counts=True)
+        summary["not_lifted"] = {str(r): int(c) for r, c in zip(reasons, counts, strict=True)}
+    summary.update({
         "frames_total": len(group_frames(kp.image_ids).members),
         "mean_reprojection_error_px": _num(mean_error, 3),
         "seconds": round(res.seconds, 2),
-    }
+    })  # fmt: skip
+    return summary
 
 
 def build_result_document(

@@ -5,7 +5,8 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
     poses                  (N, J, 3) float64  in `units`, in `coordinate_frame`; NaN where not lifted
     root_translation       (N, 3)    float64  the root point in the camera frame, in `units`
     observed               (N, J)    bool     joints used as 2D constraints (False: filled by the prior)
-    lifted                 (N,)      bool     False: too few observed joints (poses all NaN)
+    lifted                 (N,)      bool     False: not lifted (poses all NaN), `status` says why
+    status                 (N,)      str      "lifted", or the reason (lifting.solver.NOT_LIFTED)
     confidence             (N, J)    float64  input confidence; NaN where missing
     keypoints_2d           (N, J, 2) float64  input pixels; NaN where missing
     reprojection_error_px  (N, J)    float64  NaN where not observed
@@ -58,6 +59,7 @@ def npz_arrays(
         "root_translation": np.where(res.lifted[:, None], res.root_translation * opts.scale, np.nan),
         "observed": res.observed.astype(bool),
         "lifted": res.lifted.astype(bool),
+        "status": np.asarray(res.status, dtype=np.str_),  # "lifted" or why not (lifting.solver.NOT_LIFTED)
         "confidence": np.where(kp.confidence > 0, kp.confidence, np.nan),
         "keypoints_2d": kp.xy.astype(np.float64),
         "reprojection_error_px": res.reprojection_error_px.astype(np.float64),

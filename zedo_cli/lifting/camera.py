@@ -11,9 +11,14 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from ..errors import IntrinsicsError
+from ..errors import CameraInputError, IntrinsicsError
 
 PSEUDO_FOCAL_PX = 2000.0  # the paper's pseudo focal length when the camera is unknown
+# Pixel quantities (coordinates, image sizes, principal points, focal lengths) are bounded by
+# PIXEL_LIMIT: no real image is a million pixels wide, and lifting runs in float32, whose
+# 24-bit mantissa resolves 1/16 px at 1e6 px but only whole pixels at 1e7.
+PIXEL_LIMIT = 1e6
+MIN_FOCAL_PX = 1.0  # below 1 px any image of a pixel or more spans 90 degrees or more
 
 
 @dataclass(frozen=True)
@@ -30,8 +35,14 @@ class Intrinsics:
         values = (self.fx, self.fy, self.cx, self.cy)
         if not all(np.isfinite(v) for v in values):
             raise IntrinsicsError(f"intrinsics must be finite numbers, got {values}")
-        if self.fx <= 0 or self.fy <= 0:
-            raise IntrinsicsError(f"focal length must be > 0 px, got fx={self.fx}, fy={self.fy}")
+        if not (MIN_FOCAL_PX <= self.fx <= PIXEL_LIMIT and MIN_FOCAL_PX <= self.fy <= PIXEL_LIMIT):
+            raise IntrinsicsError(
+                f"focal length must be in [{MIN_FOCAL_PX:g}, {PIXEL_LIMIT:g}] px, got fx={self.fx:g}, fy={self.fy:g}"
+            )
+        if abs(self.cx) > PIXEL_LIMIT or abs(self.cy) > PIXEL_LIMIT:
+            raise IntrinsicsError(
+                f"principal point must be within {PIXEL_LIMIT:g} px of the image origin, got ({self.cx:g}, {self.cy:g})"
+            )
 
     @classmethod
     def pseudo(cls, width: float, height: float, focal: float = PSEUDO_FOCAL_PX) -> Intrinsics:
@@ -73,14 +84,28 @@ def project_onto_rays(points: torch.Tensor, unit_rays: torch.Tensor) -> torch.Te
     return (points * unit_rays).sum(-1, keepdim=True) * unit_rays
 
 
-def solve_root_translation(pose: torch.Tensor, rays: torch.Tensor, weights: torch.Tensor) -> torch.Tensor:
+@dataclass(frozen=True)
+class TranslationSolve:
+    """The root translation of `solve_root_translation_ex`, with what went wrong per pose."""
+
+    translation: torch.Tensor  # (..., 3); where `singular`, the `fallback` given (or NaN)
+    singular: torch.Tensor  # (...,) bool: the rays do not determine T (they all coincide)
+    flipped: torch.Tensor  # (...,) bool: the least-squares T was behind the camera and was negated
+
+
+def solve_root_translation_ex(
+    pose: torch.Tensor, rays: torch.Tensor, weights: torch.Tensor, fallback: torch.Tensor | None = None
+) -> TranslationSolve:
     """Translation T `(..., 3)` that best puts each joint of `pose + T` on its ray.
 
     `pose (..., J, 3)` root-relative, `rays (..., J, 3)` with z = 1, `weights (..., J)` (0 for
     missing joints). Per joint, X + T on ray r gives two linear equations:
     -T_x + r_x T_z = X_x - r_x X_z and -T_y + r_y T_z = X_y - r_y X_z, solved in weighted least
     squares via the 3x3 normal equations. A solution behind the camera (T_z < 0) is negated,
-    as in the reference.
+    as in the reference, and reported in `flipped`: the negated T does not keep the joints on
+    their rays (it is not a least-squares solution), so the caller must not trust the pose.
+    A singular system (all weighted rays the same, e.g. every joint at one pixel) is reported
+    in `singular` instead of raising; its rows get `fallback` (default NaN).
     """
     rx, ry = rays[..., 0], rays[..., 1]
     zeros, ones = torch.zeros_like(rx), torch.ones_like(rx)
@@ -90,24 +115,33 @@ def solve_root_translation(pose: torch.Tensor, rays: torch.Tensor, weights: torc
     aw = a * w[..., None]
     normal = aw.transpose(-1, -2) @ a  # (..., 3, 3)
     rhs = (aw * b[..., None]).sum(-2)  # (..., 3)
-    t = torch.linalg.solve(normal, rhs)
-    return torch.where(t[..., 2:3] < 0, -t, t)
+    t, info = torch.linalg.solve_ex(normal, rhs)  # the same LU as linalg.solve, without raising
+    singular = (info != 0) | ~torch.isfinite(t).all(-1)
+    flipped = ~singular & (t[..., 2] < 0)
+    t = torch.where(flipped[..., None], -t, t)
+    fill = torch.full_like(t, float("nan")) if fallback is None else fallback.to(t)
+    return TranslationSolve(torch.where(singular[..., None], fill, t), singular, flipped)
+
+
+def solve_root_translation(pose: torch.Tensor, rays: torch.Tensor, weights: torch.Tensor) -> torch.Tensor:
+    """`solve_root_translation_ex`'s translation alone: NaN where the system is singular."""
+    return solve_root_translation_ex(pose, rays, weights).translation
 
 
 def _intrinsics_entry(entry: object, where: str) -> Intrinsics:
     """One intrinsics entry of a K.json file: {"K": 3x3} or {"fx", "fy", "cx", "cy"}."""
     if not isinstance(entry, dict):
-        raise IntrinsicsError(f"{where}: expected an object with 'K' or 'fx', 'fy', 'cx', 'cy'")
+        raise CameraInputError(f"{where}: expected an object with 'K' or 'fx', 'fy', 'cx', 'cy'")
     try:
         if "K" in entry:
             return Intrinsics.from_matrix(np.asarray(entry["K"], dtype=np.float64), "file")
         return Intrinsics(*(float(entry[key]) for key in ("fx", "fy", "cx", "cy")), source="file")
     except KeyError as exc:
-        raise IntrinsicsError(f"{where}: missing field {exc.args[0]!r}") from None
+        raise CameraInputError(f"{where}: missing field {exc.args[0]!r}") from None
     except (TypeError, ValueError) as exc:
-        raise IntrinsicsError(f"{where}: {exc}") from None
+        raise CameraInputError(f"{where}: {exc}") from None
     except IntrinsicsError as exc:
-        raise IntrinsicsError(f"{where}: {exc}") from None
+        raise CameraInputError(f"{where}: {exc}") from None
 
 
 def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrinsics]]:
@@ -119,28 +153,45 @@ def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrin
         with open(path, encoding="utf-8") as fh:
             doc = json.load(fh)
     except FileNotFoundError:
-        raise IntrinsicsError(f"{path}: intrinsics file not found") from None
+        raise CameraInputError(f"{path}: intrinsics file not found") from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise IntrinsicsError(f"{path}: not a readable JSON file ({exc})") from None
+        raise CameraInputError(f"{path}: not a readable JSON file ({exc})") from None
     if not isinstance(doc, dict):
-        raise IntrinsicsError(f"{path}: expected a JSON object")
+        raise CameraInputError(f"{path}: expected a JSON object")
     per_image: dict[str, Intrinsics] = {}
     images = doc.get("images", {})
     if not isinstance(images, dict):
-        raise IntrinsicsError(f"{path}: 'images' must map image ids or file names to intrinsics")
+        raise CameraInputError(f"{path}: 'images' must map image ids or file names to intrinsics")
     for key, entry in images.items():
         per_image[str(key)] = _intrinsics_entry(entry, f"{path}: images[{key!r}]")
     has_global = "K" in doc or "fx" in doc
     glob = _intrinsics_entry(doc, path) if has_global else None
     if glob is None and not per_image:
-        raise IntrinsicsError(f"{path}: no intrinsics found (expected 'K', 'fx'... or 'images')")
+        raise CameraInputError(f"{path}: no intrinsics found (expected 'K', 'fx'... or 'images')")
     return glob, per_image
 
 
 def check_focal(focal: float | None) -> None:
-    """A focal length given on the command line must be a finite positive number of pixels."""
-    if focal is not None and not (np.isfinite(focal) and focal > 0):
-        raise IntrinsicsError(f"--focal must be a positive number of pixels, got {focal}")
+    """A focal length given on the command line: a number of pixels in [MIN_FOCAL_PX, PIXEL_LIMIT]."""
+    if focal is not None and not (np.isfinite(focal) and MIN_FOCAL_PX <= focal <= PIXEL_LIMIT):
+        raise IntrinsicsError(
+            f"--focal must be a number of pixels in [{MIN_FOCAL_PX:g}, {PIXEL_LIMIT:g}], got {focal:g}"
+        )
+
+
+def check_principal_point(point: tuple[float, float] | None) -> None:
+    """A principal point given on the command line: finite, within PIXEL_LIMIT of the origin."""
+    if point is not None and not all(np.isfinite(v) and abs(v) <= PIXEL_LIMIT for v in point):
+        raise IntrinsicsError(
+            f"--principal-point must be two numbers of pixels within {PIXEL_LIMIT:g} of the image origin, "
+            f"got {point[0]:g} {point[1]:g}"
+        )
+
+
+def check_image_size(size: tuple[float, float] | None) -> None:
+    """An image size given on the command line: W H pixels in (0, PIXEL_LIMIT]."""
+    if size is not None and not all(np.isfinite(v) and 0 < v <= PIXEL_LIMIT for v in size):
+        raise IntrinsicsError(f"--image-size must be W H in (0, {PIXEL_LIMIT:g}] px, got {size[0]:g} {size[1]:g}")
 
 
 def resolve_intrinsics(
@@ -160,6 +211,7 @@ def resolve_intrinsics(
     one and without a principal point is an error.
     """
     check_focal(focal)
+    check_principal_point(principal_point)
     glob, per_image = read_intrinsics_file(intrinsics_file) if intrinsics_file else (None, {})
     mats, sources = [], []
     for i, (size, image_id, name) in enumerate(zip(image_sizes, image_ids, file_names, strict=True)):
@@ -168,9 +220,12 @@ def resolve_intrinsics(
             if principal_point is not None:
                 cx, cy = principal_point
             elif np.isfinite(size).all() and (size > 0).all():
+                if (size > PIXEL_LIMIT).any():
+                    raise CameraInputError(f"instance {i} (image_id {image_id!r}): image size {size[0]:g} x "
+                                           f"{size[1]:g} px is out of range (0, {PIXEL_LIMIT:g}]")  # fmt: skip
                 cx, cy = size[0] / 2.0, size[1] / 2.0
             else:
-                raise IntrinsicsError(
+                raise CameraInputError(
                     f"instance {i} (image_id {image_id!r}) has no image size: pass --image-size W H, "
                     "--principal-point CX CY or --intrinsics K.json"
                 )

@@ -43,8 +43,36 @@ from ..errors import ConfigError
 from ..prior.sampling import probability_flow_step
 from ..prior.weights import Prior
 from ..rotation import quaternion_to_matrix
-from .camera import pixel_rays, project, project_onto_rays, solve_root_translation
+from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .config import LiftConfig
+
+# Why an instance is not lifted (`LiftResult.status`; "lifted" otherwise). Its 3D is NaN.
+NOT_LIFTED = {
+    "too_few_observed_joints": "fewer observed joints than the lifting needs",
+    "ray_out_of_range": "a joint's pixel or camera ray is not finite or is more than "
+    f"{np.degrees(np.arctan(20.0)):.0f} degrees off the optical axis (check the coordinates, the focal "
+    "length and the principal point)",
+    "degenerate_geometry": "the observed joints' rays coincide (e.g. every joint at one pixel), so depth and "
+    "translation are undetermined",
+    "non_finite_result": "the optimisation produced a non-finite pose",
+    "behind_camera": "the best fit to the rays put the person at or behind the camera (the 2D pose does not fit "
+    "the prior, e.g. a tiny, partial or low-confidence detection)",
+    "poor_fit": "the lifted pose misses its observed 2D joints by more than half the 2D pose's radius on average "
+    "(the 2D pose does not fit the prior, e.g. a tiny, partial or low-confidence detection)",
+}
+LIFTED = "lifted"
+# A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
+# such a ray means a wrong focal length or principal point (or wrong coordinates).
+MAX_RAY_SLOPE = 20.0
+# Observed joints whose rays all lie within this angle (radians, ~ a fifth of a pixel at f = 2000 px)
+# of their mean determine no depth: the translation solve is singular.
+MIN_RAY_SPREAD = 1e-4
+# The nearest a lifted joint may be to the camera (metres); nearer, or behind, is a failed fit.
+MIN_JOINT_DEPTH_M = 0.01
+# A lifted pose whose mean reprojection error exceeds this fraction of the RMS radius of its
+# observed 2D joints does not reproduce its detection. SyRIP's 1400 real poses (GT and FiDIP 2D,
+# `fast`) stay below 0.04; tiny noisy detections drawn to the camera reach 1 to 5.
+MAX_REPROJECTION_RATIO = 0.5
 
 
 @dataclass(frozen=True)
@@ -62,9 +90,14 @@ class LiftResult:
     root_translation: np.ndarray  # (N, 3), the root point in the camera frame
     reprojection_error_px: np.ndarray  # (N, J), NaN for joints that were not observed
     observed: np.ndarray  # (N, J) bool, joints used as ray constraints
-    lifted: np.ndarray  # (N,) bool, False for instances with too few observed joints
+    lifted: np.ndarray  # (N,) bool, False for instances that were not lifted (see `status`)
     config: LiftConfig
     seconds: float
+    status: np.ndarray | None = None  # (N,) str (object array): "lifted" or a key of NOT_LIFTED; None: from `lifted`
+
+    def __post_init__(self) -> None:
+        if self.status is None:  # results built by hand know only "lifted" and "too few joints"
+            self.status = np.where(self.lifted, LIFTED, "too_few_observed_joints").astype(object)
 
 
 def observed_mask(xy: np.ndarray, confidence: np.ndarray, min_confidence: float) -> np.ndarray:
@@ -109,6 +142,14 @@ class _Adam:
             p.addcdiv_(m, (v.sqrt() / correction2_sqrt).add_(self.eps), value=-step_size)
 
 
+@dataclass(frozen=True)
+class _ChunkResult:
+    pose: torch.Tensor  # (B, J, 3) root-relative
+    translation: torch.Tensor  # (B, 3)
+    singular: torch.Tensor  # (B,) bool: a translation solve was singular
+    flipped: torch.Tensor  # (B,) bool: a least-squares translation was behind the camera
+
+
 def fit_rotation_depth(
     template: torch.Tensor, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor,
     root_dir: torch.Tensor, cfg: LiftConfig,
@@ -144,7 +185,7 @@ def fit_rotation_depth(
 def _lift_chunk(
     prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, cfg: LiftConfig,
     tick: Callable[[int], None],
-) -> tuple[torch.Tensor, torch.Tensor]:  # fmt: skip
+) -> _ChunkResult:  # fmt: skip
     """Root-relative pose X `(B, J, 3)` and translation T `(B, 3)` for one chunk."""
     skel = prior.skeleton
     obs = w > 0
@@ -168,7 +209,7 @@ def _lift_chunk(
 def _warm_chunk(
     prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, x0: torch.Tensor, t0: torch.Tensor,
     cfg: LiftConfig, tick: Callable[[int], None],
-) -> tuple[torch.Tensor, torch.Tensor]:  # fmt: skip
+) -> _ChunkResult:  # fmt: skip
     """Like `_lift_chunk`, from start poses `x0 (B, J, 3)` and translations `t0 (B, 3)`: no fit,
     a short loop from `warm_t_start`."""
     rays = pixel_rays(xy, k)
@@ -181,15 +222,24 @@ def _warm_chunk(
 def _prior_loop(
     prior: Prior, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor, w: torch.Tensor,
     ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig, tick: Callable[[int], None],
-) -> tuple[torch.Tensor, torch.Tensor]:  # fmt: skip
+) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
-    iteration `release` on, observed joints projected onto their rays, one prior step."""
+    iteration `release` on, observed joints projected onto their rays, one prior step.
+
+    A pose whose translation solve is singular keeps its previous translation and is reported;
+    so is one whose least-squares translation was behind the camera at any solve (the
+    reference negates it; that T does not keep the joints on their rays, and the following
+    projections onto the rays then drive the pose towards, and behind, the camera).
+    """
     obs = w > 0
     steps = len(ts)
+    singular = torch.zeros(x.shape[0], dtype=torch.bool, device=x.device)
+    flipped = torch.zeros_like(singular)
     every, reported = max(1, steps // 20), 0  # about 20 progress reports per chunk
     for i in range(steps):
         if i >= release:
-            trans = solve_root_translation(x, rays, w)
+            solved = solve_root_translation_ex(x, rays, w, fallback=trans)
+            trans, singular, flipped = solved.translation, singular | solved.singular, flipped | solved.flipped
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
         x = torch.where(obs[..., None], on_rays, x)
         with _network_precision(cfg, x.device):
@@ -198,7 +248,7 @@ def _prior_loop(
         if (i + 1) % every == 0 or i + 1 == steps:
             tick(i + 1 - reported)
             reported = i + 1
-    return x, trans
+    return _ChunkResult(x, trans, singular, flipped)
 
 
 def _network_precision(cfg: LiftConfig, device: torch.device) -> AbstractContextManager[object]:
@@ -236,9 +286,10 @@ def lift(
     if joints != prior.skeleton.num_joints:
         raise ConfigError(f"keypoints have {joints} joints, the prior's skeleton {prior.skeleton.num_joints}")
     obs = observed_mask(xy, confidence, min_confidence)
-    lifted = obs.sum(1) >= config.min_observed
-    warm = _warm_mask(start_poses, start_translation, n, joints) & lifted
-    todo, todo_warm = np.flatnonzero(lifted & ~warm), np.flatnonzero(warm)
+    status = geometry_status(xy, intrinsics, obs, config.min_observed)
+    todo_all = status == LIFTED
+    warm = _warm_mask(start_poses, start_translation, n, joints) & todo_all
+    todo, todo_warm = np.flatnonzero(todo_all & ~warm), np.flatnonzero(warm)
     size = config.chunk_size
     chunks = [todo[i : i + size] for i in range(0, len(todo), size)]
     warm_chunks = [todo_warm[i : i + size] for i in range(0, len(todo_warm), size)]
@@ -254,19 +305,73 @@ def lift(
     def tensor(a: np.ndarray) -> torch.Tensor:
         return torch.as_tensor(a, dtype=torch.float32, device=device)
 
+    def store(idx: np.ndarray, out: _ChunkResult) -> None:
+        cam[idx] = (out.pose + out.translation[:, None]).double().cpu().numpy()
+        singular[idx], flipped[idx] = out.singular.cpu().numpy(), out.flipped.cpu().numpy()
+
     cam = np.full((n, joints, 3), np.nan)
+    singular, flipped = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
     for idx in chunks:
-        x, trans = _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               config, tick)  # fmt: skip
-        cam[idx] = (x + trans[:, None]).double().cpu().numpy()
+        store(idx, _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+                               config, tick))  # fmt: skip
     for idx in warm_chunks:
         assert start_poses is not None and start_translation is not None
-        x, trans = _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick)  # fmt: skip
-        cam[idx] = (x + trans[:, None]).double().cpu().numpy()
-    root = cam[:, prior.skeleton.root_indices].mean(axis=1)
+        store(idx, _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+                               tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick))  # fmt: skip
     reproj = reprojection_error_px(cam, xy, intrinsics, obs)
-    return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start)
+    status = _result_status(status, cam, singular, flipped, xy, obs, reproj)
+    lifted = status == LIFTED
+    cam[~lifted], reproj[~lifted] = np.nan, np.nan
+    root = cam[:, prior.skeleton.root_indices].mean(axis=1)
+    return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start,
+                      status)  # fmt: skip
+
+
+def geometry_status(xy: np.ndarray, intrinsics: np.ndarray, observed: np.ndarray, min_observed: int) -> np.ndarray:
+    """Whether each instance can be lifted at all, before any work: `(N,)` "lifted" or the
+    reason (a key of NOT_LIFTED) from its pixels `xy (N, J, 2)`, intrinsics `(N, 3, 3)` and
+    observed joints `(N, J)`. Computed in float64, so that nothing overflows here."""
+    with np.errstate(all="ignore"):  # inf and NaN are what this looks for
+        k = np.asarray(intrinsics, dtype=np.float64)
+        focal, centre = k[:, [0, 1], [0, 1]], k[:, [0, 1], [2, 2]]  # (N, 2)
+        rays = (np.asarray(xy, dtype=np.float64) - centre[:, None]) / focal[:, None]  # (N, J, 2), z = 1
+        good_ray = np.isfinite(rays).all(-1) & (np.abs(rays) <= MAX_RAY_SLOPE).all(-1)
+        good_k = np.isfinite(k).all(axis=(1, 2)) & (focal > 0).all(1)
+        count = observed.sum(1)
+        obs_rays = np.where(observed[..., None] & good_ray[..., None], rays, 0.0)
+        mean = obs_rays.sum(1) / np.maximum(count, 1)[:, None]  # (N, 2)
+        dev = np.where(observed, ((obs_rays - mean[:, None]) ** 2).sum(-1), 0.0)
+        spread = np.sqrt(dev.sum(1) / np.maximum(count, 1))  # RMS angle about the mean ray
+    status = np.full(len(xy), LIFTED, dtype=object)  # object: reasons are longer than "lifted"
+    status[spread < MIN_RAY_SPREAD] = "degenerate_geometry"
+    status[~good_k | (observed & ~good_ray).any(1)] = "ray_out_of_range"
+    status[count < min_observed] = "too_few_observed_joints"
+    return status
+
+
+def _result_status(
+    status: np.ndarray, cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray, xy: np.ndarray,
+    observed: np.ndarray, reproj: np.ndarray,
+) -> np.ndarray:  # fmt: skip
+    """`status (N,)` after lifting: a lifted pose `cam (N, J, 3)` that is not finite, whose
+    translation solve was `singular (N,)` or behind the camera (`flipped (N,)`), that has a
+    joint at or behind the camera, or whose reprojection errors `reproj (N, J)` px miss its
+    observed pixels `xy (N, J, 2)` by far, is marked so (in this order of precedence)."""
+    with np.errstate(all="ignore"):  # the poses of failed instances may hold inf and NaN
+        finite = np.isfinite(cam).all(axis=(1, 2))
+        near = (cam[..., 2] < MIN_JOINT_DEPTH_M).any(1)
+        count = np.maximum(observed.sum(1), 1)
+        centre = np.where(observed[..., None], xy, 0.0).sum(1) / count[:, None]  # (N, 2)
+        radius = np.sqrt(np.where(observed, ((xy - centre[:, None]) ** 2).sum(-1), 0.0).sum(1) / count)
+        mean_error = np.where(observed, reproj, 0.0).sum(1) / count
+        poor = ~(mean_error <= MAX_REPROJECTION_RATIO * radius)  # NaN errors count as poor
+    out = status.copy()
+    todo = status == LIFTED
+    for failed, reason in ((~finite, "non_finite_result"), (singular, "degenerate_geometry"),
+                           (flipped | near, "behind_camera"), (poor, "poor_fit")):  # fmt: skip
+        out[todo & failed] = reason
+        todo &= ~failed
+    return out
 
 
 def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joints: int) -> np.ndarray:

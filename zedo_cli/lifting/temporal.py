@@ -36,7 +36,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..prior.weights import Prior
 from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
-from .solver import LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
+from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
 
 
 def gaussian_kernel(sigma: float, truncate: float = 3.0) -> np.ndarray:
@@ -219,8 +219,16 @@ def lift_sequence(
     xy_smooth = smooth_tracks_2d(xy, sigma, tracks, frames)
     second = lift(xy_smooth, confidence, intrinsics, prior, config, callback=progress.part(), start_poses=rel,
                   start_translation=trans, min_confidence=min_confidence, device=device)  # fmt: skip
-    reproj = reprojection_error_px(second.poses_camera, xy, intrinsics, second.observed)
-    return replace(second, reprojection_error_px=reproj, seconds=time.perf_counter() - start)
+    # An instance the first pass could not lift (its start is NaN) stays not lifted, for the same reason,
+    # rather than being lifted cold from the smoothed pixels.
+    status = np.where(first.lifted, second.status, first.status)
+    lifted = status == LIFTED
+    cam = np.where(lifted[:, None, None], second.poses_camera, np.nan)
+    reproj = reprojection_error_px(cam, xy, intrinsics, second.observed)
+    return replace(second, poses_camera=cam, poses_root_relative=np.where(lifted[:, None, None],
+                   second.poses_root_relative, np.nan), root_translation=np.where(lifted[:, None],
+                   second.root_translation, np.nan), reprojection_error_px=reproj, lifted=lifted, status=status,
+                   seconds=time.perf_counter() - start)  # fmt: skip
 
 
 def smooth_tracks_2d(

@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from importlib import resources
@@ -33,7 +35,7 @@ from safetensors.torch import load_file, save_file
 from torch import nn
 
 from ..data.skeleton import Skeleton, get_skeleton
-from ..errors import WeightsError
+from ..errors import ConfigError, WeightsError
 from ..version import __version__
 from .control import ControlledScoreNet
 from .model import PriorConfig, ScoreNet
@@ -165,8 +167,11 @@ def write_safetensors_atomic(path: str | Path, tensors: dict[str, torch.Tensor],
     return file_sha256(path)
 
 
-def read_safetensors(path: Path) -> tuple[dict[str, str], dict[str, torch.Tensor]]:
-    """Metadata and tensors of a safetensors file, with a WeightsError naming the file on failure."""
+TENSOR_DTYPES = ("F16", "BF16", "F32")  # what a weights file may store (loaded as float32)
+
+
+def read_safetensors_header(path: Path) -> tuple[dict[str, str], dict[str, tuple[tuple[int, ...], str]]]:
+    """Metadata and each tensor's (shape, dtype) of a safetensors file, without loading a tensor."""
     if not path.is_file():
         raise WeightsError(f"{path}: weights file not found")
     try:
@@ -174,9 +179,31 @@ def read_safetensors(path: Path) -> tuple[dict[str, str], dict[str, torch.Tensor
 
         with safe_open(str(path), framework="pt") as fh:
             meta = fh.metadata() or {}
-        return meta, load_file(str(path))
+            header = {}
+            for name in fh.keys():
+                info = fh.get_slice(name)
+                header[name] = (tuple(int(d) for d in info.get_shape()), str(info.get_dtype()))
+        return meta, header
     except (SafetensorError, OSError, ValueError) as exc:
-        raise WeightsError(f"{path}: not a readable safetensors file ({exc})") from None
+        raise WeightsError(f"{path}: not a readable safetensors file ({_one_line(exc)})") from None
+
+
+def read_safetensors(path: Path) -> tuple[dict[str, str], dict[str, torch.Tensor]]:
+    """Metadata and tensors of a safetensors file, with a WeightsError naming the file on failure.
+    Every tensor must be finite (a NaN or inf weight makes every lifted pose NaN)."""
+    meta, _ = read_safetensors_header(path)
+    try:
+        tensors = load_file(str(path))
+    except (SafetensorError, OSError, ValueError) as exc:
+        raise WeightsError(f"{path}: not a readable safetensors file ({_one_line(exc)})") from None
+    for name, tensor in tensors.items():
+        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
+            raise WeightsError(f"{path}: tensor {name!r} holds NaN or infinite values")
+    return meta, tensors
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
 
 
 def json_field(meta: dict[str, str], key: str, path: Path) -> Any:
@@ -188,22 +215,80 @@ def json_field(meta: dict[str, str], key: str, path: Path) -> Any:
         raise WeightsError(f"{path}: metadata field {key!r} is not valid JSON") from None
 
 
+def _config_object(meta: dict[str, str], key: str, path: Path) -> dict[str, Any]:
+    """A JSON object of metadata whose numbers are all finite (JSON as Python reads it allows NaN)."""
+    value = json_field(meta, key, path)
+    if not isinstance(value, dict):
+        raise WeightsError(f"{path}: metadata field {key!r} must be a JSON object")
+    for name, number in value.items():
+        if isinstance(number, float) and not math.isfinite(number):
+            raise WeightsError(f"{path}: metadata {key}.{name} is {number}, not a finite number")
+    return value
+
+
+def _check_sde(sde_cfg: dict[str, Any], path: Path) -> None:
+    """subVP numbers that give finite noise levels: 0 <= beta_min < beta_max, N >= 1."""
+    beta_min, beta_max, scales = (sde_cfg.get(k) for k in ("beta_min", "beta_max", "num_scales"))
+    numbers = all(isinstance(v, int | float) and not isinstance(v, bool) for v in (beta_min, beta_max))
+    if not numbers or not 0 <= beta_min < beta_max <= MAX_BETA:  # type: ignore[operator]
+        raise WeightsError(f"{path}: metadata sde_config needs 0 <= beta_min < beta_max <= {MAX_BETA:g}, "
+                           f"got beta_min {beta_min!r}, beta_max {beta_max!r}")  # fmt: skip
+    if not isinstance(scales, int) or isinstance(scales, bool) or scales < 1:
+        raise WeightsError(f"{path}: metadata sde_config.num_scales must be a positive integer, got {scales!r}")
+
+
+# exp(-B(1)) underflows to 0 in float32 beyond B ~ 100; the paper's beta_max is 20.
+MAX_BETA = 100.0
+
+
 def read_network_configs(meta: dict[str, str], path: Path) -> tuple[Skeleton, PriorConfig, SubVPSDE]:
-    """The skeleton, network and SDE configs a weights file's metadata declares, checked."""
-    skel = get_skeleton(meta.get("skeleton", ""))
+    """The skeleton, network and SDE configs a weights file's metadata declares, checked: every
+    problem is a WeightsError naming the file and the field (the file is the bad input)."""
+    try:
+        skel = get_skeleton(meta.get("skeleton", ""))
+    except ConfigError as exc:
+        raise WeightsError(f"{path}: metadata 'skeleton': {exc}") from None
     if json_field(meta, "joints", path) != list(skel.joints):
         raise WeightsError(f"{path}: metadata 'joints' do not match skeleton {skel.name}")
     try:
-        cfg = PriorConfig(**json_field(meta, "model_config", path))
-        sde_cfg = dict(json_field(meta, "sde_config", path))
+        cfg = PriorConfig(**_config_object(meta, "model_config", path))
+        sde_cfg = dict(_config_object(meta, "sde_config", path))
         if sde_cfg.pop("type", None) != "subvp":
             raise WeightsError(f"{path}: only subVP SDE priors are supported")
+        _check_sde(sde_cfg, path)
         sde = SubVPSDE(**sde_cfg)
     except TypeError as exc:
         raise WeightsError(f"{path}: metadata config has unknown fields ({exc})") from None
+    except ConfigError as exc:  # PriorConfig's checks (sizes, dropout, ...)
+        raise WeightsError(f"{path}: metadata model_config: {exc}") from None
     if cfg.num_joints != skel.num_joints:
         raise WeightsError(f"{path}: model has {cfg.num_joints} joints, skeleton {skel.num_joints}")
     return skel, cfg, sde
+
+
+def check_tensor_header(
+    path: Path, header: dict[str, tuple[tuple[int, ...], str]], build: Callable[[], nn.Module],
+    other_tensors: dict[str, tuple[int, ...]] | None = None,
+) -> None:  # fmt: skip
+    """The file's tensors (names, shapes, dtypes from `header`) against the network that
+    `build()` makes from the metadata, built on the meta device: no memory is allocated, so a
+    file whose metadata declares a huge network fails here, before any allocation."""
+    with torch.device("meta"):
+        model = build()
+    expected = {MODEL_PREFIX + k: tuple(v.shape) for k, v in model.state_dict().items()} | (other_tensors or {})
+    missing = sorted(set(expected) - set(header))
+    if missing:
+        raise WeightsError(f"{path}: tensors do not match the model (missing {missing[:3]})")
+    extra = sorted(set(header) - set(expected))
+    if extra:
+        raise WeightsError(f"{path}: unexpected tensors {extra[:3]}")
+    for name, shape in expected.items():
+        found, dtype = header[name]
+        if found != shape:
+            raise WeightsError(f"{path}: tensors do not match the model ({name} has shape {list(found)}, "
+                               f"the metadata's model_config needs {list(shape)})")  # fmt: skip
+        if dtype not in TENSOR_DTYPES:
+            raise WeightsError(f"{path}: tensor {name!r} is {dtype}, not one of {', '.join(TENSOR_DTYPES)}")
 
 
 def load_model_state(
@@ -228,7 +313,7 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     `skeleton`, when given, is the joint set the caller needs; a prior of another is an error.
     """
     path = Path(path)
-    meta, tensors = read_safetensors(path)
+    meta, header = read_safetensors_header(path)
     if meta.get("format") != FORMAT:
         raise WeightsError(f"{path}: metadata 'format' is {meta.get('format')!r}, not {FORMAT!r}")
     if meta.get("format_version") not in READABLE_VERSIONS:
@@ -243,21 +328,22 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     skel, cfg, sde = read_network_configs(meta, path)
     if skeleton is not None and skel.name != skeleton:
         raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
-    model: nn.Module = (
-        ScoreNet(cfg)
-        if architecture == "scorenet"
-        else ControlledScoreNet(
-            ScoreNet(cfg),
-            prompt_generator=torch.Generator().manual_seed(0),  # overwritten by the file
+
+    def build(generator: torch.Generator | None = None) -> nn.Module:
+        return (
+            ScoreNet(cfg)
+            if architecture == "scorenet"
+            else ControlledScoreNet(ScoreNet(cfg), prompt_generator=generator)
         )
-    )
+
+    check_tensor_header(path, header, build, {"template": (skel.num_joints, 3)})
+    _, tensors = read_safetensors(path)
+    model = build(torch.Generator().manual_seed(0))  # the prompt's initial values are overwritten by the file
     load_model_state(model, tensors, path, other_tensors=("template",))
-    template = tensors.get("template")
-    if template is None or tuple(template.shape) != (skel.num_joints, 3):
-        raise WeightsError(f"{path}: tensor 'template' missing or not of shape ({skel.num_joints}, 3)")
+    template = tensors["template"]
     model.to(device).eval()
-    metadata = {k: (json.loads(v) if k in ("model_config", "sde_config", "training", "data", "adapted_from") else v)
-                for k, v in meta.items()}  # fmt: skip
+    parsed = ("model_config", "sde_config", "training", "data", "adapted_from")
+    metadata = {k: (json_field(meta, k, path) if k in parsed else v) for k, v in meta.items()}
     return Prior(model, sde, skel, template.float().to(device), metadata, file_sha256(path), str(path))
 
 
