@@ -63,6 +63,7 @@ def test_cuda_without_a_gpu_is_a_usage_error(tiny_prior_path: Path, tmp_path: Pa
         ["fit-prior", "--syrip-dir", "nowhere", "--split", "bogus", "--out", "p.safetensors"],
         ["fit-prior", "--syrip-dir", "nowhere", "--seed", "-3", "--out", "p.safetensors"],
         ["fit-prior", "--syrip-dir", "nowhere", "--device", "tpu", "--out", "p.safetensors"],
+        ["fit-prior", "--syrip-dir", "nowhere", "--lr", "inf", "--out", "p.safetensors"],  # trained to NaN weights
         ["adapt", "--syrip-dir", "nowhere", "--split", "bogus", "--out", "a.safetensors"],
         ["adapt", "--syrip-dir", "nowhere", "--seed", "-1", "--out", "a.safetensors"],
         ["fit-augmenter", "--syrip-dir", "nowhere", "--adult-dir", "nowhere", "--split", "bogus"],

@@ -20,6 +20,12 @@ R0/T0 in 100 steps; measured on the SyRIP train split, chosen there, and confirm
 (README, "Speed"). Cutting the reference to 100 steps while keeping delta = 1/1000 loses 6 mm:
 the steps then denoise only a tenth as far.
 
+Instances that cannot be lifted are never reported as lifted: `geometry_status` refuses, before
+any work, those whose rays are out of range or coincide; after the loop, a pose that is not
+finite, whose translation solve was singular or behind the camera, that has a joint at or behind
+the camera, or that misses its 2D joints by far, is marked too. Their poses are NaN and
+`LiftResult.status` gives the reason (NOT_LIFTED); the batch's other poses are unaffected.
+
 Warm start (opt-in, `lift(..., start_poses=, start_translation=)`, used by the temporal mode in
 `temporal.py`): a pose already close to the answer (the previous video frame's, or a smoothed
 one) skips the rotation/depth fit and the flat start, and runs a short loop of `warm_steps`
@@ -46,21 +52,6 @@ from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .config import LiftConfig
 
-# Why an instance is not lifted (`LiftResult.status`; "lifted" otherwise). Its 3D is NaN.
-NOT_LIFTED = {
-    "too_few_observed_joints": "fewer observed joints than the lifting needs",
-    "ray_out_of_range": "a joint's pixel or camera ray is not finite or is more than "
-    f"{np.degrees(np.arctan(20.0)):.0f} degrees off the optical axis (check the coordinates, the focal "
-    "length and the principal point)",
-    "degenerate_geometry": "the observed joints' rays coincide (e.g. every joint at one pixel), so depth and "
-    "translation are undetermined",
-    "non_finite_result": "the optimisation produced a non-finite pose",
-    "behind_camera": "the best fit to the rays put the person at or behind the camera (the 2D pose does not fit "
-    "the prior, e.g. a tiny, partial or low-confidence detection)",
-    "poor_fit": "the lifted pose misses its observed 2D joints by more than half the 2D pose's radius on average "
-    "(the 2D pose does not fit the prior, e.g. a tiny, partial or low-confidence detection)",
-}
-LIFTED = "lifted"
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
 # such a ray means a wrong focal length or principal point (or wrong coordinates).
 MAX_RAY_SLOPE = 20.0
@@ -73,6 +64,22 @@ MIN_JOINT_DEPTH_M = 0.01
 # observed 2D joints does not reproduce its detection. SyRIP's 1400 real poses (GT and FiDIP 2D,
 # `fast`) stay below 0.04; tiny noisy detections drawn to the camera reach 1 to 5.
 MAX_REPROJECTION_RATIO = 0.5
+
+# Why an instance is not lifted (`LiftResult.status`; "lifted" otherwise). Its 3D is NaN.
+NOT_LIFTED = {
+    "too_few_observed_joints": "fewer observed joints than the lifting needs",
+    "ray_out_of_range": "a joint's pixel or camera ray is not finite or is more than "
+    f"{np.degrees(np.arctan(MAX_RAY_SLOPE)):.0f} degrees off the optical axis (check the coordinates, the focal "
+    "length and the principal point)",
+    "degenerate_geometry": "the observed joints' rays coincide (e.g. every joint at one pixel), so depth and "
+    "translation are undetermined",
+    "non_finite_result": "the optimisation produced a non-finite pose",
+    "behind_camera": "the best fit to the rays put the person at or behind the camera (the 2D pose does not fit "
+    "the prior, e.g. a tiny, partial or low-confidence detection)",
+    "poor_fit": "the lifted pose misses its observed 2D joints by more than half the 2D pose's radius on average "
+    "(the 2D pose does not fit the prior, e.g. a tiny, partial or low-confidence detection)",
+}
+LIFTED = "lifted"
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ training code.
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 from ..errors import ConfigError
@@ -43,8 +44,8 @@ class TrainConfig:
             raise ConfigError(f"epochs must be >= 1, got {self.epochs}")
         if self.batch_size < 1:
             raise ConfigError(f"batch size must be >= 1, got {self.batch_size}")
-        if not self.lr > 0:
-            raise ConfigError(f"learning rate must be > 0, got {self.lr}")
+        if not (math.isfinite(self.lr) and self.lr > 0):  # inf trains to NaN weights, silently
+            raise ConfigError(f"learning rate must be a finite number > 0, got {self.lr}")
         if self.warmup_steps < 0:
             raise ConfigError(f"warm-up steps must be >= 0, got {self.warmup_steps}")
 
