@@ -393,7 +393,9 @@ def lift_command(
         int,
         typer.Option(help="Seed, recorded in the output. Lifting has no randomness: the poses do not depend on it."),
     ] = 0,
-    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    device: Annotated[
+        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
+    ] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
     engine: Annotated[
@@ -458,7 +460,8 @@ def lift_command(
     check_focal(focal)  # usage errors fail before the prior is loaded
     check_principal_point(principal_point)
     check_image_size(image_size)
-    check_device(device)
+    device = check_device(device)  # auto: CUDA when present
+    st = replace(st, device=device)
     if plot is not None:
         check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)
