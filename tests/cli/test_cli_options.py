@@ -3,6 +3,7 @@ value is one line on stderr and exit 2, never a traceback or an exit 1 after a f
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -102,3 +103,19 @@ def test_a_closed_stdout_pipe_exits_quietly(tiny_prior_path: Path, tmp_path: Pat
     stderr = proc.stderr.read().decode()
     assert proc.wait(timeout=120) == 141, stderr
     assert stderr == ""
+
+
+def test_device_auto_picks_cuda_only_when_present(
+    tiny_prior_path: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from zedo_cli.cli.checks import check_device
+
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: False)
+    assert check_device("auto") == "cpu"
+    out = tmp_path / "out.json"
+    src = write_coco(tmp_path / "kp.json", n=1)
+    result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--device", "auto", "-o", str(out)))
+    assert result.exit_code == 0, result.output
+    assert json.loads(out.read_text())["params"]["device"] == "cpu"  # what ran is recorded, not "auto"
+    monkeypatch.setattr(torch.cuda, "is_available", lambda: True)
+    assert check_device("auto") == "cuda"

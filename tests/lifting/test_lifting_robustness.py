@@ -17,14 +17,7 @@ from hypothesis import strategies as st
 
 from zedo_cli.lifting.camera import solve_root_translation, solve_root_translation_ex
 from zedo_cli.lifting.config import LiftConfig, get_preset
-from zedo_cli.lifting.solver import (
-    LIFTED,
-    MAX_REPROJECTION_RATIO,
-    MIN_JOINT_DEPTH_M,
-    NOT_LIFTED,
-    geometry_status,
-    lift,
-)
+from zedo_cli.lifting.solver import LIFTED, MAX_REPROJECTION_RATIO, MIN_JOINT_DEPTH_M, NOT_LIFTED, geometry_status, lift
 from zedo_cli.prior.weights import Prior
 
 QUICK = LiftConfig(steps=20, init_steps=20, step_delta=None)

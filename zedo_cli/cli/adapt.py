@@ -72,7 +72,9 @@ def adapt_command(
         Optional[str],
         typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in)."),
     ] = None,
-    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    device: Annotated[
+        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
+    ] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
@@ -98,7 +100,7 @@ def adapt_command(
     check_weights_output(weights, dtype)
     check_syrip_split(split)
     check_seed(seed)
-    check_device(device)
+    device = check_device(device)  # auto: CUDA when present
     from ..prior.adapt import adapt_prior, select_subset, with_added_poses, write_adapted_prior  # torch from here on
     from ..prior.recipes import DTYPES, SYRIP_LICENSE
     from ..prior.weights import load_prior, resolve_prior_path

@@ -80,7 +80,9 @@ def fit_augmenter_command(
         Optional[str],
         typer.Option("--license", help="Terms of the infant data (SyRIP's are filled in); the adult terms are added."),
     ] = None,
-    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    device: Annotated[
+        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
+    ] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
@@ -104,7 +106,7 @@ def fit_augmenter_command(
     check_weights_output(weights, dtype)
     check_syrip_split(split)
     check_seed(seed)
-    check_device(device)
+    device = check_device(device)  # auto: CUDA when present
     check_writable(out, overwrite)
     cfg = replace(AUGMENTER_TRAINING, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
     start = None if init == "none" else load_prior(resolve_prior_path(init), device="cpu")

@@ -51,22 +51,26 @@ def check_syrip_split(split: str, option: str = "--split") -> None:
     check_choice(option, split, SYRIP_SPLITS)
 
 
-def check_device(device: str) -> None:
-    """`cpu` (or `cpu:N`), `cuda` / `cuda:N` when torch sees that GPU, or `mps` where available.
-    The default, cpu, is checked without importing torch (start-up stays fast)."""
-    kind, _, index = device.partition(":")
-    if kind not in ("cpu", "cuda", "mps") or (index and not index.isdigit()) or (kind == "mps" and index):
-        raise ConfigError(f"--device must be cpu, cuda or cuda:N, got {device!r}")
-    if kind == "cpu":
-        return
+def check_device(device: str) -> str:
+    """The device to run on: `cpu`, `cuda` / `cuda:N` when torch sees that GPU, `mps` where
+    available, or `auto` (CUDA when torch sees a GPU, else the CPU)."""
     import torch
 
-    if kind == "cuda":
+    if device == "auto":
+        return "cuda" if torch.cuda.is_available() else "cpu"
+    try:
+        dev = torch.device(device)
+    except (RuntimeError, ValueError):
+        raise ConfigError(f"--device must be cpu, cuda, cuda:N or auto, got {device!r}") from None
+    if dev.type == "cpu":
+        return device
+    if dev.type == "cuda":
         if not torch.cuda.is_available():
             raise ConfigError(f"--device {device}: no CUDA GPU is available to this torch ({torch.__version__}); "
                               "use --device cpu")  # fmt: skip
-        if index and int(index) >= torch.cuda.device_count():
+        if dev.index is not None and dev.index >= torch.cuda.device_count():
             raise ConfigError(f"--device {device}: torch sees {torch.cuda.device_count()} CUDA GPU(s)")
-        return
-    if not torch.backends.mps.is_available():
-        raise ConfigError(f"--device {device}: no MPS device is available to this torch; use --device cpu")
+        return device
+    if dev.type == "mps" and torch.backends.mps.is_available():
+        return device
+    raise ConfigError(f"--device must be cpu, cuda, cuda:N or auto, got {device!r}")

@@ -125,7 +125,9 @@ def benchmark_command(
         bool,
         typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch."),
     ] = True,
-    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    device: Annotated[
+        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
+    ] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
@@ -146,7 +148,7 @@ def benchmark_command(
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
     configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
-    check_device(device)
+    device = check_device(device)  # auto: CUDA when present
     from ..evaluation.syrip_benchmark import load_throughput_inputs, measure_throughput, run_syrip_benchmark
     from ..prior.weights import load_prior, resolve_prior_path
 

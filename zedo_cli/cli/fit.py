@@ -93,7 +93,9 @@ def fit_prior_command(
         Optional[str],
         typer.Option("--license", help="Terms of the training data, stored in the file (SyRIP's are filled in)."),
     ] = None,
-    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    device: Annotated[
+        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
+    ] = "cpu",
     ema_out: Annotated[
         Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")
     ] = None,
@@ -114,7 +116,7 @@ def fit_prior_command(
     """
     check_syrip_split(split)  # option errors before any data is read
     check_seed(seed)
-    check_device(device)
+    device = check_device(device)  # auto: CUDA when present
     from ..data.adult import ADULT_LICENSE  # the training stack loads here, not for --help
     from ..prior.recipes import (
         SYRIP_LICENSE,

@@ -393,7 +393,9 @@ def lift_command(
         int,
         typer.Option(help="Seed, recorded in the output. Lifting has no randomness: the poses do not depend on it."),
     ] = 0,
-    device: Annotated[str, typer.Option(help="cpu, cuda or cuda:N.")] = "cpu",
+    device: Annotated[
+        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
+    ] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
     engine: Annotated[
@@ -438,9 +440,8 @@ def lift_command(
 
       zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
     """
-    check_steps(steps)  # usage errors fail before any work (these load no torch)
+    check_steps(steps)  # usage errors fail before torch and the prior load
     check_seed(seed)
-    check_device(device)
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
     if skeleton is not None:
@@ -452,12 +453,15 @@ def lift_command(
     _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
-    from ..lifting.camera import check_focal, check_image_size, check_principal_point  # torch loads here
+    # torch loads here: help and the errors above answer at once
+    from ..lifting.camera import check_focal, check_image_size, check_principal_point
     from ..prior.weights import load_prior, resolve_prior_path
 
     check_focal(focal)  # usage errors fail before the prior is loaded
     check_principal_point(principal_point)
     check_image_size(image_size)
+    device = check_device(device)  # auto: CUDA when present
+    st = replace(st, device=device)
     if plot is not None:
         check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)

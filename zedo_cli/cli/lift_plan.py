@@ -102,9 +102,8 @@ def _input_files(inputs: list[str]) -> list[Path]:
 
 
 def _same_file(a: Path, b: Path) -> bool:
-    """The same file: the same real path, or (both existing) the same inode (a hard link).
-    os.path.realpath, not Path.resolve: a symlink loop among the inputs is the reader's to report."""
-    if os.path.realpath(a) == os.path.realpath(b):
+    """The same file: the same real path, or (both existing) the same inode (a hard link)."""
+    if os.path.realpath(a) == os.path.realpath(b):  # never raises: a symlink loop is the reader's to report
         return True
     try:
         return a.exists() and b.exists() and os.path.samefile(a, b)

@@ -121,14 +121,6 @@ def _root_pixels(xy: torch.Tensor, w: torch.Tensor, root_idx: list[int]) -> torc
     return torch.where(root_ok, root_mean, obs_mean)
 
 
-@dataclass(frozen=True)
-class _ChunkResult:
-    pose: torch.Tensor  # (B, J, 3) root-relative
-    translation: torch.Tensor  # (B, 3)
-    singular: torch.Tensor  # (B,) bool: a translation solve was singular
-    flipped: torch.Tensor  # (B,) bool: a least-squares translation was behind the camera
-
-
 class _Adam:
     """Adam (Kingma & Ba 2015; betas 0.9 / 0.999, eps 1e-8) for the two tensors of the rotation fit.
 
@@ -155,6 +147,14 @@ class _Adam:
             m.lerp_(g, 1 - beta1)
             v.mul_(beta2).addcmul_(g, g, value=1 - beta2)
             p.addcdiv_(m, (v.sqrt() / correction2_sqrt).add_(self.eps), value=-step_size)
+
+
+@dataclass(frozen=True)
+class _ChunkResult:
+    pose: torch.Tensor  # (B, J, 3) root-relative
+    translation: torch.Tensor  # (B, 3)
+    singular: torch.Tensor  # (B,) bool: a translation solve was singular
+    flipped: torch.Tensor  # (B,) bool: a least-squares translation was behind the camera
 
 
 def fit_rotation_depth(
