@@ -12,7 +12,7 @@ from ..data.datasets import load_npz_poses, npz_license
 from ..errors import ConfigError
 from ..files import check_writable
 from ..prior.schedules import ADAPT_TRAINING, STRATEGIES, default_training
-from .checks import check_device, check_seed, check_syrip_split
+from .checks import DEVICE_HELP, check_device, check_seed, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
 
@@ -72,9 +72,7 @@ def adapt_command(
         Optional[str],
         typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in)."),
     ] = None,
-    device: Annotated[
-        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
-    ] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:

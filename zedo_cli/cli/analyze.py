@@ -22,7 +22,7 @@ from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
-from .checks import check_device
+from .checks import DEVICE_HELP, check_device
 from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
 from .lift_plan import STDIN, expand_inputs
 
@@ -268,9 +268,7 @@ def benchmark_symmetry_command(
     reference: Annotated[
         bool, typer.Option(help="Also score HW-HuP's 3D predictions (the weak truth's origin) as a reference.")
     ] = True,
-    device: Annotated[
-        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
-    ] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the figures as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:

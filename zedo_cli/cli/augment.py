@@ -14,7 +14,7 @@ from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..files import atomic_path, check_writable
 from ..prior.schedules import AUGMENTER_TRAINING
-from .checks import MAX_COUNT, check_device, check_range, check_seed, check_steps, check_syrip_split
+from .checks import DEVICE_HELP, MAX_COUNT, check_device, check_range, check_seed, check_steps, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
 ORIENT_MODES = ("keep", "infant")
@@ -80,9 +80,7 @@ def fit_augmenter_command(
         Optional[str],
         typer.Option("--license", help="Terms of the infant data (SyRIP's are filled in); the adult terms are added."),
     ] = None,
-    device: Annotated[
-        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
-    ] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:

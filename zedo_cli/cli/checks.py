@@ -14,6 +14,7 @@ MAX_STEPS = 100_000  # prior / diffusion steps: 100x faithful's 1000
 MAX_COUNT = 1_000_000  # poses written by `zedo augment`
 MAX_SIGMA_FRAMES = 1_000.0  # the temporal filter's width: a window of 6000 frames
 MAX_FPS = 100_000.0
+DEVICE_HELP = "cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu)."  # --device of every command
 
 
 def check_range(

@@ -15,7 +15,7 @@ from ..data.datasets import load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
 from ..lifting.config import PRESETS, get_preset
-from .checks import check_device, check_syrip_split
+from .checks import DEVICE_HELP, check_device, check_syrip_split
 from .common import err_console, error_boundary, progress_bar
 
 if TYPE_CHECKING:
@@ -125,9 +125,7 @@ def benchmark_command(
         bool,
         typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch."),
     ] = True,
-    device: Annotated[
-        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
-    ] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:

@@ -11,7 +11,7 @@ from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
-from .checks import check_device, check_seed, check_syrip_split
+from .checks import DEVICE_HELP, check_device, check_seed, check_syrip_split
 from .common import epoch_progress, err_console, error_boundary
 
 
@@ -93,9 +93,7 @@ def fit_prior_command(
         Optional[str],
         typer.Option("--license", help="Terms of the training data, stored in the file (SyRIP's are filled in)."),
     ] = None,
-    device: Annotated[
-        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
-    ] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     ema_out: Annotated[
         Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")
     ] = None,

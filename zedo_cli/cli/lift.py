@@ -21,7 +21,7 @@ from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
 from ..lifting.people import PERSON_MODES, select_people
 from ..version import __version__
-from .checks import MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
+from .checks import DEVICE_HELP, MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
 from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, one_line, progress_bar
 from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
 
@@ -393,9 +393,7 @@ def lift_command(
         int,
         typer.Option(help="Seed, recorded in the output. Lifting has no randomness: the poses do not depend on it."),
     ] = 0,
-    device: Annotated[
-        str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")
-    ] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
     engine: Annotated[

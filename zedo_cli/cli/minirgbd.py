@@ -14,7 +14,7 @@ from rich.table import Table
 
 from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
 from ..lifting.config import PRESETS, get_preset
-from .checks import check_device, check_steps
+from .checks import DEVICE_HELP, check_device, check_steps
 from .common import err_console, error_boundary, progress_bar
 
 if TYPE_CHECKING:
@@ -49,7 +49,7 @@ def benchmark_minirgbd_command(
     protocol: Annotated[str, typer.Option(help="Scored joints: 17 (all H36M-17, the authors' code) or 16 (the paper's tables: 17 minus --drop-joint).")] = "17",
     drop_joint: Annotated[str, typer.Option(help="The H36M-17 joint left out of the 16-joint protocol (unknown in the paper). Default: pelvis, the root, whose error is zero after centring.")] = DEFAULT_DROPPED_JOINT,
     stride: Annotated[int, typer.Option(help="Lift every N-th frame of each sequence (1: all 1000 per sequence; 10: a quick run).")] = 1,
-    device: Annotated[str, typer.Option(help="cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu).")] = "cpu",
+    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
