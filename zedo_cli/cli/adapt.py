@@ -9,10 +9,9 @@ from typing import Annotated, Optional
 import typer
 
 from ..data.datasets import load_npz_poses, npz_license
-from ..errors import ConfigError
 from ..files import check_writable
 from ..prior.schedules import ADAPT_TRAINING, STRATEGIES, default_training
-from .checks import DEVICE_HELP, check_device, check_seed, check_syrip_split
+from .checks import DEVICE_HELP, check_choice, check_device, check_seed, check_syrip_split
 from .common import check_weights_output, epoch_progress, err_console, error_boundary
 from .fit import load_training_poses
 
@@ -93,8 +92,7 @@ def adapt_command(
 
       zedo lift keypoints.json --prior ca100.safetensors
     """
-    if strategy not in STRATEGIES:
-        raise ConfigError(f"--strategy must be one of {', '.join(STRATEGIES)}, got {strategy!r}")
+    check_choice("--strategy", strategy, STRATEGIES)
     check_weights_output(weights, dtype)
     check_syrip_split(split)
     check_seed(seed)

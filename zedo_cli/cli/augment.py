@@ -14,7 +14,16 @@ from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..files import atomic_path, check_writable
 from ..prior.schedules import AUGMENTER_TRAINING
-from .checks import DEVICE_HELP, MAX_COUNT, check_device, check_range, check_seed, check_steps, check_syrip_split
+from .checks import (
+    DEVICE_HELP,
+    MAX_COUNT,
+    check_choice,
+    check_device,
+    check_range,
+    check_seed,
+    check_steps,
+    check_syrip_split,
+)
 from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
 
 ORIENT_MODES = ("keep", "infant")
@@ -231,12 +240,9 @@ def augment_command(
     check_range("--count", count, 1, MAX_COUNT)
     check_steps(steps)
     check_seed(seed)
-    if scale not in SCALE_MODES:
-        raise ConfigError(f"--scale must be one of {', '.join(SCALE_MODES)}, got {scale!r}")
-    if orient not in ORIENT_MODES:
-        raise ConfigError(f"--orient must be one of {', '.join(ORIENT_MODES)}, got {orient!r}")
-    if bones not in BONE_MODES:
-        raise ConfigError(f"--bones must be one of {', '.join(BONE_MODES)}, got {bones!r}")
+    check_choice("--scale", scale, SCALE_MODES)
+    check_choice("--orient", orient, ORIENT_MODES)
+    check_choice("--bones", bones, BONE_MODES)
     if infant is None and syrip_dir is None and (orient == "infant" or bones == "infant" or plot is not None):
         raise ConfigError(
             "--orient infant, --bones infant and --plot need infant reference poses: --infant (npz) or --syrip-dir"

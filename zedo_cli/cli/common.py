@@ -21,7 +21,8 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from ..errors import ConfigError, ZedoError, one_line
+from ..errors import ZedoError, one_line
+from .checks import check_choice
 
 if TYPE_CHECKING:
     from ..prior.training import TrainProgress
@@ -43,6 +44,12 @@ COMMAND_START = time.perf_counter()
 
 P = ParamSpec("P")
 R = TypeVar("R")
+
+
+def internal_error(source: str, exc: Exception) -> ZedoError:
+    """An unexpected exception of one input of a batch, as that input's error (exit 1); both
+    engines of `zedo lift` report it so."""
+    return ZedoError(f"{source}: internal error: {type(exc).__name__}: {exc}")
 
 
 def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
@@ -146,10 +153,8 @@ def check_weights_output(weights: str, dtype: str) -> None:
     """`--weights` and `--dtype` of a command that writes trained weights."""
     from ..prior.recipes import DTYPES, WEIGHT_CHOICES  # torch: only once a training command runs
 
-    if weights not in WEIGHT_CHOICES:
-        raise ConfigError(f"--weights must be one of {', '.join(WEIGHT_CHOICES)}, got {weights!r}")
-    if dtype not in DTYPES:
-        raise ConfigError(f"--dtype must be one of {', '.join(DTYPES)}, got {dtype!r}")
+    check_choice("--weights", weights, WEIGHT_CHOICES)
+    check_choice("--dtype", dtype, DTYPES)
 
 
 def progress_bar(quiet: bool) -> Progress | LineProgress:

@@ -21,8 +21,17 @@ from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
 from ..lifting.people import PERSON_MODES, select_people
 from ..version import __version__
-from .checks import DEVICE_HELP, MAX_FPS, MAX_SIGMA_FRAMES, check_device, check_range, check_seed, check_steps
-from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, one_line, progress_bar
+from .checks import (
+    DEVICE_HELP,
+    MAX_FPS,
+    MAX_SIGMA_FRAMES,
+    check_choice,
+    check_device,
+    check_range,
+    check_seed,
+    check_steps,
+)
+from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, internal_error, one_line, progress_bar
 from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
 
 if TYPE_CHECKING:
@@ -228,22 +237,13 @@ def batch_exit_code(outcomes: list[FileOutcome]) -> int:
     return codes.pop()
 
 
-def internal_error(source: str, exc: Exception) -> ZedoError:
-    """An unexpected exception of one input, as that input's error (exit 1)."""
-    return ZedoError(f"{source}: internal error: {type(exc).__name__}: {exc}")
-
-
 def _check_options(st: LiftSettings) -> None:
     if not 0.0 <= st.min_confidence <= 1.0:
         raise ConfigError(f"--min-confidence must be in [0, 1], got {st.min_confidence}")
-    if st.units not in UNITS:
-        raise ConfigError(f"--units must be one of {', '.join(UNITS)}, got {st.units!r}")
-    if st.frame not in FRAMES:
-        raise ConfigError(f"--frame must be one of {', '.join(FRAMES)}, got {st.frame!r}")
-    if st.person not in PERSON_MODES:
-        raise ConfigError(f"--person must be one of {', '.join(PERSON_MODES)}, got {st.person!r}")
-    if st.temporal not in TEMPORAL_MODES:
-        raise ConfigError(f"--temporal must be one of {', '.join(TEMPORAL_MODES)}, got {st.temporal!r}")
+    check_choice("--units", st.units, UNITS)
+    check_choice("--frame", st.frame, FRAMES)
+    check_choice("--person", st.person, PERSON_MODES)
+    check_choice("--temporal", st.temporal, TEMPORAL_MODES)
     check_range("--sigma", st.sigma, 0, MAX_SIGMA_FRAMES, low_open=True, unit=" frames")
     check_range("--fps", st.fps, 0, MAX_FPS, low_open=True)
 
@@ -252,8 +252,7 @@ ENGINES = ("local", "ray")
 
 
 def _check_engine(engine: str, inputs: list[str], out: Optional[str], workers: Optional[int]) -> None:
-    if engine not in ENGINES:
-        raise ConfigError(f"--engine must be one of {', '.join(ENGINES)}, got {engine!r}")
+    check_choice("--engine", engine, ENGINES)
     if workers is not None and workers < 1:
         raise ConfigError(f"--workers must be >= 1, got {workers}")
     if engine == "ray" and (STDIN in inputs or out == STDIN):
@@ -280,7 +279,7 @@ def _lift_on_ray(
         raise outcomes[0].error  # one input: its error is the command's error, as locally
     for o in outcomes:
         if o.error is not None:
-            err_console.print(f"zedo: error: {o.error}", markup=False, soft_wrap=True)
+            err_console.print(f"zedo: error: {one_line(str(o.error))}", markup=False, soft_wrap=True)
         elif not st.quiet:
             rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
             err_console.print(f"lifted {o.lifted}/{o.instances} instances from {o.source} in {o.seconds:.2f} s of "

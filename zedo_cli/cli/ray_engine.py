@@ -23,6 +23,7 @@ import numpy as np
 
 from .. import errors
 from ..errors import ConfigError, ZedoError
+from .common import internal_error
 
 if TYPE_CHECKING:
     from .lift import LiftSettings
@@ -31,12 +32,6 @@ if TYPE_CHECKING:
 LiftOne = Callable[[str, str, Any, Any], Any]
 
 RAY_MISSING = "--engine ray needs Ray, an optional extra: pip install 'zedo[ray]'"
-
-
-class InternalError(ZedoError):
-    """An unexpected failure inside a worker, reported like the local engine's internal errors."""
-
-    exit_code = 1
 
 
 class LiftWorker:
@@ -59,10 +54,9 @@ class LiftWorker:
             try:
                 outcome = self.lift_one(str(source), str(output), self.prior, self.settings)
                 row.update(instances=outcome.instances, lifted=outcome.lifted, seconds=outcome.seconds)
-            except ZedoError as exc:
-                row.update(error_type=type(exc).__name__, error=str(exc))
             except Exception as exc:  # isolated like the local engine: one line, no traceback
-                row.update(error_type="InternalError", error=f"internal error: {type(exc).__name__}: {exc}")
+                error = exc if isinstance(exc, ZedoError) else internal_error(str(source), exc)
+                row.update(error_type=type(error).__name__, error=str(error))
             rows.append(row)
         return {key: np.array([r[key] for r in rows]) for key in rows[0]}
 
@@ -72,7 +66,7 @@ def _error(kind: str, message: str) -> ZedoError:
     cls = getattr(errors, kind, None)
     if isinstance(cls, type) and issubclass(cls, ZedoError):
         return cls(message)
-    return InternalError(message)
+    return ZedoError(message)
 
 
 def connect(address: str | None) -> None:
