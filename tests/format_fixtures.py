@@ -156,3 +156,14 @@ def coco_results() -> list[dict[str, Any]]:
 def zedo_2d() -> dict[str, Any]:
     return {"schema": "zedo.keypoints2d/1", "skeleton": "syrip12", "image_size": [64, 48],
             "instances": [{"image_id": 0, "keypoints": [[1.0, 2.0], None, *[[3.0, 4.0, 0.5]] * 10]}]}  # fmt: skip
+
+
+def key_paths(doc: Any, prefix: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
+    """Every key path into `doc` (to a dict value or a list item), for tests that break a file
+    at each place in turn."""
+    items = doc.items() if isinstance(doc, dict) else enumerate(doc) if isinstance(doc, list) else []
+    found = []
+    for key, value in items:
+        found.append((*prefix, key))
+        found.extend(key_paths(value, (*prefix, key)))
+    return found

@@ -34,6 +34,7 @@ from format_fixtures import (
     coco_results,
     jsonl_records,
     jsonl_text,
+    key_paths,
     mmpose_demo,
     mmpose_image,
     mmpose_video,
@@ -113,20 +114,10 @@ _ODD_VALUES: list[Any] = [
 SETTINGS = {"deadline": None, "database": None, "suppress_health_check": [HealthCheck.too_slow]}
 
 
-def _locations(doc: Any, prefix: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
-    """Every key path into `doc` (to a dict value or a list item)."""
-    items = doc.items() if isinstance(doc, dict) else enumerate(doc) if isinstance(doc, list) else []
-    found = []
-    for key, value in items:
-        found.append((*prefix, key))
-        found.extend(_locations(value, (*prefix, key)))
-    return found
-
-
 def mutate(doc: Any, rng: random.Random, count: int) -> Any:
     """`doc` (a fresh document: changed in place) with `count` random structural mutations."""
     for _ in range(count):
-        locations = _locations(doc)
+        locations = key_paths(doc)
         if not locations:
             return rng.choice(_ODD_VALUES)
         where = rng.choice(locations)

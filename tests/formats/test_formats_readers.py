@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from format_fixtures import key_paths
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -378,22 +379,12 @@ _JSON = st.recursive(
 )  # fmt: skip
 
 
-def _locations(doc: Any, prefix: tuple[Any, ...] = ()) -> list[tuple[Any, ...]]:
-    """Every key path into `doc` (to a dict value or list item)."""
-    items = doc.items() if isinstance(doc, dict) else enumerate(doc) if isinstance(doc, list) else []
-    found = []
-    for key, value in items:
-        found.append((*prefix, key))
-        found.extend(_locations(value, (*prefix, key)))
-    return found
-
-
 @st.composite
 def _mutated(draw: st.DrawFn) -> Any:
     """A valid document of one of the three formats with one to three mutations."""
     doc = copy.deepcopy(draw(st.sampled_from([coco_annotations, coco_results, zedo_2d]))())
     for _ in range(draw(st.integers(1, 3))):
-        locations = _locations(doc)
+        locations = key_paths(doc)
         if not locations:
             break
         where = draw(st.sampled_from(locations))
