@@ -45,8 +45,9 @@ def main() -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     for k, held in enumerate(fold_names(list(train.names))):
         keep = [i for i, n in enumerate(train.names) if n not in set(held)]
-        np.savez(args.out / f"fold{k}-train.npz", poses=train.poses[keep],
-                 joint_names=np.array(train.skeleton.joints), names=np.array([train.names[i] for i in keep]))  # fmt: skip
+        names = np.array([train.names[i] for i in keep])
+        np.savez(args.out / f"fold{k}-train.npz", poses=train.poses[keep], joint_names=np.array(train.skeleton.joints),
+                 names=names)  # fmt: skip
         (args.out / f"fold{k}-held-out.json").write_text(json.dumps(held))
         print(f"fold {k}: {len(keep)} training poses, {len(held)} held out")
     return 0

@@ -76,16 +76,20 @@ def evaluate_command(
 
 def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
     table = Table(title="SyRIP Test100, 12 limb joints, hip-midpoint centred (mm)")
-    for col in ("prior / preset", "2D input", "MPJPE", "PA-MPJPE", "poses", "lift s", "poses/s"):
+    columns = ("prior / preset", "2D input", "MPJPE", "PA-MPJPE", "twin >1.3", "twin >1.6", "sym. err deg",
+               "90% cover", "poses", "lift s", "poses/s")  # fmt: skip
+    for col in columns:
         table.add_column(col, justify="left" if col in ("prior / preset", "2D input") else "right")
     for label, s in rows:
-        table.add_row(label, s.input_2d, f"{s.mpjpe_mm:.1f}", f"{s.pa_mpjpe_mm:.1f}", str(s.count),
+        coverage = "-" if s.coverage is None else f"{s.coverage:.1%}"
+        table.add_row(label, s.input_2d, f"{s.mpjpe_mm:.1f}", f"{s.pa_mpjpe_mm:.1f}", f"{s.twin_over_1_3:.0%}",
+                      f"{s.twin_over_1_6:.0%}", f"{s.symmetry_error_deg:.1f}", coverage, str(s.count),
                       f"{s.seconds:.1f}", f"{s.poses_per_second:.1f}")  # fmt: skip
     from ..evaluation.syrip_benchmark import PAPER_FIGURES
 
     for key, figures in PAPER_FIGURES.items():
         for label, value in figures.items():
-            table.add_row(f"[dim]{label}[/dim]", key, f"[dim]{value:.1f}[/dim]", "", "", "", "")
+            table.add_row(f"[dim]{label}[/dim]", key, f"[dim]{value:.1f}[/dim]", *[""] * (len(columns) - 3))
     return table
 
 

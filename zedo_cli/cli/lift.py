@@ -18,7 +18,15 @@ from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
-from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, PRESETS, TEMPORAL_MODES, LiftConfig, get_preset
+from ..lifting.config import (
+    DEFAULT_PRESET,
+    DEFAULT_SIGMA_FRAMES,
+    MAX_HYPOTHESES,
+    PRESETS,
+    TEMPORAL_MODES,
+    LiftConfig,
+    get_preset,
+)
 from ..lifting.people import PERSON_MODES, select_people
 from ..version import __version__
 from .checks import (
@@ -45,11 +53,14 @@ if TYPE_CHECKING:
 def run_lift(
     kp: Keypoints2D, prior: Prior, cfg: LiftConfig, intrinsics: np.ndarray, *, min_confidence: float,
     device: str, quiet: bool, label: str = "lift", temporal: str = "none", sigma: float = DEFAULT_SIGMA_FRAMES,
-    tracks: np.ndarray | None = None, frames: np.ndarray | None = None,
+    tracks: np.ndarray | None = None, frames: np.ndarray | None = None, seed: int = 0,
+    calibration: Path | None = None,
 ) -> LiftResult:  # fmt: skip
-    """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`)."""
+    """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`); with the
+    calibrated per-joint uncertainty where the prior and settings have one (frame by frame only)."""
     from ..lifting.solver import lift
     from ..lifting.temporal import lift_sequence
+    from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations, read_calibrations
 
     with progress_bar(quiet) as bar:
         task = bar.add_task(label, total=1, status=f"{len(kp)} poses")
@@ -58,11 +69,14 @@ def run_lift(
             bar.update(task, completed=p.done, total=p.total)
 
         if temporal != "none":
-            return lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
-                                 tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
-                                 callback=on_step)  # fmt: skip
-        return lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
-                    device=device, callback=on_step)  # fmt: skip
+            res = lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
+                                tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
+                                callback=on_step, seed=seed)  # fmt: skip
+            return replace(res, uncertainty_note=f"not calibrated for --temporal {temporal}")
+        res = lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
+                   device=device, callback=on_step, seed=seed)  # fmt: skip
+    models = bundled_calibrations() if calibration is None else read_calibrations(calibration)
+    return attach_uncertainty(res, prior.sha256, prior.skeleton.joints, models)
 
 
 def lift_params(prior: Prior, cfg: LiftConfig, *, seed: int, device: str, min_confidence: float) -> dict[str, Any]:
@@ -72,12 +86,20 @@ def lift_params(prior: Prior, cfg: LiftConfig, *, seed: int, device: str, min_co
         "init_steps": cfg.init_steps,
         "noise_t": [cfg.t_start, cfg.t_end],
         "min_confidence": min_confidence,
-        "hypotheses": 1,
+        "hypotheses": cfg.hypotheses,
         "seed": seed,
         "device": device,
         "prior": {"file": Path(prior.path).name, "sha256": prior.sha256, "skeleton": prior.skeleton.name},
         "config": cfg.to_dict(),
     }
+
+
+def uncertainty_params(res: LiftResult) -> dict[str, Any]:
+    """What the output says about `uncertainty_m`: present or not, and why."""
+    from ..lifting.uncertainty import COVERAGE
+
+    present = res.uncertainty_m is not None
+    return {"uncertainty_m": present, "coverage": COVERAGE if present else None, "note": res.uncertainty_note}
 
 
 @dataclass(frozen=True)
@@ -105,6 +127,8 @@ class LiftSettings:
     device: str
     overwrite: bool
     quiet: bool
+    save_hypotheses: bool = False
+    calibration: Path | None = None
 
 
 @dataclass
@@ -159,13 +183,21 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
-                   frames=_frame_numbers(kp))  # fmt: skip
+                   frames=_frame_numbers(kp), seed=st.seed, calibration=st.calibration)  # fmt: skip
+    if not st.save_hypotheses:  # the writers write the hypotheses a result keeps
+        res = replace(res, hypotheses=None)
     if not res.lifted.any():  # nothing but flags to write: fail loudly instead
         first = str(Counter(str(s) for s in res.status).most_common(1)[0][0])
         raise InputFormatError(f"{source}: no instance could be lifted ({_not_lifted_counts(res)}; "
                                f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
-    params.update(person=st.person, fps=st.fps, temporal={"mode": st.temporal, "sigma_frames": st.sigma})
+    params.update(
+        person=st.person,
+        fps=st.fps,
+        temporal={"mode": st.temporal, "sigma_frames": st.sigma},
+        uncertainty=uncertainty_params(res),
+        save_hypotheses=st.save_hypotheses,
+    )
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
                   "zedo_version": __version__}  # fmt: skip
@@ -388,9 +420,28 @@ def lift_command(
     min_confidence: Annotated[
         float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")
     ] = 0.0,
+    hypotheses: Annotated[
+        Optional[int],
+        typer.Option(
+            help=f"Solutions lifted per instance (1 to {MAX_HYPOTHESES}); the reported pose is their aggregate and "
+            "their spread sets the per-joint uncertainty. Default: the preset's (fast: DEFAULT_K)."
+        ),
+    ] = None,
+    save_hypotheses: Annotated[
+        bool, typer.Option(help="Also write every hypothesis (JSON: hypotheses_m per person; NPZ: hypotheses).")
+    ] = False,
+    calibration: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Uncertainty calibration (zedo.uncertainty JSON, benchmarks/calibrate_uncertainty.py) for a prior "
+            "of your own. Default: the bundled one, which holds for the bundled prior and the default settings."
+        ),
+    ] = None,
     seed: Annotated[
         int,
-        typer.Option(help="Seed, recorded in the output. Lifting has no randomness: the poses do not depend on it."),
+        typer.Option(
+            help="Seed of the hypotheses' perturbations, recorded in the output: the same seed gives the same poses."
+        ),
     ] = 0,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
@@ -439,13 +490,15 @@ def lift_command(
     """
     check_steps(steps)  # usage errors fail before torch and the prior load
     check_seed(seed)
+    check_range("--hypotheses", hypotheses, 1, MAX_HYPOTHESES)
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
+    cfg = replace(cfg, hypotheses=hypotheses) if hypotheses is not None else cfg
     if skeleton is not None:
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
-                      plot, seed, device, overwrite, quiet)  # fmt: skip
+                      plot, seed, device, overwrite, quiet, save_hypotheses, calibration)  # fmt: skip
     _check_options(st)
     _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
@@ -463,6 +516,10 @@ def lift_command(
         check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
+    if calibration is not None:  # a broken file fails before any work
+        from ..lifting.uncertainty import read_calibrations
+
+        read_calibrations(calibration)
     if not quiet:
         err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
                           markup=False)  # fmt: skip

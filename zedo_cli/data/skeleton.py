@@ -460,3 +460,36 @@ def bone_lengths(poses: np.ndarray, skeleton: Skeleton) -> np.ndarray:
     """Length of every bone of `skeleton.bones` per pose: `(N, J, 3)` -> `(N, B)`, input units."""
     a, b = np.asarray(skeleton.bones, dtype=np.int64).reshape(-1, 2).T
     return np.linalg.norm(poses[:, a] - poses[:, b], axis=-1)
+
+
+# The four limb segments whose left and right lengths a body shares (the symmetry pairs of
+# Huang et al. 2022): (proximal, distal) joint names without the side.
+TWIN_LIMBS = (("shoulder", "elbow"), ("elbow", "wrist"), ("hip", "knee"), ("knee", "ankle"))
+
+
+def twin_limbs(skeleton: Skeleton) -> list[tuple[tuple[int, int], tuple[int, int]]]:
+    """((left proximal, left distal), (right proximal, right distal)) joint indices of every
+    twin limb (TWIN_LIMBS) that `skeleton` has; empty for a joint set without sides."""
+    names = set(skeleton.joints)
+    out = []
+    for a, b in TWIN_LIMBS:
+        ends = [f"{side}_{j}" for side in ("left", "right") for j in (a, b)]
+        if names.issuperset(ends):
+            out.append(((skeleton.index(ends[0]), skeleton.index(ends[1])),
+                        (skeleton.index(ends[2]), skeleton.index(ends[3]))))  # fmt: skip
+    return out
+
+
+def twin_limb_ratio(poses: np.ndarray, skeleton: Skeleton) -> np.ndarray:
+    """Per pose `(N, J, 3) -> (N,)`: the largest ratio, over the twin limbs, of the longer of a
+    left/right limb to the shorter (1 = every twin pair equally long; NaN without twin limbs)."""
+    pairs = twin_limbs(skeleton)
+    if not pairs:
+        return np.full(len(poses), np.nan)
+    ratios = []
+    for (lp, lc), (rp, rc) in pairs:
+        left = np.linalg.norm(poses[:, lc] - poses[:, lp], axis=-1)
+        right = np.linalg.norm(poses[:, rc] - poses[:, rp], axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratios.append(np.maximum(left, right) / np.minimum(left, right))
+    return np.max(np.stack(ratios, axis=1), axis=1)

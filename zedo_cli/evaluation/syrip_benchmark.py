@@ -23,8 +23,10 @@ from ..formats import read_keypoints
 from ..lifting.camera import resolve_intrinsics
 from ..lifting.config import LiftConfig
 from ..lifting.solver import LiftProgress, LiftResult, lift
+from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations
 from ..prior.weights import Prior
 from .metrics import pa_per_joint_error_mm, per_joint_error_mm
+from .plausibility import symmetry_angle_error_deg, twin_ratio_fractions
 
 # Published SyRIP Test100 figures (mm, 12 limb joints) to print beside ours.
 PAPER_FIGURES = {
@@ -45,6 +47,12 @@ class Score:
     per_joint_mm: dict[str, float]
     seconds: float  # lifting wall time
     poses_per_second: float
+    # plausibility.py: fractions of poses with a twin-limb ratio over 1.3 / 1.6, symmetry-angle error
+    twin_over_1_3: float = float("nan")
+    twin_over_1_6: float = float("nan")
+    symmetry_error_deg: float = float("nan")
+    # fraction of true joints within their `uncertainty_m` radius; None: the lift had no uncertainty
+    coverage: float | None = None
 
 
 def score_poses(pred: np.ndarray, target: np.ndarray, joints: tuple[str, ...]) -> tuple[float, float, dict[str, float]]:
@@ -121,16 +129,25 @@ def lift_and_score(
     input_2d: str = "gt",
     device: str = "cpu",
     callback: Callable[[LiftProgress], None] | None = None,
+    seed: int = 0,
 ) -> tuple[Score, LiftResult]:
-    """Lift `kp` with `prior` and score it against `truth` (same order), timing the lift."""
+    """Lift `kp` with `prior` and score it against `truth` (same order), timing the lift: MPJPE,
+    PA-MPJPE, plausibility and, where the prior and settings have a calibration, the coverage of
+    the per-joint uncertainty."""
     kp = kp.to_skeleton(prior.skeleton)
     mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
     start = time.perf_counter()
-    res = lift(kp.xy, kp.confidence, mats, prior, config, device=device, callback=callback)
+    res = lift(kp.xy, kp.confidence, mats, prior, config, device=device, callback=callback, seed=seed)
     seconds = time.perf_counter() - start
+    res = attach_uncertainty(res, prior.sha256, prior.skeleton.joints, bundled_calibrations())
     pred = center_on_root(res.poses_camera, prior.skeleton)
     mpjpe, pa, per_joint = score_poses(pred, truth.poses, prior.skeleton.joints)
-    return Score(input_2d, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds), res
+    twins = twin_ratio_fractions(pred, prior.skeleton)
+    coverage = None
+    if res.uncertainty_m is not None:
+        coverage = float((np.linalg.norm(pred - truth.poses, axis=-1) <= res.uncertainty_m).mean())
+    return Score(input_2d, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds, twins[1.3], twins[1.6],
+                 symmetry_angle_error_deg(pred, truth.poses, prior.skeleton), coverage), res  # fmt: skip
 
 
 def _best_per_image(kp: Keypoints2D) -> Keypoints2D:

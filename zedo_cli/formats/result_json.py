@@ -67,7 +67,19 @@ def _person(kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: O
         "keypoints_2d": [[_num(v, 3) for v in p] if np.isfinite(p).all() else None for p in kp.xy[i]],
         "reprojection_error_px": [_num(e, 3) for e in res.reprojection_error_px[i]],
         "flags": flags,
+        **_uncertainty_fields(res, i),
     }
+
+
+def _uncertainty_fields(res: LiftResult, i: int) -> dict[str, Any]:
+    """`uncertainty_m` (per joint, metres, whatever the units) when the lift has it, and the K
+    hypotheses `hypotheses_m` (root-relative, metres) when they were kept (--save-hypotheses)."""
+    out: dict[str, Any] = {}
+    if res.uncertainty_m is not None:
+        out["uncertainty_m"] = [_num(r, 4) for r in res.uncertainty_m[i]]
+    if res.hypotheses is not None:
+        out["hypotheses_m"] = [_points(h) for h in res.hypotheses[i]] if res.lifted[i] else None
+    return out
 
 
 def build_header(

@@ -10,6 +10,9 @@ from dataclasses import asdict, dataclass, replace
 
 from ..errors import ConfigError
 
+MAX_HYPOTHESES = 64
+AGGREGATES = ("mean", "median", "first")
+
 
 @dataclass(frozen=True)
 class LiftConfig:
@@ -35,6 +38,18 @@ class LiftConfig:
     warm_t_start: float = 0.01  # a start pose is nearly right: the lowest noise level of the presets
     warm_release_fraction: float = 0.0  # keep the start's translation (a smoothed one: re-solving adds jitter)
     warm_step_delta: float | None = None  # None: the main loop's delta
+    # Anatomical consistency (twin_limbs.py): fraction of each left/right limb-length mismatch
+    # removed per prior iteration; 0 = off (the reference).
+    twin_rate: float = 0.0
+    # Multiple hypotheses: `hypotheses` solutions per instance, lifted together. Hypothesis 0 is
+    # the deterministic lift; the others start with their observed joints' depths jittered by
+    # `start_jitter_m` (normal, metres) and take stochastic steps (`hypothesis_noise` times the
+    # reverse SDE's noise). The reported pose is their `aggregate`: "mean" or "median" (joint-wise)
+    # or "first" (hypothesis 0).
+    hypotheses: int = 1
+    start_jitter_m: float = 0.0
+    hypothesis_noise: float = 0.0
+    aggregate: str = "mean"
 
     def __post_init__(self) -> None:
         if self.steps < 1 or self.init_steps < 0:
@@ -57,6 +72,14 @@ class LiftConfig:
             raise ConfigError(f"warm_release_fraction must be in [0, 1], got {self.warm_release_fraction}")
         if self.warm_step_delta is not None and self.warm_step_delta <= 0:
             raise ConfigError(f"warm_step_delta must be > 0, got {self.warm_step_delta}")
+        if not 0 <= self.twin_rate <= 1:
+            raise ConfigError(f"twin_rate must be in [0, 1], got {self.twin_rate}")
+        if not 1 <= self.hypotheses <= MAX_HYPOTHESES:
+            raise ConfigError(f"hypotheses must be in [1, {MAX_HYPOTHESES}], got {self.hypotheses}")
+        if self.start_jitter_m < 0 or self.hypothesis_noise < 0:
+            raise ConfigError("start_jitter_m and hypothesis_noise must be >= 0")
+        if self.aggregate not in AGGREGATES:
+            raise ConfigError(f"aggregate must be one of {', '.join(AGGREGATES)}, got {self.aggregate!r}")
 
     @property
     def delta(self) -> float:

@@ -38,6 +38,7 @@ nothing changes.
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
@@ -45,12 +46,14 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
+from ..data.skeleton import twin_limbs
 from ..errors import ConfigError
-from ..prior.sampling import probability_flow_step
+from ..prior.sampling import diffusion_scale, probability_flow_step
 from ..prior.weights import Prior
 from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .config import LiftConfig
+from .twin_limbs import twin_limb_step
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
 # such a ray means a wrong focal length or principal point (or wrong coordinates).
@@ -101,6 +104,13 @@ class LiftResult:
     config: LiftConfig
     seconds: float
     status: np.ndarray | None = None  # (N,) str (object array): "lifted" or a key of NOT_LIFTED; None: from `lifted`
+    # (N, K, J, 3) root-relative poses of the K hypotheses (`config.hypotheses`), NaN for those not
+    # lifted (and for all but hypothesis 0 of warm-started instances); None when K = 1.
+    hypotheses: np.ndarray | None = None
+    # (N, J) calibrated 90 % radii in metres around the root-relative joints (uncertainty.py), NaN
+    # where not lifted; None when no calibration fits the prior and settings (`uncertainty_note` says why).
+    uncertainty_m: np.ndarray | None = None
+    uncertainty_note: str = "not computed"
 
     def __post_init__(self) -> None:
         if self.status is None:  # results built by hand know only "lifted" and "too few joints"
@@ -151,10 +161,18 @@ class _Adam:
 
 @dataclass(frozen=True)
 class _ChunkResult:
-    pose: torch.Tensor  # (B, J, 3) root-relative
-    translation: torch.Tensor  # (B, 3)
-    singular: torch.Tensor  # (B,) bool: a translation solve was singular
-    flipped: torch.Tensor  # (B,) bool: a least-squares translation was behind the camera
+    pose: torch.Tensor  # (B, K, J, 3) root-relative, K hypotheses
+    translation: torch.Tensor  # (B, K, 3)
+    singular: torch.Tensor  # (B, K) bool: a translation solve was singular
+    flipped: torch.Tensor  # (B, K) bool: a least-squares translation was behind the camera
+
+    def per_instance(self, count: int) -> _ChunkResult:
+        """The loop's rows (B * K, ...) regrouped as (B, K, ...)."""
+
+        def group(t: torch.Tensor) -> torch.Tensor:
+            return t.reshape(-1, count, *t.shape[1:])
+
+        return _ChunkResult(group(self.pose), group(self.translation), group(self.singular), group(self.flipped))
 
 
 def fit_rotation_depth(
@@ -191,9 +209,10 @@ def fit_rotation_depth(
 @torch.no_grad()
 def _lift_chunk(
     prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, cfg: LiftConfig,
-    tick: Callable[[int], None],
+    tick: Callable[[int], None], generator: torch.Generator,
 ) -> _ChunkResult:  # fmt: skip
-    """Root-relative pose X `(B, J, 3)` and translation T `(B, 3)` for one chunk."""
+    """Root-relative poses X `(B, K, J, 3)` and translations T `(B, K, 3)` of one chunk's K
+    hypotheses (`cfg.hypotheses`; the perturbations drawn from `generator`)."""
     skel = prior.skeleton
     obs = w > 0
     rays = pixel_rays(xy, k)  # (B, J, 3), z = 1
@@ -209,7 +228,16 @@ def _lift_chunk(
     x = flat @ rot0.transpose(1, 2)
     ts = torch.linspace(cfg.t_start, cfg.t_end, cfg.steps, dtype=xy.dtype, device=xy.device)
     release = round(cfg.steps * (1.0 - cfg.release_fraction))
-    return _prior_loop(prior, x, trans, rays, unit, w, ts, release, cfg.delta, cfg, tick)
+    count = cfg.hypotheses
+    noise = None
+    if count > 1:  # hypothesis 0 of each instance is the deterministic lift, the others are perturbed
+        x, trans, rays, unit, w = (t.repeat_interleave(count, 0) for t in (x, trans, rays, unit, w))
+        other = (torch.arange(x.shape[0], device=x.device) % count != 0).to(x.dtype)[:, None, None]
+        jitter = torch.randn(x.shape[:2], generator=generator, device=x.device, dtype=x.dtype)[..., None]
+        x = x + other * cfg.start_jitter_m * torch.where(w[..., None] > 0, jitter * unit, 0.0)
+        noise = other * cfg.hypothesis_noise
+    out = _prior_loop(prior, x, trans, rays, unit, w, ts, release, cfg.delta, cfg, tick, noise, generator)
+    return out.per_instance(count)
 
 
 @torch.no_grad()
@@ -218,20 +246,23 @@ def _warm_chunk(
     cfg: LiftConfig, tick: Callable[[int], None],
 ) -> _ChunkResult:  # fmt: skip
     """Like `_lift_chunk`, from start poses `x0 (B, J, 3)` and translations `t0 (B, 3)`: no fit,
-    a short loop from `warm_t_start`."""
+    a short loop from `warm_t_start`; one hypothesis."""
     rays = pixel_rays(xy, k)
     unit = rays / rays.norm(dim=-1, keepdim=True)
     ts = torch.linspace(cfg.warm_t_start, cfg.t_end, cfg.warm_steps, dtype=xy.dtype, device=xy.device)
     release = round(cfg.warm_steps * (1.0 - cfg.warm_release_fraction))
-    return _prior_loop(prior, x0, t0, rays, unit, w, ts, release, cfg.warm_delta, cfg, tick)
+    return _prior_loop(prior, x0, t0, rays, unit, w, ts, release, cfg.warm_delta, cfg, tick).per_instance(1)
 
 
 def _prior_loop(
     prior: Prior, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor, w: torch.Tensor,
     ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig, tick: Callable[[int], None],
+    noise: torch.Tensor | None = None, generator: torch.Generator | None = None,
 ) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
-    iteration `release` on, observed joints projected onto their rays, one prior step.
+    iteration `release` on, observed joints projected onto their rays, twin limbs evened
+    (`cfg.twin_rate`), one prior step; rows with a `noise (B, 1, 1)` factor above 0 also get that
+    fraction of the reverse SDE's noise (drawn from `generator`).
 
     A pose whose translation solve is singular keeps its previous translation and is reported;
     so is one whose least-squares translation was behind the camera at any solve (the
@@ -239,6 +270,7 @@ def _prior_loop(
     projections onto the rays then drive the pose towards, and behind, the camera).
     """
     obs = w > 0
+    pairs = twin_limbs(prior.skeleton)
     steps = len(ts)
     singular = torch.zeros(x.shape[0], dtype=torch.bool, device=x.device)
     flipped = torch.zeros_like(singular)
@@ -249,9 +281,13 @@ def _prior_loop(
             trans, singular, flipped = solved.translation, singular | solved.singular, flipped | solved.flipped
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
         x = torch.where(obs[..., None], on_rays, x)
+        x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
         with _network_precision(cfg, x.device):
             eps = prior.model(x, ts[i]).to(x.dtype)
         x = probability_flow_step(x, eps, ts[i], prior.sde, delta, cfg.flow)
+        if noise is not None:
+            z = torch.randn(x.shape, generator=generator, device=x.device, dtype=x.dtype)
+            x = x + noise * diffusion_scale(ts[i], prior.sde, delta) * z
         if (i + 1) % every == 0 or i + 1 == steps:
             tick(i + 1 - reported)
             reported = i + 1
@@ -277,6 +313,7 @@ def lift(
     callback: Callable[[LiftProgress], None] | None = None,
     start_poses: np.ndarray | None = None,
     start_translation: np.ndarray | None = None,
+    seed: int = 0,
 ) -> LiftResult:
     """Lift pixels `xy (N, J, 2)` with confidences `(N, J)` and intrinsics `(N, 3, 3)` to 3D.
 
@@ -287,6 +324,10 @@ def lift(
     camera frame and `start_translation (N, 3)` their root points. An instance whose start is
     finite skips the rotation/depth fit and runs the short loop of `config.warm_steps` from
     `config.warm_t_start`; one with a NaN start is lifted from scratch as usual.
+
+    With `config.hypotheses` K > 1, each instance is lifted K times in one batch (hypothesis 0 as
+    with K = 1, the others perturbed from `seed`: same seed, same output) and the reported pose
+    is their `config.aggregate`, over the hypotheses that were lifted; the status is hypothesis 0's.
     """
     start = time.perf_counter()
     n, joints = xy.shape[:2]
@@ -297,7 +338,8 @@ def lift(
     todo_all = status == LIFTED
     warm = _warm_mask(start_poses, start_translation, n, joints) & todo_all
     todo, todo_warm = np.flatnonzero(todo_all & ~warm), np.flatnonzero(warm)
-    size = config.chunk_size
+    count = config.hypotheses
+    size = max(1, config.chunk_size // count)  # chunk_size counts the loop's rows
     chunks = [todo[i : i + size] for i in range(0, len(todo), size)]
     warm_chunks = [todo_warm[i : i + size] for i in range(0, len(todo_warm), size)]
     total = len(chunks) * (config.init_steps + config.steps) + len(warm_chunks) * config.warm_steps
@@ -313,25 +355,55 @@ def lift(
         return torch.as_tensor(a, dtype=torch.float32, device=device)
 
     def store(idx: np.ndarray, out: _ChunkResult) -> None:
-        cam[idx] = (out.pose + out.translation[:, None]).double().cpu().numpy()
-        singular[idx], flipped[idx] = out.singular.cpu().numpy(), out.flipped.cpu().numpy()
+        hyp = out.pose.shape[1]
+        cam[idx, :hyp] = (out.pose + out.translation[:, :, None]).double().cpu().numpy()
+        singular[idx, :hyp], flipped[idx, :hyp] = out.singular.cpu().numpy(), out.flipped.cpu().numpy()
 
-    cam = np.full((n, joints, 3), np.nan)
-    singular, flipped = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+    cam = np.full((n, count, joints, 3), np.nan)
+    singular, flipped = np.zeros((n, count), dtype=bool), np.zeros((n, count), dtype=bool)
+    generator = torch.Generator(device=device).manual_seed(seed)
     for idx in chunks:
         store(idx, _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               config, tick))  # fmt: skip
+                               config, tick, generator))  # fmt: skip
     for idx in warm_chunks:
         assert start_poses is not None and start_translation is not None
         store(idx, _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
                                tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick))  # fmt: skip
+    hypotheses = aggregate = None
+    if count > 1:
+        hypotheses = _usable_hypotheses(cam, singular, flipped)
+        aggregate = _aggregate(hypotheses, config.aggregate)
+    cam, singular, flipped = cam[:, 0], singular[:, 0], flipped[:, 0]
+    if aggregate is not None:
+        cam = np.where(np.isfinite(aggregate).all(axis=(1, 2))[:, None, None], aggregate, cam)
     reproj = reprojection_error_px(cam, xy, intrinsics, obs)
     status = _result_status(status, cam, singular, flipped, xy, obs, reproj)
     lifted = status == LIFTED
     cam[~lifted], reproj[~lifted] = np.nan, np.nan
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
+    if hypotheses is not None:
+        hypotheses[~lifted] = np.nan
+        hypotheses = hypotheses - hypotheses[:, :, prior.skeleton.root_indices].mean(axis=2, keepdims=True)
     return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start,
-                      status)  # fmt: skip
+                      status, hypotheses)  # fmt: skip
+
+
+def _usable_hypotheses(cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray) -> np.ndarray:
+    """Camera-frame hypotheses `cam (N, K, J, 3)` with those that failed (not finite, a singular or
+    behind-camera translation, a joint at or behind the camera) set to NaN."""
+    with np.errstate(invalid="ignore"):
+        good = np.isfinite(cam).all(axis=(2, 3)) & ~singular & ~flipped & (cam[..., 2] >= MIN_JOINT_DEPTH_M).all(-1)
+    return np.where(good[..., None, None], cam, np.nan)
+
+
+def _aggregate(hypotheses: np.ndarray, how: str) -> np.ndarray:
+    """The reported pose `(N, J, 3)` from hypotheses `(N, K, J, 3)` (NaN: unusable): their joint-wise
+    mean or median, or hypothesis 0 ("first")."""
+    if how == "first":
+        return hypotheses[:, 0].copy()
+    with warnings.catch_warnings():  # an instance with no usable hypothesis gives NaN, handled by the caller
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanmean(hypotheses, axis=1) if how == "mean" else np.nanmedian(hypotheses, axis=1)
 
 
 def geometry_status(xy: np.ndarray, intrinsics: np.ndarray, observed: np.ndarray, min_observed: int) -> np.ndarray:

@@ -182,13 +182,16 @@ def lift_sequence(
     min_confidence: float = 0.0,
     device: str = "cpu",
     callback: Callable[[LiftProgress], None] | None = None,
+    seed: int = 0,
 ) -> LiftResult:
     """Lift a video: `xy (N, J, 2)`, `confidence (N, J)`, `intrinsics (N, 3, 3)` as for `lift`,
     the instances being frames in time order (per track: `tracks (N,)` labels one person
     across frames; None is one track; `frames (N,)`: the input's frame numbers, so that missing
     frames are gaps, see `smooth_on_frames`; None: consecutive). `mode` in `TEMPORAL_MODES`; `sigma` is the smoothing
     filter's width in frames (modes `smooth` and `two-pass`). `config` is the preset; its
-    `warm_*` fields set the warm-started loops. Unlifted frames are NaN, as with `lift`.
+    `warm_*` fields set the warm-started loops. Unlifted frames are NaN, as with `lift`. With
+    several hypotheses (`config.hypotheses`, seeded by `seed`) each frame's pose is their aggregate;
+    the smoothed results keep no hypotheses (they were lifted before the smoothing).
     """
     if mode not in TEMPORAL_MODES:
         raise ConfigError(f"unknown temporal mode {mode!r}; modes: {', '.join(TEMPORAL_MODES)}")
@@ -200,10 +203,10 @@ def lift_sequence(
     lifted = observed_mask(xy, confidence, min_confidence).sum(1) >= config.min_observed
     cold_cost = config.init_steps + config.steps
     passes = 2 if mode == "two-pass" else 1
-    batches = _chunks(int(lifted.sum()), config.chunk_size)
+    batches = _chunks(int(lifted.sum()), max(1, config.chunk_size // config.hypotheses))
     progress = _Progress(batches * cold_cost + (passes - 1) * batches * config.warm_steps, callback)
     first = lift(xy, confidence, intrinsics, prior, config, callback=progress.part(),
-                 min_confidence=min_confidence, device=device)  # fmt: skip
+                 min_confidence=min_confidence, device=device, seed=seed)  # fmt: skip
     progress.advance(batches * cold_cost)
     if mode == "none":
         return replace(first, seconds=time.perf_counter() - start)
@@ -212,7 +215,7 @@ def lift_sequence(
         cam = rel + trans[:, None]
         reproj = reprojection_error_px(cam, xy, intrinsics, first.observed)
         return replace(first, poses_camera=cam, poses_root_relative=rel, root_translation=trans,
-                       reprojection_error_px=reproj, seconds=time.perf_counter() - start)  # fmt: skip
+                       reprojection_error_px=reproj, seconds=time.perf_counter() - start, hypotheses=None)  # fmt: skip
     # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
     # go through the detections smoothed by the same filter: rays through the raw pixels would bring
     # back their noise, one pixel being ~0.5 mm at 1 m with f = 2000 px (measured: jitter x3).
@@ -228,7 +231,7 @@ def lift_sequence(
     return replace(second, poses_camera=cam, poses_root_relative=np.where(lifted[:, None, None],
                    second.poses_root_relative, np.nan), root_translation=np.where(lifted[:, None],
                    second.root_translation, np.nan), reprojection_error_px=reproj, lifted=lifted, status=status,
-                   seconds=time.perf_counter() - start)  # fmt: skip
+                   seconds=time.perf_counter() - start, hypotheses=None)  # fmt: skip
 
 
 def smooth_tracks_2d(

@@ -26,6 +26,11 @@ def probability_flow_step(
     return (1.0 + 0.5 * beta * delta) * x - coeff * eps
 
 
+def diffusion_scale(t: torch.Tensor, sde: SubVPSDE, dt: float) -> torch.Tensor:
+    """g(t) sqrt(dt): the standard deviation of the reverse SDE's noise over a step dt."""
+    return torch.sqrt(sde.beta(t) * -torch.expm1(-2.0 * sde.integrated_beta(t)) * dt)
+
+
 def euler_maruyama_step(
     x: torch.Tensor, eps: torch.Tensor, t: torch.Tensor, sde: SubVPSDE, dt: float, noise: torch.Tensor
 ) -> torch.Tensor:

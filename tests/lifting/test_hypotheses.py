@@ -1,0 +1,110 @@
+"""Multiple hypotheses and the twin-limb term of the lifting loop (issue 17), with a tiny prior."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import torch
+from helpers import K_TEST, SKELETON, project_poses, synthetic_poses
+
+from zedo_cli.data.skeleton import twin_limb_ratio, twin_limbs
+from zedo_cli.errors import ConfigError
+from zedo_cli.lifting.config import LiftConfig
+from zedo_cli.lifting.solver import lift
+from zedo_cli.lifting.twin_limbs import twin_limb_step
+from zedo_cli.prior.weights import Prior
+
+BASE = LiftConfig(steps=40, init_steps=50, step_delta=None, release_fraction=0.15)
+SPREAD = replace(BASE, hypotheses=4, start_jitter_m=0.05, hypothesis_noise=0.5)
+
+
+def _inputs(n: int, seed: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    poses = synthetic_poses(n, seed)
+    return project_poses(poses), np.ones((n, 12)), np.repeat(K_TEST[None], n, 0)
+
+
+def test_one_hypothesis_is_the_plain_lift_and_keeps_none(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(5)
+    plain = lift(xy, conf, k, tiny_prior, BASE)
+    first = lift(xy, conf, k, tiny_prior, replace(SPREAD, aggregate="first"))
+    assert plain.hypotheses is None
+    # hypothesis 0 is the deterministic lift, whatever the others do
+    np.testing.assert_allclose(first.poses_camera, plain.poses_camera, atol=1e-5)
+
+
+def test_hypotheses_are_seeded_different_and_aggregated(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(5)
+    a = lift(xy, conf, k, tiny_prior, SPREAD, seed=7)
+    b = lift(xy, conf, k, tiny_prior, SPREAD, seed=7)
+    c = lift(xy, conf, k, tiny_prior, SPREAD, seed=8)
+    np.testing.assert_array_equal(a.poses_camera, b.poses_camera)  # same seed, same output
+    np.testing.assert_array_equal(a.hypotheses, b.hypotheses)
+    assert not np.allclose(a.hypotheses, c.hypotheses)
+    assert a.hypotheses.shape == (5, 4, 12, 3)
+    spread = np.linalg.norm(a.hypotheses[:, 1:] - a.hypotheses[:, :1], axis=-1).mean()
+    assert spread > 1e-3  # genuinely different solutions (metres)
+    mean = a.hypotheses.mean(axis=1)  # root-relative mean of the hypotheses is the reported pose
+    np.testing.assert_allclose(a.poses_root_relative, mean - mean[:, SKELETON.root_indices].mean(1, keepdims=True),
+                               atol=1e-9)  # fmt: skip
+    med = lift(xy, conf, k, tiny_prior, replace(SPREAD, aggregate="median"), seed=7)
+    assert not np.allclose(med.poses_camera, a.poses_camera)
+
+
+def test_hypotheses_of_an_instance_do_not_depend_on_the_chunking(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(3)
+    whole = lift(xy, conf, k, tiny_prior, SPREAD, seed=1)
+    again = lift(xy, conf, k, tiny_prior, replace(SPREAD, chunk_size=4096), seed=1)
+    np.testing.assert_array_equal(whole.poses_camera, again.poses_camera)
+
+
+def test_unlifted_instances_have_no_hypotheses(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(3)
+    conf[1, 2:] = 0.0  # two joints left: not lifted
+    res = lift(xy, conf, k, tiny_prior, SPREAD)
+    assert not res.lifted[1] and np.isnan(res.hypotheses[1]).all()
+    assert np.isfinite(res.hypotheses[[0, 2]]).all()
+
+
+@pytest.mark.parametrize("bad", [{"hypotheses": 0}, {"hypotheses": 65}, {"twin_rate": 1.5}, {"twin_rate": -0.1},
+                                 {"start_jitter_m": -1.0}, {"aggregate": "mode"}])  # fmt: skip
+def test_invalid_hypothesis_settings_are_refused(bad: dict) -> None:
+    with pytest.raises(ConfigError):
+        replace(BASE, **bad)
+
+
+def test_twin_step_evens_limbs_and_keeps_observed_joints_on_their_rays() -> None:
+    rng = np.random.default_rng(0)
+    poses = synthetic_poses(6, 5)
+    trans = np.array([0.0, 0.0, 1.0])
+    cam = poses + trans
+    wrist = SKELETON.index("left_wrist")
+    cam[:, wrist] *= 1.0 + 0.3 * rng.random((6, 1))  # further along the same ray: longer forearm
+    unit = cam / np.linalg.norm(cam, axis=-1, keepdims=True)
+    x = torch.as_tensor(cam - trans, dtype=torch.float32)
+    u = torch.as_tensor(unit, dtype=torch.float32)
+    obs = torch.ones(6, 12, dtype=torch.bool)
+    before = twin_limb_ratio(x.numpy(), SKELETON)
+    for _ in range(30):
+        x = twin_limb_step(x, u, obs, twin_limbs(SKELETON), 0.5)
+    after = twin_limb_ratio(x.numpy(), SKELETON)
+    assert (after < before).all() and after.max() < 1.1  # from up to 10
+    moved = x.numpy() + trans
+    off_ray = np.linalg.norm(np.cross(moved, unit), axis=-1)
+    assert off_ray.max() < 1e-5  # observed joints move only along their rays
+
+
+def test_twin_step_off_is_the_identity() -> None:
+    x = torch.randn(3, 12, 3)
+    assert twin_limb_step(x, x, torch.ones(3, 12, dtype=torch.bool), twin_limbs(SKELETON), 0.0) is x
+
+
+def test_twin_term_in_the_loop_evens_the_lifted_limbs(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(12, seed=9)
+    plain = lift(xy, conf, k, tiny_prior, BASE)
+    even = lift(xy, conf, k, tiny_prior, replace(BASE, twin_rate=0.5))
+    r0, r1 = twin_limb_ratio(plain.poses_root_relative, SKELETON), twin_limb_ratio(even.poses_root_relative, SKELETON)
+    assert np.median(r1) < np.median(r0)
+    # still on the rays: the last prior step moves joints off them about as much as without the term
+    assert np.nanmean(even.reprojection_error_px) < 1.5 * np.nanmean(plain.reprojection_error_px) + 1.0

@@ -1,0 +1,47 @@
+"""Left/right limb-length consistency inside the lifting loop.
+
+Depth from one image is ambiguous: with the observed joints held on their camera rays, a limb's
+length is set by how far along its ray each end lies, and the prior alone leaves many lifted
+poses with one upper arm, forearm, thigh or shank far longer than its twin (a body never is).
+`twin_limb_step` moves the joints of each twin pair (observed joints only along their own rays,
+so the ray constraint holds) by a damped Gauss-Newton step on the pair's log length ratio,
+removing the fraction `rate` of the mismatch per loop iteration. Interleaved with the prior's
+steps, the pose stays a sample of the prior while its twin limbs converge to equal lengths.
+"""
+
+from __future__ import annotations
+
+import torch
+
+# Levenberg damping of the Gauss-Newton step, in units of the pair's squared inverse lengths:
+# where depth barely changes a limb's length (a limb across the rays), the step stays small.
+DAMPING = 0.5
+# Most a joint moves in one iteration (metres): a bound for poses far from any fix.
+MAX_MOVE_M = 0.02
+
+
+def twin_limb_step(
+    x: torch.Tensor, unit: torch.Tensor, observed: torch.Tensor,
+    pairs: list[tuple[tuple[int, int], tuple[int, int]]], rate: float,
+) -> torch.Tensor:  # fmt: skip
+    """Poses `x (B, J, 3)` (root-relative; the root's translation is fixed) with each twin limb
+    pair's log length ratio reduced by about `rate`. `unit (B, J, 3)` are the joints' unit camera
+    rays and `observed (B, J)` the joints held on them; `pairs` from `skeleton.twin_limbs`."""
+    if rate <= 0 or not pairs:
+        return x
+    delta = torch.zeros_like(x)
+    for (lp, lc), (rp, rc) in pairs:
+        left, right = x[:, lc] - x[:, lp], x[:, rc] - x[:, rp]
+        left2 = (left * left).sum(-1, keepdim=True).clamp_min(1e-8)  # (B, 1)
+        right2 = (right * right).sum(-1, keepdim=True).clamp_min(1e-8)
+        mismatch = 0.5 * (torch.log(left2) - torch.log(right2))  # log(left / right)
+        idx = [lc, lp, rc, rp]
+        grad = torch.stack([left / left2, -left / left2, -right / right2, right / right2], dim=1)  # (B, 4, 3)
+        ray = unit[:, idx]
+        along = (grad * ray).sum(-1, keepdim=True) * ray
+        grad = torch.where(observed[:, idx, None], along, grad)
+        norm2 = (grad * grad).sum((1, 2))[:, None]  # (B, 1)
+        scale = -rate * mismatch / (norm2 + DAMPING * (1.0 / left2 + 1.0 / right2))
+        delta.index_add_(1, torch.tensor(idx, device=x.device), scale[:, :, None] * grad)
+    length = delta.norm(dim=-1, keepdim=True)
+    return x + delta * (MAX_MOVE_M / length.clamp_min(MAX_MOVE_M))

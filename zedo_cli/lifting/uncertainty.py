@@ -1,0 +1,161 @@
+"""Calibrated per-joint 3D uncertainty of a lift (issue 17).
+
+For each lifted joint, `uncertainty_m` is the radius (metres) of the ball around the reported
+root-relative position that holds the true joint with probability `coverage` (90 %). The
+model is split-conformal, per joint j:
+
+    radius_j = scale_j * (spread_j + floor_j)
+
+where `spread_j` is the RMS distance of the K hypotheses' joint j from the reported one (0 with
+one hypothesis), `floor_j` a fixed floor (the median spread on the calibration poses; 1 with one
+hypothesis, so the radius is a per-joint constant) and `scale_j` the conformal quantile of
+`error / (spread + floor)` on held-out poses. The constants are fitted by
+`benchmarks/calibrate_uncertainty.py` on poses no fold prior saw (never Test100) and hold only
+for the prior and lifting settings they were fitted with: a calibration names the prior's
+sha256 and the settings, and a lift with anything else reports no uncertainty (and says why)
+rather than a number that was never checked.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import WeightsError
+from .config import LiftConfig
+from .solver import LiftResult
+
+COVERAGE = 0.9  # the probability each radius is calibrated to hold
+FORMAT = "zedo.uncertainty"
+FORMAT_VERSION = 1
+# Settings that do not change what a lift computes (or by under 0.1 mm), left out of the match.
+_IRRELEVANT = ("preset", "chunk_size", "bf16")
+
+
+@dataclass(frozen=True)
+class UncertaintyModel:
+    prior_sha256: str
+    settings: dict[str, Any]  # LiftConfig.to_dict() without _IRRELEVANT
+    coverage: float
+    joints: tuple[str, ...]
+    floor_m: np.ndarray  # (J,)
+    scale: np.ndarray  # (J,)
+    provenance: dict[str, Any]  # data, folds, and the measured held-out coverage
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"prior_sha256": self.prior_sha256, "settings": self.settings, "coverage": self.coverage,
+                "joints": list(self.joints), "floor_m": [round(float(v), 6) for v in self.floor_m],
+                "scale": [round(float(v), 6) for v in self.scale], "provenance": self.provenance}  # fmt: skip
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> UncertaintyModel:
+        return cls(d["prior_sha256"], d["settings"], float(d["coverage"]), tuple(d["joints"]),
+                   np.asarray(d["floor_m"], dtype=np.float64), np.asarray(d["scale"], dtype=np.float64),
+                   d.get("provenance", {}))  # fmt: skip
+
+
+def calibration_settings(cfg: LiftConfig) -> dict[str, Any]:
+    """The settings a calibration must match: `cfg` without what does not change the poses."""
+    return {k: v for k, v in cfg.to_dict().items() if k not in _IRRELEVANT}
+
+
+def joint_spread(hypotheses: np.ndarray | None, reported: np.ndarray) -> np.ndarray:
+    """RMS distance `(N, J)` of the hypotheses `(N, K, J, 3)` (NaN: unusable) from the reported
+    root-relative poses `(N, J, 3)`; 0 without hypotheses."""
+    if hypotheses is None:
+        return np.zeros(reported.shape[:2])
+    d2 = ((hypotheses - reported[:, None]) ** 2).sum(-1)  # (N, K, J)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.sqrt(np.nanmean(d2, axis=1)) if np.isfinite(d2).any() else np.full(reported.shape[:2], np.nan)
+
+
+def radius_m(model: UncertaintyModel, spread: np.ndarray) -> np.ndarray:
+    """Per-joint radii `(N, J)` from hypothesis spreads `(N, J)`."""
+    return model.scale * (spread + model.floor_m)
+
+
+def conformal_scale(scores: np.ndarray, coverage: float) -> float:
+    """The split-conformal quantile of `scores (n,)`: the ceil((n + 1) coverage)-th smallest."""
+    scores = np.sort(scores[np.isfinite(scores)])
+    if len(scores) == 0:
+        raise ValueError("no finite calibration scores")
+    rank = min(len(scores), int(np.ceil((len(scores) + 1) * coverage)))
+    return float(scores[rank - 1])
+
+
+def fit_model(
+    error_m: np.ndarray, spread: np.ndarray, *, coverage: float, prior_sha256: str, cfg: LiftConfig,
+    joints: tuple[str, ...], provenance: dict[str, Any],
+) -> UncertaintyModel:  # fmt: skip
+    """Fit floors and scales on held-out errors `(n, J)` (metres) and spreads `(n, J)`."""
+    if cfg.hypotheses > 1:
+        floor = np.nanmedian(spread, axis=0)
+    else:
+        floor = np.ones(error_m.shape[1])
+    scale = np.array([conformal_scale(error_m[:, j] / (spread[:, j] + floor[j]), coverage)
+                      for j in range(error_m.shape[1])])  # fmt: skip
+    return UncertaintyModel(prior_sha256, calibration_settings(cfg), coverage, joints, floor, scale, provenance)
+
+
+def bundled_calibrations_path() -> Path:
+    return Path(str(resources.files("zedo_cli") / "weights" / "uncertainty.json"))
+
+
+def bundled_calibrations() -> list[UncertaintyModel]:
+    """The calibrations shipped with the package (none when the file is absent)."""
+    path = bundled_calibrations_path()
+    return read_calibrations(path) if path.exists() else []
+
+
+def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
+    """The models of a calibration file (format `zedo.uncertainty`, version 1)."""
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text())
+        if doc.get("format") != FORMAT or doc.get("format_version") != FORMAT_VERSION:
+            raise WeightsError(f"{path}: not a {FORMAT} version {FORMAT_VERSION} file")
+        return [UncertaintyModel.from_dict(d) for d in doc["models"]]
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise WeightsError(f"{path}: unreadable uncertainty calibration ({exc})") from None
+
+
+def write_calibrations(path: str | Path, models: list[UncertaintyModel]) -> None:
+    doc = {"format": FORMAT, "format_version": FORMAT_VERSION, "models": [m.to_dict() for m in models]}
+    Path(path).write_text(json.dumps(doc, indent=1) + "\n")
+
+
+def find_model(
+    models: list[UncertaintyModel], prior_sha256: str, joints: tuple[str, ...], cfg: LiftConfig
+) -> tuple[UncertaintyModel | None, str]:
+    """The model calibrated for this prior and these settings, or None and why there is none."""
+    mine = [m for m in models if m.prior_sha256 == prior_sha256 and m.joints == tuple(joints)]
+    if not mine:
+        return None, "no uncertainty calibration for this prior"
+    wanted = calibration_settings(cfg)
+    for m in mine:
+        if m.settings == wanted:
+            return m, "calibrated"
+    ks = sorted({m.settings.get("hypotheses", 1) for m in mine})
+    return None, ("no uncertainty calibration for these lifting settings (calibrated: the default preset with "
+                  f"--hypotheses {' or '.join(map(str, ks))})")  # fmt: skip
+
+
+def attach_uncertainty(res: LiftResult, prior_sha256: str, joints: tuple[str, ...],
+                       models: list[UncertaintyModel]) -> LiftResult:  # fmt: skip
+    """`res` with `uncertainty_m` filled from the model calibrated for its prior and settings
+    (NaN where not lifted), or left None with `uncertainty_note` saying why."""
+    model, note = find_model(models, prior_sha256, joints, res.config)
+    if model is None:
+        return replace(res, uncertainty_m=None, uncertainty_note=note)
+    spread = joint_spread(res.hypotheses, res.poses_root_relative)
+    if res.hypotheses is not None:  # an instance with fewer usable hypotheses than calibrated for
+        usable = np.isfinite(res.hypotheses).all(axis=(2, 3)).sum(1)
+        spread = np.where((usable == res.config.hypotheses)[:, None], spread, np.nan)
+    radius = radius_m(model, spread)
+    radius[~res.lifted] = np.nan
+    return replace(res, uncertainty_m=radius, uncertainty_note=f"calibrated {model.coverage:.0%} radius")
