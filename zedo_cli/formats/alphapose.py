@@ -20,7 +20,6 @@ two images are never merged into one frame.
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +28,7 @@ from ..data.skeleton import SKELETONS, Skeleton
 from .validate import (
     NAN_SIZE,
     Row,
+    RowBuffer,
     as_dict,
     as_list,
     build,
@@ -69,26 +69,29 @@ def _parse_entry(
     return skeleton, Row(key, xy, conf, file_name, NAN_SIZE, optional_score(entry, path, where), _frame(key))
 
 
-def _distinct_frames(rows: list[Row]) -> list[Row]:
+def _distinct_frames(rows: RowBuffer) -> RowBuffer:
     """`rows` (in image order) with frame indices that never merge two images: the ids' own
     numbers when distinct images have distinct numbers, else each image's position."""
-    images = list(dict.fromkeys(repr(row.image_id) for row in rows))
-    number = {repr(row.image_id): row.frame for row in rows}
+    keys = [repr(image_id) for image_id in rows.image_ids]
+    images = list(dict.fromkeys(keys))
+    number = dict(zip(keys, rows.frames, strict=True))
     frames = [number[key] for key in images]
     if all(f is not None for f in frames) and len(set(frames)) == len(frames):
         return rows
     position = {key: k for k, key in enumerate(images)}
-    return [dataclasses.replace(row, frame=position[repr(row.image_id)]) for row in rows]
+    rows.frames = [position[key] for key in keys]
+    return rows
 
 
 def read_alphapose(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read a parsed AlphaPose results list, every instance, in natural image order."""
     found: Skeleton | None = None
-    rows: list[Row] = []
+    rows = RowBuffer()
     for i, entry in enumerate(as_list(data, path, "")):
         found, row = _parse_entry(entry, i, found, path, skeleton)
         rows.append(row)
-    rows.sort(key=lambda row: natural_key(str(row.image_id)))  # stable: persons keep file order
+    ids = rows.image_ids
+    rows.reorder(sorted(range(len(ids)), key=lambda k: natural_key(str(ids[k]))))  # stable: persons keep file order
     reason = "--skeleton" if skeleton is not None else f"joint count {found.num_joints if found else 17}"
     return build(_distinct_frames(rows), found or SKELETONS["coco17"], path, "alphapose", reason=reason)
 

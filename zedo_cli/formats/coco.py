@@ -12,9 +12,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from array import array
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton, skeleton_for_joint_count
@@ -22,6 +25,7 @@ from .validate import (
     NAN_SIZE,
     ImageId,
     Row,
+    RowBuffer,
     as_dict,
     as_list,
     build,
@@ -43,7 +47,7 @@ from .validate import (
 OCCLUDED_CONFIDENCE = 0.5  # confidence of a COCO v = 1 joint (labelled but not visible)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)  # slots: one per image of the file, 100,000 in a large one
 class Image:
     """One entry of a COCO ``images`` list."""
 
@@ -77,7 +81,7 @@ def parse_images(doc: dict[str, Any], path: str) -> dict[ImageId, Image]:
 # --- annotations ---------------------------------------------------------------------------
 
 
-def _annotation_count(annotations: list[Any]) -> tuple[int, int | None]:
+def _annotation_count(annotations: Sequence[Any]) -> tuple[int, int | None]:
     """(position, joint count) of the first annotation with a flat keypoint list; (0, None) if none."""
     for i, entry in enumerate(annotations):
         keypoints = entry.get("keypoints") if isinstance(entry, dict) else None
@@ -88,7 +92,7 @@ def _annotation_count(annotations: list[Any]) -> tuple[int, int | None]:
 
 
 def _categories_skeleton(
-    doc: dict[str, Any], annotations: list[Any], forced: Skeleton | None, path: str
+    doc: dict[str, Any], annotations: Sequence[Any], forced: Skeleton | None, path: str
 ) -> tuple[JointNameMatch, str, bool]:
     """The joint set of the annotations: from ``categories[0].keypoints`` names when given, else
     from the annotations' joint count (or ``--skeleton``). Returns (match, reason, counted)."""
@@ -124,8 +128,8 @@ def _visibility_confidence(v: float, path: str, where: str) -> float:
 
 def _parse_annotation(
     entry: Any, i: int, images: Mapping[ImageId, Image], skeleton: Skeleton, path: str
-) -> tuple[tuple[int, int], Row]:
-    """One annotation -> (sort key by image position then annotation position, row)."""
+) -> tuple[int, Row]:
+    """One annotation -> (its image's position, the sort key with the annotation's own, row)."""
     where = f"annotations[{i}]"
     entry = as_dict(entry, path, where)
     key = image_id(required(entry, "image_id", path, where), path, f"{where}.image_id")
@@ -139,7 +143,7 @@ def _parse_annotation(
     ]
     xy, conf = joints(points, skeleton, path, where_kp)
     score = optional_score(entry, path, where)
-    return (image.position, i), Row(key, xy, conf, image.file_name, image.size, score)
+    return image.position, Row(key, xy, conf, image.file_name, image.size, score)
 
 
 def read_coco_annotations(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
@@ -155,9 +159,12 @@ def read_coco_annotations(data: Any, path: str, skeleton: Skeleton | None = None
     annotations = as_list(required(doc, "annotations", path, ""), path, "annotations")
     match, reason, counted = _categories_skeleton(doc, annotations, skeleton, path)
     in_file = file_order(match)
-    keyed = [_parse_annotation(entry, i, images, in_file, path) for i, entry in enumerate(annotations)]
-    keyed.sort(key=lambda item: item[0])
-    rows = [row for _, row in keyed]
+    rows, positions = RowBuffer(), array("q")
+    for i, entry in enumerate(annotations):
+        position, row = _parse_annotation(entry, i, images, in_file, path)
+        positions.append(position)
+        rows.append(row)
+    rows.reorder(np.argsort(np.asarray(positions, dtype=np.int64), kind="stable"))  # by image, then annotation
     return build(rows, match.skeleton, path, "coco-annotations", reason=reason, counted=counted, names=match)
 
 
@@ -199,6 +206,8 @@ def read_coco_results(
     """
     entries = as_list(data, path, "")
     used = skeleton or SKELETONS["coco17"]
-    rows = [_parse_result(entry, i, image_sizes or {}, used, path) for i, entry in enumerate(entries)]
+    rows = RowBuffer()
+    for i, entry in enumerate(entries):
+        rows.append(_parse_result(entry, i, image_sizes or {}, used, path))
     reason = "--skeleton" if skeleton is not None else "COCO results: 17 unnamed joints are COCO-17"
     return build(rows, used, path, "coco-results", reason=reason)

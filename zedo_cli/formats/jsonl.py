@@ -19,15 +19,17 @@ Errors name the line, e.g. ``kp.jsonl: line 3: persons[0].keypoints[4]: expected
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator
 from typing import Any
 
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..errors import InputFormatError
-from .source import parse_json
+from .source import blank, parse_document, parse_json
 from .validate import (
     NAN_SIZE,
     Row,
+    RowBuffer,
     as_dict,
     as_list,
     build,
@@ -35,6 +37,7 @@ from .validate import (
     error,
     frame_number,
     image_id,
+    is_list,
     joints,
     kind,
     optional_score,
@@ -52,9 +55,10 @@ def _line_key(obj: dict[str, Any], key: str, path: str, line: str) -> Any:
 
 
 def _frame_rows(
-    obj: Any, line: str, skeleton: Skeleton | None, path: str, forced: Skeleton | None = None
-) -> tuple[Skeleton | None, list[Row]]:
-    """The rows of one line (`line` = "line 3"); `skeleton` is the one fixed by earlier lines."""
+    obj: Any, line: str, skeleton: Skeleton | None, path: str, rows: RowBuffer, forced: Skeleton | None = None
+) -> Skeleton | None:
+    """Append the rows of one line (`line` = "line 3") to `rows`; `skeleton` is the one fixed by
+    earlier lines, and the one returned the one fixed after this line."""
     obj = as_dict(obj, path, line)
     frame = frame_number(_line_key(obj, "frame", path, line), path, f"{line}: frame")
     key = image_id(obj["image_id"], path, f"{line}: image_id") if obj.get("image_id") is not None else frame
@@ -69,7 +73,6 @@ def _frame_rows(
     file_name = obj.get("file_name")
     if file_name is not None and not isinstance(file_name, str):
         raise error(path, f"{line}: file_name", f"expected a string, got {kind(file_name)}")
-    rows = []
     for i, person in enumerate(as_list(_line_key(obj, "persons", path, line), path, f"{line}: persons")):
         where = f"{line}: persons[{i}]"
         person = as_dict(person, path, where)
@@ -80,49 +83,68 @@ def _frame_rows(
         parsed = [zedo_point(p, path, f"{where}.keypoints[{j}]") for j, p in enumerate(points)]
         xy, conf = joints(parsed, skeleton, path, f"{where}.keypoints")
         rows.append(Row(key, xy, conf, file_name, size, optional_score(person, path, where), frame))
-    return skeleton, rows
+    return skeleton
 
 
-def _read_records(records: list[tuple[int, Any]], path: str, forced: Skeleton | None = None) -> Keypoints2D:
+def _read_records(records: Iterable[tuple[int, Any]], path: str, forced: Skeleton | None = None) -> Keypoints2D:
+    """The rows of `records` ((line number, parsed line) pairs), read one line at a time."""
     skeleton: Skeleton | None = None
     named = False
-    rows: list[Row] = []
+    rows = RowBuffer()
+    count = 0
     for number, obj in records:
-        skeleton, frame_rows = _frame_rows(obj, f"line {number}", skeleton, path, forced)
+        skeleton = _frame_rows(obj, f"line {number}", skeleton, path, rows, forced)
         named = named or (isinstance(obj, dict) and obj.get("skeleton") is not None)
-        rows.extend(frame_rows)
+        count += 1
     if skeleton is None:
-        raise error(path, "", "no instances found" if records else "no frames found")
+        raise error(path, "", "no instances found" if count else "no frames found")
     reason = "skeleton field" if named else "--skeleton" if forced is not None else f"joint count {skeleton.num_joints}"
     return build(rows, skeleton, path, FORMAT, reason=reason, counted=not named and forced is None)
 
 
 def read_zedo_jsonl(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read already parsed zedo JSONL: one frame object (one line) or a list of them (line k + 1)."""
-    records = data if isinstance(data, list) else [data]
-    return _read_records(list(enumerate(records, start=1)), path, skeleton)
+    records = data if is_list(data) else [data]
+    return _read_records(enumerate(records, start=1), path, skeleton)
+
+
+def _lines(text: str) -> Iterator[tuple[int, str]]:
+    """The non-blank lines of `text` with their numbers, split on "\\n" only, one at a time."""
+    start, number = 0, 1
+    while start <= len(text):
+        end = text.find("\n", start)
+        end = len(text) if end < 0 else end
+        line = text[start:end]
+        if not blank(line):
+            yield number, line
+        start, number = end + 1, number + 1
 
 
 def read_zedo_jsonl_text(text: str, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
-    """Read zedo JSONL text. Lines are split on "\\n" only: U+2028 may stand raw inside a JSON string."""
-    records = [
-        (number, parse_json(line, path, f"line {number}"))
-        for number, line in enumerate(text.split("\n"), start=1)
-        if line.strip()
-    ]
-    if not records:
+    """Read zedo JSONL text. Lines are split on "\\n" only: U+2028 may stand raw inside a JSON string.
+
+    Every line is parsed once to check it (an invalid line is reported before any field of an
+    earlier one), then again as it is read: one line's objects are held at a time.
+    """
+    count = 0
+    for number, line in _lines(text):
+        parse_json(line, path, f"line {number}")
+        count += 1
+    if not count:
         raise error(path, "", "file is empty")
+    records = ((number, parse_json(line, path, f"line {number}")) for number, line in _lines(text))
     return _read_records(records, path, skeleton)
 
 
 def looks_like_jsonl(text: str) -> bool:
     """Whether `text` is zedo JSONL rather than one JSON document: its first non-blank line
-    parses alone as an object with ``persons`` (a pretty-printed document's first line is "{")."""
-    for line in text.split("\n"):
-        if line.strip():
-            try:
-                first = parse_json(line, "", "")
-            except InputFormatError:  # not JSON on its own: the caller parses it whole and reports errors
-                return False
-            return isinstance(first, dict) and "persons" in first
+    parses alone as an object with ``persons`` (a pretty-printed document's first line is "{").
+    The line is scanned as a document (`source.parse_document`): a one-line document of 100,000
+    instances is checked element by element, never built whole."""
+    for _, line in _lines(text):
+        try:
+            first = parse_document(line, "")
+        except InputFormatError:  # not JSON on its own: the caller parses it whole and reports errors
+            return False
+        return isinstance(first, dict) and "persons" in first
     return False

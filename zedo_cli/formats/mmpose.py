@@ -23,6 +23,7 @@ instance's detection score; ``bbox`` is not used.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +33,7 @@ from .validate import (
     NAN_SIZE,
     ImageId,
     Row,
+    RowBuffer,
     as_dict,
     as_list,
     build,
@@ -40,6 +42,7 @@ from .validate import (
     error,
     file_order,
     frame_number,
+    is_list,
     joint_names,
     joints,
     kind,
@@ -79,9 +82,10 @@ def _instance_row(
 
 def _instances(
     values: Any, where: str, key: ImageId, frame: int | None, first: Skeleton | None, path: str,
-    forced: Skeleton | None = None,
-) -> tuple[Skeleton | None, list[Row]]:  # fmt: skip
-    rows = []
+    forced: Skeleton | None = None, rows: RowBuffer | None = None,
+) -> tuple[Skeleton | None, RowBuffer]:  # fmt: skip
+    """The instances of one list, appended to `rows` (a new buffer when None)."""
+    rows = RowBuffer() if rows is None else rows
     for i, entry in enumerate(as_list(values, path, where)):
         first, row = _instance_row(entry, f"{where}[{i}]", key, frame, first, path, forced)
         rows.append(row)
@@ -89,17 +93,16 @@ def _instances(
 
 
 def _frames(
-    frames: list[Any], where: str, offset: int, first: Skeleton | None, path: str, forced: Skeleton | None = None
-) -> tuple[Skeleton | None, list[Row]]:
+    frames: Sequence[Any], where: str, offset: int, first: Skeleton | None, path: str, forced: Skeleton | None = None
+) -> tuple[Skeleton | None, RowBuffer]:
     """``[{"frame_id", "instances"}, ...]``; the frame index is frame_id - `offset`."""
-    rows: list[Row] = []
+    rows = RowBuffer()
     for n, entry in enumerate(frames):
         at = f"{where}[{n}]" if where else f"[{n}]"
         entry = as_dict(entry, path, at)
         frame_id = frame_number(required(entry, "frame_id", path, at), path, f"{at}.frame_id")
         values = required(entry, "instances", path, at)
-        first, frame_rows = _instances(values, f"{at}.instances", frame_id, frame_id - offset, first, path, forced)
-        rows.extend(frame_rows)
+        first, _ = _instances(values, f"{at}.instances", frame_id, frame_id - offset, first, path, forced, rows)
     return first, rows
 
 
@@ -194,7 +197,7 @@ def mmpose_layout(data: Any) -> str | None:
     """Which MMPose layout `data` is ("mmpose-image", "-video", "-demo"), or None (FORMATS.md 3.7)."""
     if isinstance(data, dict):
         return "mmpose-demo" if "instance_info" in data else None
-    if not (isinstance(data, list) and data and isinstance(data[0], dict)):
+    if not (is_list(data) and data and isinstance(data[0], dict)):
         return None
     first = data[0]
     if "frame_id" in first and "instances" in first:
@@ -207,7 +210,7 @@ def mmpose_layout(data: Any) -> str | None:
 def read_mmpose(data: Any, path: str, skeleton: Skeleton | None = None) -> Keypoints2D:
     """Read any of the three MMPose layouts, told apart by `mmpose_layout`."""
     layout = mmpose_layout(data)
-    if layout is None and isinstance(data, list) and all(isinstance(entry, dict) for entry in data[:1]):
+    if layout is None and is_list(data) and all(isinstance(entry, dict) for entry in data[:1]):
         # Told to read MMPose: the layout's own checks give a better message than "not MMPose".
         layout = "mmpose-video" if data and "frame_id" in data[0] else "mmpose-image"
     if layout is None:

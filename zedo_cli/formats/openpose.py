@@ -34,6 +34,7 @@ from .source import load_json
 from .validate import (
     NAN_SIZE,
     Row,
+    RowBuffer,
     as_dict,
     as_list,
     build,
@@ -145,7 +146,7 @@ def read_openpose_dir(directory: str | Path, skeleton: Skeleton | None = None) -
     """
     directory = Path(directory)
     found: Skeleton | None = None
-    rows: list[Row] = []
+    rows = RowBuffer()
     for file, frame in frame_files(directory):
         name = str(file)
         found, frame_rows = _people_rows(load_json(name), name, _frame_name(name), frame, found, skeleton)

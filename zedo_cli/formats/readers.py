@@ -35,8 +35,8 @@ from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read
 from .jsonl import looks_like_jsonl, read_zedo_jsonl, read_zedo_jsonl_text
 from .mmpose import mmpose_layout, read_mmpose, read_mmpose_demo, read_mmpose_image, read_mmpose_video
 from .openpose import frame_files, read_openpose, read_openpose_dir
-from .source import STDIN, load_json, parse_json, read_text
-from .validate import as_dict, error, kind
+from .source import STDIN, load_document, parse_document, read_text
+from .validate import as_dict, error, is_list, kind
 from .zedo2d import ZEDO_2D_SCHEMA, read_zedo_2d
 
 __all__ = [
@@ -97,7 +97,7 @@ def detect_format(data: Any, path: str = "<input>") -> str:
             if key in data:
                 return fmt
         found = f"top-level JSON object has keys {_keys(data)}" if data else "top-level JSON object is empty"
-    elif isinstance(data, list):
+    elif is_list(data):
         if not data or _is_results_entry(data[0]):
             return "alphapose" if data and is_alphapose_entry(data[0]) else "coco-results"
         layout = mmpose_layout(data)
@@ -145,7 +145,7 @@ def _join_images(kp: Keypoints2D, images: str) -> Keypoints2D:
     A string image_id (AlphaPose) that is not an id there is looked up as a ``file_name`` or an
     ``original_file_name``.
     """
-    index = parse_images(as_dict(load_json(images), images, ""), images)
+    index = parse_images(as_dict(load_document(images), images, ""), images)
     by_name = {name: image for image in index.values() for name in image.names}
     sizes = kp.image_sizes.copy()
     file_names = list(kp.file_names)
@@ -184,7 +184,7 @@ def read_keypoints_text(
     forced = _skeleton_option(skeleton)
     if fmt == "zedo-jsonl" or (fmt is None and (path.endswith(_JSONL_SUFFIXES) or looks_like_jsonl(text))):
         return read_zedo_jsonl_text(text, path, forced)
-    return read_parsed(parse_json(text, path), path, format=fmt, skeleton=forced)
+    return read_parsed(parse_document(text, path), path, format=fmt, skeleton=forced)
 
 
 def read_keypoints(
@@ -236,7 +236,9 @@ def input_sha256(path: str | Path) -> str | None:
             for file, _ in frame_files(Path(name)):
                 digest.update(file.name.encode() + b"\0" + hashlib.sha256(file.read_bytes()).digest())
         else:
-            digest.update(Path(name).read_bytes())
+            with open(name, "rb") as handle:  # a MiB at a time: the input is not held twice
+                while chunk := handle.read(1 << 20):
+                    digest.update(chunk)
     except OSError as exc:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
     return digest.hexdigest()

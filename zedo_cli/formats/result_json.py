@@ -6,17 +6,18 @@ order. By default coordinates are in metres in the camera frame; `units="mm"` an
 `frame="root"` (writers_common) change `keypoints_3d`, `keypoints_3d_root_relative` and
 `root_translation` alike (the last stays the root point's camera-frame position).
 
-The document is assembled from three parts that the JSON Lines writer streams one by one:
-`build_header` (everything but frames and summary), `iter_frames` and `build_summary`.
+The document is assembled from three parts that the writers stream one by one: `build_header`
+(everything but frames and summary), `iter_frames` and `build_summary`. `write_document` writes
+them frame by frame into the (temporary) file, so that neither the frames nor the document's
+text is ever held whole; the bytes are those of ``json.dumps(document, indent=1)``.
 """
 
 from __future__ import annotations
 
-import json
 import math
-import sys
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from datetime import UTC, datetime
+from itertools import chain
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,15 +25,17 @@ import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
-from ..files import write_text_atomic
 from ..version import __version__
-from .writers_common import AXES, OutputOptions, frame_origin, group_frames, output_poses
+from .writers_common import AXES, OutputOptions, frame_origin, group_frames, json_pieces, output_poses, write_text
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
     from ..lifting.solver import LiftResult
 
 SCHEMA = "zedo.pose3d/1"
-__all__ = ["AXES", "SCHEMA", "build_header", "build_result_document", "build_summary", "iter_frames", "write_json"]
+__all__ = [
+    "AXES", "SCHEMA", "build_header", "build_result_document", "build_summary", "iter_frames", "write_document",
+    "write_json",
+]  # fmt: skip
 
 
 def _num(value: float, digits: int) -> float | None:
@@ -182,13 +185,22 @@ def build_result_document(
     return {**header, "frames": frames, "summary": build_summary(kp, res)}
 
 
+def write_document(
+    out: str | Path,
+    header: dict[str, Any],
+    frames: Iterable[dict[str, Any]],
+    summary: dict[str, Any],
+    *,
+    overwrite: bool = True,
+) -> None:
+    """Write the document ``{**header, "frames": [...], "summary": summary}`` to `out` as
+    `write_json` does, one frame at a time as `frames` yields them (e.g. `iter_frames`)."""
+    members = [*header.items(), ("frames", iter(frames)), ("summary", summary)]
+    write_text(out, chain(json_pieces(members), "\n"), overwrite=overwrite)
+
+
 def write_json(doc: dict[str, Any], out: str | Path, *, overwrite: bool = True) -> None:
     """Write `doc` to `out` atomically (temporary file in the same folder, then rename), or to
     stdout when `out` is "-". `overwrite` defaults to True here for the callers that check the
     path themselves; `writers.write_result` passes the caller's choice."""
-    text = json.dumps(doc, indent=1, allow_nan=False)
-    if str(out) == "-":
-        sys.stdout.write(text + "\n")
-        sys.stdout.flush()
-        return
-    write_text_atomic(out, text + "\n", overwrite=overwrite)
+    write_text(out, chain(json_pieces(doc.items()), "\n"), overwrite=overwrite)

@@ -13,11 +13,13 @@ import stat
 import sys
 from typing import Any
 
+from .jsondoc import InvalidDocument, scan_document
 from .validate import error
 
 STDIN = "-"
-# The largest input zedo reads, in bytes. Parsing JSON takes several times its size in memory;
-# the largest real detector outputs seen (hours of AlphaPose frames) are tens of MB.
+# The largest input zedo reads, in bytes. The text is held while it is read (`parse_document`
+# decodes its arrays an element at a time); the largest real detector outputs seen (hours of
+# AlphaPose frames) are tens of MB.
 MAX_INPUT_BYTES = 256 * 1024 * 1024
 _KINDS = {stat.S_ISFIFO: "a FIFO (named pipe)", stat.S_ISCHR: "a character device", stat.S_ISBLK: "a block device",
           stat.S_ISSOCK: "a socket", stat.S_ISDIR: "a directory, expected a JSON file"}  # fmt: skip
@@ -53,11 +55,20 @@ def _open_regular(name: str) -> int:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
 
 
-def _read_bounded(stream: Any, name: str) -> bytes:
-    """At most `MAX_INPUT_BYTES` of `stream`; more is an error (a file that grew, or stdin)."""
-    raw = stream.read(MAX_INPUT_BYTES + 1)
-    if len(raw) > MAX_INPUT_BYTES:
-        raise error(name, "", _too_large(len(raw)))
+_CHUNK_BYTES = 1 << 20
+
+
+def _read_bounded(stream: Any, name: str) -> bytearray:
+    """At most `MAX_INPUT_BYTES` of `stream`; more is an error (a file that grew, or stdin).
+
+    Read a MiB at a time into one growing buffer: ``read(MAX_INPUT_BYTES + 1)`` would reserve
+    the whole limit (256 MiB) for any input, and joining chunks would hold the input twice.
+    """
+    raw = bytearray()
+    while chunk := stream.read(min(_CHUNK_BYTES, MAX_INPUT_BYTES + 1 - len(raw))):
+        raw += chunk
+        if len(raw) > MAX_INPUT_BYTES:
+            raise error(name, "", _too_large(len(raw)))
     return raw
 
 
@@ -78,9 +89,14 @@ def read_text(name: str) -> str:
         raise error(name, "", f"not UTF-8 text (invalid byte at offset {exc.start})") from None
 
 
+def blank(text: str) -> bool:
+    """Empty or only whitespace (``not text.strip()`` without copying a large text)."""
+    return not text or text.isspace()
+
+
 def parse_json(text: str, name: str, where: str = "") -> Any:
     """`text` parsed as one JSON value; `where` prefixes the position (e.g. "line 3" of a JSONL file)."""
-    if not text.strip():
+    if blank(text):
         raise error(name, where, "file is empty" if not where else "empty line")
     try:
         return json.loads(text)
@@ -94,3 +110,19 @@ def parse_json(text: str, name: str, where: str = "") -> Any:
 def load_json(name: str) -> Any:
     """The parsed JSON of file `name` ("-" = stdin)."""
     return parse_json(read_text(name), name)
+
+
+def parse_document(text: str, name: str) -> Any:
+    """`parse_json` for a whole input file, its top-level arrays left in the text and decoded
+    one element at a time as a reader walks them (`jsondoc.JsonArray`)."""
+    if blank(text):
+        return parse_json(text, name)  # "file is empty"
+    try:
+        return scan_document(text)
+    except (InvalidDocument, ValueError, RecursionError):  # JSONDecodeError is a ValueError
+        return parse_json(text, name)  # json.loads says where and why (its document, should it not fail)
+
+
+def load_document(name: str) -> Any:
+    """The JSON document of file `name` ("-" = stdin), as `parse_document` returns it."""
+    return parse_document(read_text(name), name)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,6 +27,7 @@ from ..data.skeleton import (
     skeleton_for_joint_count,
 )
 from ..errors import InputFormatError
+from .jsondoc import JsonArray
 
 ImageId = int | str
 NAN_SIZE = (math.nan, math.nan)
@@ -64,7 +66,7 @@ def kind(value: Any) -> str:
         return "a number"
     if isinstance(value, str):
         return "a string"
-    if isinstance(value, list):
+    if isinstance(value, list | JsonArray):
         return "a list"
     if isinstance(value, dict):
         return "an object"
@@ -77,8 +79,13 @@ def as_dict(value: Any, path: str, where: str) -> dict[str, Any]:
     return value
 
 
-def as_list(value: Any, path: str, where: str) -> list[Any]:
-    if not isinstance(value, list):
+def is_list(value: Any) -> bool:
+    """A JSON array: a list, or an array of a document decoded as it is read (`jsondoc`)."""
+    return isinstance(value, list | JsonArray)
+
+
+def as_list(value: Any, path: str, where: str) -> Sequence[Any]:
+    if not is_list(value):
         raise error(path, where, f"expected a list, got {kind(value)}")
     return value
 
@@ -164,7 +171,7 @@ def detector_confidence(c: float, path: str, where: str) -> float:
     return min(max(c, 0.0), 1.0)
 
 
-def _found_numbers(values: list[Any]) -> str:
+def _found_numbers(values: Sequence[Any]) -> str:
     """What a keypoint list that should be flat numbers holds, for messages."""
     if values and isinstance(values[0], list):
         sizes = sorted({len(v) for v in values if isinstance(v, list)})
@@ -316,8 +323,64 @@ def joints(
     return xy, conf
 
 
+class RowBuffer:
+    """Instances as a reader reads them, kept compact: coordinates and confidences in float64
+    blocks that grow by doubling, the rest in one list per field. A `Row` is copied in by
+    `append` and dropped, so a file of 100,000 instances holds no 100,000 objects with arrays."""
+
+    def __init__(self) -> None:
+        self._xy = np.empty((0, 0, 2), dtype=np.float64)  # (capacity, J, 2)
+        self._conf = np.empty((0, 0), dtype=np.float64)  # (capacity, J)
+        self.image_ids: list[ImageId] = []
+        self.file_names: list[str | None] = []
+        self.sizes: list[tuple[float, float]] = []
+        self.scores: list[float | None] = []
+        self.frames: list[int | None] = []
+
+    def __len__(self) -> int:
+        return len(self.image_ids)
+
+    def append(self, row: Row) -> None:
+        n = len(self)
+        if n == len(self._xy):  # full (or empty): double, in the joint count of the first row
+            joints, capacity = row.xy.shape[0] if n == 0 else self._xy.shape[1], max(64, 2 * n)
+            xy, conf = np.empty((capacity, joints, 2)), np.empty((capacity, joints))
+            if n:
+                xy[:n], conf[:n] = self._xy[:n], self._conf[:n]
+            self._xy, self._conf = xy, conf
+        self._xy[n] = row.xy
+        self._conf[n] = row.confidence
+        self.image_ids.append(row.image_id)
+        self.file_names.append(row.file_name)
+        self.sizes.append(row.size)
+        self.scores.append(row.score)
+        self.frames.append(row.frame)
+
+    def extend(self, rows: Iterable[Row]) -> None:
+        for row in rows:
+            self.append(row)
+
+    @property
+    def xy(self) -> np.ndarray:
+        """(N, J, 2) pixels (a view)."""
+        return self._xy[: len(self)]
+
+    @property
+    def confidence(self) -> np.ndarray:
+        """(N, J) (a view)."""
+        return self._conf[: len(self)]
+
+    def reorder(self, order: Sequence[int] | np.ndarray) -> None:
+        """Put the instances in `order` (a permutation of their indices)."""
+        idx = np.asarray(order, dtype=np.int64)
+        self._xy, self._conf = self.xy[idx], self.confidence[idx]
+        for name in ("image_ids", "file_names", "sizes", "scores", "frames"):
+            values = getattr(self, name)
+            setattr(self, name, [values[i] for i in idx.tolist()])
+
+
 def build(
-    rows: list[Row],
+    rows: RowBuffer | Sequence[Row],
     skeleton: Skeleton,
     path: str,
     fmt: str,
@@ -333,11 +396,14 @@ def build(
     for BODY_25 against BODY_25B (`body25_variant`); an undecidable file is an error. `names`:
     the rows are in a file's named joint order, put into `names.skeleton`'s order here.
     """
-    if not rows:
+    if not isinstance(rows, RowBuffer):
+        buffer = RowBuffer()
+        buffer.extend(rows)
+        rows = buffer
+    if not len(rows):
         raise error(path, "", "no instances found")
-    frames = [r.frame for r in rows]
-    xy = np.stack([r.xy for r in rows]).astype(np.float64)
-    conf = np.stack([r.confidence for r in rows]).astype(np.float64)
+    n = len(rows)
+    xy, conf = rows.xy.copy(), rows.confidence.copy()
     if names is not None:
         xy, conf, skeleton = xy[:, list(names.order)], conf[:, list(names.order)], names.skeleton
     if counted and skeleton.name == "body25":
@@ -346,13 +412,13 @@ def build(
         xy=xy,
         confidence=conf,
         skeleton=skeleton,
-        image_ids=[r.image_id for r in rows],
-        file_names=[r.file_name for r in rows],
-        image_sizes=np.array([r.size for r in rows], dtype=np.float64).reshape(len(rows), 2),
-        scores=[r.score for r in rows],
+        image_ids=rows.image_ids,
+        file_names=rows.file_names,
+        image_sizes=np.array(rows.sizes, dtype=np.float64).reshape(n, 2),
+        scores=rows.scores,
         path=path,
         format=fmt,
-        frame_indices=None if all(f is None for f in frames) else frames,
+        frame_indices=None if all(f is None for f in rows.frames) else rows.frames,
         source=SkeletonSource(skeleton.name, reason),
     )
 

@@ -16,6 +16,7 @@ and never replace an existing file unless `overwrite=True`.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,7 +25,7 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import check_writable
-from .result_json import build_header, build_result_document, build_summary, iter_frames, write_json
+from .result_json import build_header, build_summary, iter_frames, write_document
 from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
 from .writers_csv import write_csv
 from .writers_jsonl import write_jsonl
@@ -70,20 +71,19 @@ def default_output_name(input_path: str | Path, fmt: str = "json") -> Path:
     return path.with_name(f"{path.stem}.zedo.{fmt}")
 
 
-def _frame_cameras(kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str]) -> list[dict[str, Any]]:
-    """Per frame: ids and the K used, for the formats whose rows do not carry a full camera."""
-    cameras = []
+def _frame_cameras(kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str]) -> Iterator[dict[str, Any]]:
+    """Per frame: ids and the K used, for the formats whose rows do not carry a full camera
+    (one at a time: the sidecar and the metadata are written as they come)."""
     groups = group_frames(kp.image_ids, kp.frame_indices)
     for f, members in enumerate(groups.members):
         i = members[0]
         size = kp.image_sizes[i]
-        cameras.append({
+        yield {
             "frame_index": int(groups.number[f]), "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
             "camera": {"K": intrinsics[i].round(6).tolist(),
                        "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
                        "source": sources[i]},
-        })  # fmt: skip
-    return cameras
+        }  # fmt: skip
 
 
 def write_result(
@@ -115,16 +115,12 @@ def write_result(
                           "or use --format json/jsonl/csv for stdout")  # fmt: skip
     if str(out) != "-":
         check_writable(Path(out), overwrite)
-    if fmt == "json":
-        doc = build_result_document(kp, res, intrinsics, sources, params=params, input_info=input_info,
-                                    units=units, frame=frame)  # fmt: skip
-        write_json(doc, out, overwrite=overwrite)
-        return [] if str(out) == "-" else [Path(out)]
     header = build_header(kp, intrinsics, sources, params=params, input_info=input_info, units=units, frame=frame)
     summary = build_summary(kp, res)
-    if fmt == "jsonl":
+    if fmt in ("json", "jsonl"):  # both stream the frames as they are made, never the whole document
         frames = iter_frames(kp, res, intrinsics, sources, units=units, frame=frame)
-        write_jsonl(out, header, frames, summary, overwrite=overwrite)
+        write = write_document if fmt == "json" else write_jsonl
+        write(out, header, frames, summary, overwrite=overwrite)
         return [] if str(out) == "-" else [Path(out)]
     metadata = {**header, "frames": _frame_cameras(kp, intrinsics, sources), "summary": summary}
     if fmt == "csv":

@@ -8,18 +8,24 @@ Options (FORMATS.md 3.8a), the same for every format:
   the hip midpoint for syrip12, so the root sits at the origin; same axes). The root point's
   camera-frame position is always written as well, so a root-frame file loses nothing.
 
-Files are written atomically (`zedo_cli.files`).
+Files are written atomically (`zedo_cli.files`). The JSON documents (the result, the CSV's
+sidecar, the NPZ's metadata) are written piece by piece (`json_pieces`): one frame at a time, never
+the whole document as one string, so that memory does not grow with the text of the output.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import json
+import sys
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ConfigError
+from ..files import atomic_path
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
     from ..lifting.solver import LiftResult
@@ -106,3 +112,63 @@ def group_frames(image_ids: Sequence[int | str], frame_numbers: Sequence[int | N
         if len(numbers) == len(members) and None not in numbers and len(set(numbers)) == len(numbers):
             number = np.asarray(numbers, dtype=np.int64)
     return FrameGroups(number[slot], person, members, number)
+
+
+def _dumps(value: Any, indent: int | None, level: int) -> str:
+    text = json.dumps(value, indent=indent, allow_nan=False)
+    return text.replace("\n", "\n" + " " * level) if indent and level else text
+
+
+def json_pieces(members: Iterable[tuple[str, Any]], *, indent: int | None = 1) -> Iterator[str]:
+    """The text of ``json.dumps(dict(members), indent=indent, allow_nan=False)``, in pieces.
+
+    A member whose value is an iterator is written as a list, one element at a time: the list
+    (e.g. every frame of a result) is never held in memory, nor the whole text. Byte for byte
+    what json.dumps writes (`tests/formats/test_writers_streaming.py`): ``indent=1`` puts a
+    list's elements at two spaces and their own lines deeper (json.dumps escapes every newline
+    inside strings, so indenting after each newline is safe); ``indent=None`` is json.dumps'
+    one line with ", " and ": ".
+    """
+    sep, colon = (",\n" + " " * indent, ": ") if indent else (", ", ": ")
+    inner = ",\n" + " " * (2 * indent) if indent else ", "
+    opened, closed = ("\n" + " " * indent, "\n") if indent else ("", "")
+    yield "{"
+    first = True
+    for key, value in members:
+        yield (opened if first else sep) + json.dumps(key) + colon
+        first = False
+        if not isinstance(value, Iterator):
+            yield _dumps(value, indent, indent or 0)
+            continue
+        empty = True
+        for item in value:
+            yield ("[" + (opened + " " * (indent or 0) if indent else "") if empty else inner) + _dumps(
+                item, indent, 2 * (indent or 0)
+            )
+            empty = False
+        yield "[]" if empty else (opened if indent else "") + "]"
+    yield "}" if first else closed + "}"
+
+
+def write_pieces(pieces: Iterable[str], fh: IO[str]) -> None:
+    """Write text `pieces` to `fh`, a few hundred kB at a time (fewer, larger writes)."""
+    buffer: list[str] = []
+    size = 0
+    for piece in pieces:
+        buffer.append(piece)
+        size += len(piece)
+        if size > 1 << 18:
+            fh.write("".join(buffer))
+            buffer, size = [], 0
+    fh.write("".join(buffer))
+
+
+def write_text(out: str | Path, pieces: Iterable[str], *, overwrite: bool) -> None:
+    """Write text `pieces` to `out` atomically (a temporary file beside it, renamed when
+    complete; removed on an error), or to stdout when `out` is "-"."""
+    if str(out) == "-":
+        write_pieces(pieces, sys.stdout)
+        sys.stdout.flush()
+        return
+    with atomic_path(out, overwrite=overwrite) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        write_pieces(pieces, fh)

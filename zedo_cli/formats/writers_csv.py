@@ -24,17 +24,18 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import sys
+from collections.abc import Iterable, Iterator
+from itertools import chain
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..files import atomic_path, check_writable
-from .writers_common import OutputOptions, group_frames, output_poses
+from .writers_common import OutputOptions, group_frames, json_pieces, output_poses, write_pieces
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
     from ..lifting.solver import LiftResult
@@ -69,17 +70,15 @@ def _bool(value: bool) -> str:
     return "true" if value else "false"
 
 
-def csv_text(
+def csv_rows(
     kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
     frame: str = "camera",
-) -> str:  # fmt: skip
-    """The CSV as one string (the header row, then the rows in frame, person, joint order)."""
+) -> Iterator[list[Any]]:  # fmt: skip
+    """The CSV's rows one at a time: the header row, then frame, person and joint order."""
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
     groups = group_frames(kp.image_ids, kp.frame_indices)
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(csv_columns(units, frame))
+    yield csv_columns(units, frame)
     for members in groups.members:
         for i in members:
             k = intrinsics[i]
@@ -87,12 +86,34 @@ def csv_text(
             head = [int(groups.frame_index[i]), kp.image_ids[i], kp.file_names[i] or "", int(groups.person[i]), i]
             for j, joint in enumerate(kp.skeleton.joints):
                 conf = kp.confidence[i, j]
-                writer.writerow([
+                yield [
                     *head, joint, j, *(_cell(v, opts.digits) for v in poses[i, j]),
                     _bool(res.observed[i, j]), _bool(res.lifted[i]), _cell(conf, 4) if conf > 0 else "",
                     _cell(kp.xy[i, j, 0], 3), _cell(kp.xy[i, j, 1], 3),
                     _cell(res.reprojection_error_px[i, j], 3), *camera,
-                ])  # fmt: skip
+                ]  # fmt: skip
+
+
+def _write_rows(rows: Iterable[list[Any]], fh: IO[str]) -> None:
+    """The rows in CSV syntax, one frame's worth (a few hundred rows) at a time."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    for n, row in enumerate(rows, start=1):
+        writer.writerow(row)
+        if n % 4096 == 0:
+            fh.write(buf.getvalue())
+            buf.seek(0)
+            buf.truncate()
+    fh.write(buf.getvalue())
+
+
+def csv_text(
+    kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
+    frame: str = "camera",
+) -> str:  # fmt: skip
+    """The CSV as one string (the header row, then the rows in frame, person, joint order)."""
+    buf = io.StringIO()
+    _write_rows(csv_rows(kp, res, intrinsics, sources, units=units, frame=frame), buf)
     return buf.getvalue()
 
 
@@ -130,10 +151,11 @@ def write_csv(
     overwrite: bool = False,
 ) -> list[Path]:
     """Write the CSV and its sidecar (`metadata` = the JSON header plus summary and per-frame
-    cameras) to `out`, or the CSV alone to stdout ("-"). Returns the paths written."""
-    text = csv_text(kp, res, intrinsics, sources, units=units, frame=frame)
+    cameras; a value may be an iterator, written as a list as it yields) to `out`, or the CSV
+    alone to stdout ("-"). Both are written row by row, never held whole. Returns the paths written."""
+    rows = csv_rows(kp, res, intrinsics, sources, units=units, frame=frame)
     if str(out) == "-":
-        sys.stdout.write(text)
+        _write_rows(rows, sys.stdout)
         sys.stdout.flush()
         return []
     path, meta = Path(out), sidecar_path(out)
@@ -141,6 +163,8 @@ def write_csv(
     check_writable(meta, overwrite)
     sidecar = {**metadata, "data_file": path.name, "columns": _column_notes(units, frame)}
     with atomic_path(meta, overwrite=overwrite) as tmp_meta, atomic_path(path, overwrite=overwrite) as tmp_csv:
-        tmp_meta.write_text(json.dumps(sidecar, indent=1, allow_nan=False) + "\n", encoding="utf-8")
-        tmp_csv.write_text(text, encoding="utf-8")
+        with open(tmp_meta, "w", encoding="utf-8") as fh:
+            write_pieces(chain(json_pieces(sidecar.items()), "\n"), fh)
+        with open(tmp_csv, "w", encoding="utf-8") as fh:
+            _write_rows(rows, fh)
     return [path, meta]

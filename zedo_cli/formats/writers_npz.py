@@ -26,7 +26,6 @@ never written to stdout.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -35,7 +34,7 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import atomic_path
-from .writers_common import AXES, OutputOptions, group_frames, output_poses
+from .writers_common import AXES, OutputOptions, group_frames, json_pieces, output_poses
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
     from ..lifting.solver import LiftResult
@@ -75,7 +74,8 @@ def npz_arrays(
         "units": np.asarray(opts.units),
         "coordinate_frame": np.asarray(opts.frame),
         "axes": np.asarray([AXES["x"], AXES["y"], AXES["z"]], dtype=np.str_),
-        "metadata": np.asarray(json.dumps(metadata, allow_nan=False)),
+        # json.dumps(metadata)'s text, made piece by piece: `metadata["frames"]` may be an iterator
+        "metadata": np.asarray("".join(json_pieces(metadata.items(), indent=None))),
     }
 
 

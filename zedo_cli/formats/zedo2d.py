@@ -25,6 +25,7 @@ from ..data.skeleton import SKELETONS, Skeleton
 from .validate import (
     NAN_SIZE,
     Row,
+    RowBuffer,
     as_dict,
     as_list,
     build,
@@ -94,5 +95,7 @@ def read_zedo_2d(data: Any, path: str, skeleton: Skeleton | None = None) -> Keyp
     skeleton = named
     default_size = size_pair(doc["image_size"], path, "image_size") if "image_size" in doc else NAN_SIZE
     instances = as_list(required(doc, "instances", path, ""), path, "instances")
-    rows = [_parse_instance(entry, i, skeleton, default_size, path) for i, entry in enumerate(instances)]
+    rows = RowBuffer()
+    for i, entry in enumerate(instances):
+        rows.append(_parse_instance(entry, i, skeleton, default_size, path))
     return build(rows, skeleton, path, "zedo-2d", reason="skeleton field")

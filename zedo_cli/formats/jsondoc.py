@@ -1,0 +1,130 @@
+"""A JSON document whose large arrays are decoded one element at a time (issue 19).
+
+``json.loads`` of a 50 MB detector output builds about ten times its size in Python objects,
+all alive while the reader walks them. `scan_document` instead checks the whole text once with
+the json module's own decoder and returns the document with every array of its top level (a
+top-level list, or the lists that are values of a top-level object: COCO ``annotations`` and
+``images``, MMPose ``instance_info``, zedo 2D ``instances``, ...) as a `JsonArray`: a read-only
+sequence that decodes an element from the text each time it is read. A reader that walks it
+holds one element's objects at a time; the text itself (one byte per character for ASCII JSON,
+within the input limit of `source.MAX_INPUT_BYTES`) is the rest.
+
+Why not a streaming parser such as ijson: every value here is decoded by the same
+``json.JSONDecoder`` as ``json.loads`` (numbers, NaN and Infinity, duplicate keys, the digit
+limit of integers alike), and the scan is a few lines on top of it; an invalid document is left
+to ``json.loads`` (`source.parse_json`), so its error message and position are exactly those of
+a whole-document parse. The cost is decoding each element twice (once to check, once to read):
+about a second for 50 MB, small beside the readers' checks.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from array import array
+from collections.abc import Iterator, Sequence
+from json.decoder import scanstring
+from typing import Any, overload
+
+_DECODER = json.JSONDecoder()
+_WHITESPACE = re.compile(r"[ \t\n\r]*")  # JSON's whitespace, as the json module skips it
+
+
+class InvalidDocument(Exception):
+    """The text is not valid JSON (the caller lets json.loads say where and why)."""
+
+
+class JsonArray(Sequence[Any]):
+    """A JSON array in a document's text; its elements are decoded when read, each time.
+
+    Equal in content to the list json.loads makes, without holding it: `len`, indexing (also
+    negative and slices, which give lists) and iteration in order.
+    """
+
+    __slots__ = ("_starts", "_text")
+
+    def __init__(self, text: str, starts: array[int]) -> None:
+        self._text = text
+        self._starts = starts  # the offset of each element in the text
+
+    def __len__(self) -> int:
+        return len(self._starts)
+
+    @overload
+    def __getitem__(self, index: int) -> Any: ...
+    @overload
+    def __getitem__(self, index: slice) -> list[Any]: ...
+    def __getitem__(self, index: int | slice) -> Any:
+        if isinstance(index, slice):
+            return [_DECODER.raw_decode(self._text, start)[0] for start in self._starts[index]]
+        return _DECODER.raw_decode(self._text, self._starts[index])[0]
+
+    def __iter__(self) -> Iterator[Any]:
+        for start in self._starts:
+            yield _DECODER.raw_decode(self._text, start)[0]
+
+    def __repr__(self) -> str:
+        return f"JsonArray({len(self)} elements)"
+
+
+def _skip(text: str, pos: int) -> int:
+    match = _WHITESPACE.match(text, pos)
+    return match.end() if match else pos
+
+
+def _array(text: str, pos: int) -> tuple[JsonArray, int]:
+    """The array starting at text[pos] == "[", every element decoded once to check it."""
+    starts: array[int] = array("q")
+    pos = _skip(text, pos + 1)
+    if text.startswith("]", pos):
+        return JsonArray(text, starts), pos + 1
+    while True:
+        starts.append(pos)
+        _, pos = _DECODER.raw_decode(text, pos)
+        pos = _skip(text, pos)
+        if text.startswith("]", pos):
+            return JsonArray(text, starts), pos + 1
+        if not text.startswith(",", pos):
+            raise InvalidDocument
+        pos = _skip(text, pos + 1)
+
+
+def _value(text: str, pos: int) -> tuple[Any, int]:
+    if text.startswith("[", pos):
+        return _array(text, pos)
+    return _DECODER.raw_decode(text, pos)
+
+
+def _object(text: str, pos: int) -> tuple[dict[str, Any], int]:
+    """The object starting at text[pos] == "{", its array values as `JsonArray`s."""
+    obj: dict[str, Any] = {}
+    pos = _skip(text, pos + 1)
+    if text.startswith("}", pos):
+        return obj, pos + 1
+    while True:
+        if not text.startswith('"', pos):
+            raise InvalidDocument
+        key, pos = scanstring(text, pos + 1)
+        pos = _skip(text, pos)
+        if not text.startswith(":", pos):
+            raise InvalidDocument
+        obj[key], pos = _value(text, _skip(text, pos + 1))  # a repeated key: the last value, as json.loads
+        pos = _skip(text, pos)
+        if text.startswith("}", pos):
+            return obj, pos + 1
+        if not text.startswith(",", pos):
+            raise InvalidDocument
+        pos = _skip(text, pos + 1)
+
+
+def scan_document(text: str) -> Any:
+    """The JSON document `text` with its top-level arrays as `JsonArray`s (module docstring).
+
+    Raises `InvalidDocument`, or the json module's `JSONDecodeError`, `ValueError` or
+    `RecursionError`, for text that is not one valid JSON value.
+    """
+    pos = _skip(text, 0)
+    value, pos = _object(text, pos) if text.startswith("{", pos) else _value(text, pos)
+    if _skip(text, pos) != len(text):
+        raise InvalidDocument
+    return value
