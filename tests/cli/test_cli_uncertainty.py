@@ -93,3 +93,23 @@ def test_hypotheses_out_of_range_are_usage_errors(tiny_prior_path: Path, tmp_pat
             app, lift_args(tiny_prior_path, str(write_coco(tmp_path / "kp.json")), "--hypotheses", k)
         )
         assert result.exit_code == 2 and "--hypotheses" in result.output
+
+
+def test_every_writer_carries_the_uncertainty(tiny_prior_path: Path, tmp_path: Path) -> None:
+    from zedo_cli.formats.result_reader import read_result
+
+    src = write_coco(tmp_path / "kp.json")
+    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=2)
+    radii = {}
+    for ext in ("json", "jsonl", "csv", "npz"):
+        out = tmp_path / f"out.{ext}"
+        args = lift_args(tiny_prior_path, str(src), "-o", str(out), "--hypotheses", "2", "--calibration", str(cal),
+                         "--save-hypotheses")  # fmt: skip
+        result = runner.invoke(app, args)
+        assert result.exit_code == 0, result.output
+        radii[ext] = read_result(out).uncertainty_m
+        assert radii[ext] is not None and radii[ext].shape == (3, 12) and np.isfinite(radii[ext]).all()
+    for ext in ("jsonl", "csv", "npz"):
+        np.testing.assert_allclose(radii[ext], radii["json"], atol=1e-4)
+    with np.load(tmp_path / "out.npz") as data:
+        assert data["hypotheses"].shape == (3, 2, 12, 3)

@@ -48,11 +48,13 @@ def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:
     return [f"{axis}_{tag}_{opts.units}" for axis in "xyz"]
 
 
-def csv_columns(units: str = "m", frame: str = "camera") -> list[str]:
+def csv_columns(units: str = "m", frame: str = "camera", *, uncertainty: bool = False) -> list[str]:
+    """The header row; `uncertainty_m` last when the result has a calibrated uncertainty."""
     return [
         "frame_index", "image_id", "file_name", "person", "instance_index", "joint", "joint_index",
         *coordinate_columns(units, frame), "observed", "lifted", "confidence", "u_px", "v_px",
         "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source",
+        *(["uncertainty_m"] if uncertainty else []),
     ]  # fmt: skip
 
 
@@ -78,7 +80,8 @@ def csv_rows(
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
     groups = group_frames(kp.image_ids, kp.frame_indices)
-    yield csv_columns(units, frame)
+    radii = res.uncertainty_m
+    yield csv_columns(units, frame, uncertainty=radii is not None)
     for members in groups.members:
         for i in members:
             k = intrinsics[i]
@@ -91,6 +94,7 @@ def csv_rows(
                     _bool(res.observed[i, j]), _bool(res.lifted[i]), _cell(conf, 4) if conf > 0 else "",
                     _cell(kp.xy[i, j, 0], 3), _cell(kp.xy[i, j, 1], 3),
                     _cell(res.reprojection_error_px[i, j], 3), *camera,
+                    *([] if radii is None else [_cell(radii[i, j], 4)]),
                 ]  # fmt: skip
 
 
@@ -135,6 +139,8 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
         "reprojection_error_px": "pixel distance between the 2D input and the projected 3D joint; empty if unobserved",
         "fx_px, fy_px, cx_px, cy_px": "intrinsics K of the row's frame (no skew)",
         "k_source": "where K came from: pseudo (f 2000 px at the image centre), cli or file",
+        "uncertainty_m": "only when calibrated: radius in metres (whatever the units) of the ball around the "
+        "root-relative joint that holds the true joint with 90 % probability; empty where not lifted",
     }
 
 

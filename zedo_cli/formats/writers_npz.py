@@ -17,6 +17,8 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
     image_ids              (N,)      int64 when every id is an integer, else str
     file_names             (N,)      str      "" where the input has none
     joint_names            (J,) str, bones (B, 2) int64
+    uncertainty_m          (N, J)    float64  only when calibrated: 90 % radius in metres; NaN where not lifted
+    hypotheses             (N, K, J, 3) float64  only with --save-hypotheses: root-relative, metres, camera axes
     units, coordinate_frame  0-d str; axes (3,) str: the directions of x, y, z
     metadata               0-d str: JSON of the result's header and summary (skeleton, input, params, ...)
 
@@ -76,7 +78,18 @@ def npz_arrays(
         "axes": np.asarray([AXES["x"], AXES["y"], AXES["z"]], dtype=np.str_),
         # json.dumps(metadata)'s text, made piece by piece: `metadata["frames"]` may be an iterator
         "metadata": np.asarray("".join(json_pieces(metadata.items(), indent=None))),
+        **_uncertainty_arrays(res),
     }
+
+
+def _uncertainty_arrays(res: LiftResult) -> dict[str, np.ndarray]:
+    """`uncertainty_m (N, J)` when the lift has it; `hypotheses (N, K, J, 3)` when they were kept."""
+    out = {}
+    if res.uncertainty_m is not None:
+        out["uncertainty_m"] = res.uncertainty_m.astype(np.float64)
+    if res.hypotheses is not None:
+        out["hypotheses"] = res.hypotheses.astype(np.float64)
+    return out
 
 
 def write_npz(
