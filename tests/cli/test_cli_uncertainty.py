@@ -113,3 +113,13 @@ def test_every_writer_carries_the_uncertainty(tiny_prior_path: Path, tmp_path: P
         np.testing.assert_allclose(radii[ext], radii["json"], atol=1e-4)
     with np.load(tmp_path / "out.npz") as data:
         assert data["hypotheses"].shape == (3, 2, 12, 3)
+
+
+def test_twin_rate_is_bounded_and_other_rates_are_not_calibrated(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    for bad in ("-0.1", "1.5", "nan"):
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--twin-rate", bad))
+        assert result.exit_code == 2 and "--twin-rate" in result.output
+    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
+    doc = _lift(tiny_prior_path, src, "--twin-rate", "0", "--calibration", str(cal))
+    assert doc["params"]["config"]["twin_rate"] == 0.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
@@ -14,8 +15,8 @@ from rich.table import Table
 from ..data.datasets import load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
 from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
-from ..lifting.config import PRESETS, get_preset
-from .checks import DEVICE_HELP, check_device, check_syrip_split
+from ..lifting.config import MAX_HYPOTHESES, PRESETS, get_preset
+from .checks import DEVICE_HELP, check_device, check_range, check_syrip_split
 from .common import err_console, error_boundary, progress_bar
 
 if TYPE_CHECKING:
@@ -129,6 +130,9 @@ def benchmark_command(
         bool,
         typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch."),
     ] = True,
+    hypotheses: Annotated[
+        Optional[int], typer.Option(help="Override every preset's hypotheses per instance (zedo lift --hypotheses).")
+    ] = None,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
@@ -149,7 +153,10 @@ def benchmark_command(
     chosen = tuple(i.strip() for i in inputs.split(","))
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
+    check_range("--hypotheses", hypotheses, 1, MAX_HYPOTHESES)
     configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
+    if hypotheses is not None:
+        configs = {name: replace(cfg, hypotheses=hypotheses) for name, cfg in configs.items()}
     device = check_device(device)  # auto: CUDA when present
     from ..evaluation.syrip_benchmark import load_throughput_inputs, measure_throughput, run_syrip_benchmark
     from ..prior.weights import load_prior, resolve_prior_path

@@ -424,7 +424,15 @@ def lift_command(
         Optional[int],
         typer.Option(
             help=f"Solutions lifted per instance (1 to {MAX_HYPOTHESES}); the reported pose is their aggregate and "
-            "their spread sets the per-joint uncertainty. Default: the preset's (fast: DEFAULT_K)."
+            "their spread sets the per-joint uncertainty. Default: the preset's (1). The bundled calibration covers the default preset with 1 or 8."
+        ),
+    ] = None,
+    twin_rate: Annotated[
+        Optional[float],
+        typer.Option(
+            help="Fraction of each left/right limb-length mismatch removed per prior step, 0 to 1 (fast: 0.5; 0: "
+            "the reference loop, slightly better symmetry angles but implausible limb lengths; no calibrated "
+            "uncertainty then)."
         ),
     ] = None,
     save_hypotheses: Annotated[
@@ -494,6 +502,8 @@ def lift_command(
     cfg = get_preset(preset)
     cfg = replace(cfg, steps=steps) if steps is not None else cfg
     cfg = replace(cfg, hypotheses=hypotheses) if hypotheses is not None else cfg
+    check_range("--twin-rate", twin_rate, 0, 1)
+    cfg = replace(cfg, twin_rate=twin_rate) if twin_rate is not None else cfg
     if skeleton is not None:
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,

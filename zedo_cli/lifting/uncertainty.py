@@ -117,10 +117,10 @@ def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
     path = Path(path)
     try:
         doc = json.loads(path.read_text())
-        if doc.get("format") != FORMAT or doc.get("format_version") != FORMAT_VERSION:
+        if not isinstance(doc, dict) or doc.get("format") != FORMAT or doc.get("format_version") != FORMAT_VERSION:
             raise WeightsError(f"{path}: not a {FORMAT} version {FORMAT_VERSION} file")
         return [UncertaintyModel.from_dict(d) for d in doc["models"]]
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
         raise WeightsError(f"{path}: unreadable uncertainty calibration ({exc})") from None
 
 
