@@ -423,8 +423,8 @@ def lift_command(
     hypotheses: Annotated[
         Optional[int],
         typer.Option(
-            help=f"Solutions lifted per instance (1 to {MAX_HYPOTHESES}); the reported pose is their aggregate and "
-            "their spread sets the per-joint uncertainty. Default: the preset's (1). The bundled calibration covers the default preset with 1 or 8."
+            help=f"Solutions lifted per instance (1 to {MAX_HYPOTHESES}), seeded by --seed: the pose reported is the "
+            "deterministic one (fast), the others' spread sets the per-joint uncertainty_m. Default: the preset's (1). The bundled calibration covers the default preset with 1 or 8."
         ),
     ] = None,
     twin_rate: Annotated[
