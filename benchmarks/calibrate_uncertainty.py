@@ -27,10 +27,11 @@ from pathlib import Path
 import numpy as np
 
 
-def load_errors(folder: Path, variant: str) -> dict[tuple[int, str], dict[str, np.ndarray]]:
+def load_errors(folder: Path, variant: str, weights: str = "") -> dict[tuple[int, str], dict[str, np.ndarray]]:
+    """Saved errors of `variant` lifted with the fold priors `fold<k><weights>.safetensors`."""
     out = {}
-    for path in sorted(folder.glob(f"fold*-{variant}-*.npz")):
-        m = re.fullmatch(rf"fold(\d+)-{re.escape(variant)}-(\w+)\.npz", path.name)
+    for path in sorted(folder.glob(f"fold*{weights}-{variant}-*.npz")):
+        m = re.fullmatch(rf"fold(\d+){re.escape(weights)}-{re.escape(variant)}-(\w+)\.npz", path.name)
         if m:
             with np.load(path) as data:
                 out[int(m.group(1)), m.group(2)] = {k: data[k] for k in data.files}
@@ -59,6 +60,7 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--errors", type=Path, required=True)
     ap.add_argument("--variant", required=True)
+    ap.add_argument("--weights", default="", help="suffix of the fold priors, as in lift_validation ('-ema')")
     ap.add_argument("--config", default="{}", help="the variant's LiftConfig overrides (JSON), as in lift_validation")
     ap.add_argument("--preset", default="fast")
     ap.add_argument("--prior", default="syrip12-scratch", help="the prior the calibration is for")
@@ -80,7 +82,7 @@ def main() -> int:
     from zedo_cli.prior.weights import file_sha256, resolve_prior_path
 
     cfg = replace(get_preset(args.preset), **json.loads(args.config))
-    runs = load_errors(args.errors, args.variant)
+    runs = load_errors(args.errors, args.variant, args.weights)
     if not runs:
         raise SystemExit(f"no saved errors for variant {args.variant!r} in {args.errors}")
     keys = list(runs)
@@ -111,7 +113,7 @@ def main() -> int:
         final = replace(final, provenance={
             "data": "SyRIP training poses held out of 4-fold priors (benchmarks/folds.py), GT and FiDIP 2D; "
                     "never Test100 or the synthetic rows", "recipe": "benchmarks/calibrate_uncertainty.py "
-                    f"--variant {args.variant} --config '{args.config}'", **report})  # fmt: skip
+                    f"--variant {args.variant} --weights={args.weights} --config '{args.config}'", **report})  # fmt: skip
         models = [m for m in models if not (m.prior_sha256 == sha and m.settings == calibration_settings(cfg))]
         write_calibrations(path, [*models, final])
         print(f"wrote {path}")

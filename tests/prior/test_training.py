@@ -3,6 +3,7 @@ with a tiny CPU prior on random poses."""
 
 from __future__ import annotations
 
+import json
 from collections.abc import Iterator
 from dataclasses import replace
 from pathlib import Path
@@ -208,7 +209,7 @@ def test_load_scratch_recipe() -> None:
     assert recipe.training.batch_size == 5000
     assert recipe.training.lr == pytest.approx(2e-4)
     assert recipe.training.warmup_steps == 5000
-    assert recipe.output.weights == "raw"
+    assert recipe.output.weights == "ema"  # chosen on held-out folds (issue 17)
     assert recipe.output.dtype == "float16"
     assert recipe.sde == SubVPSDE()
     cfg = recipe.prior_config(12)
@@ -280,3 +281,15 @@ def test_fit_prior_tiny_is_seeded_and_keeps_rng() -> None:
     assert fit.parameters == parameter_count(_model(cfg=fit.config))
     again = fit_prior(data, recipe)
     assert _states_equal(fit.result.raw_state, again.result.raw_state)
+
+
+def test_the_bundled_prior_is_what_its_recipe_writes() -> None:
+    from safetensors import safe_open
+
+    from zedo_cli.prior.weights import resolve_prior_path
+
+    recipe = load_recipe(SCRATCH_RECIPE)
+    with safe_open(str(resolve_prior_path("syrip12-scratch")), "pt") as f:
+        training = json.loads(f.metadata()["training"])
+    assert (training["weights"], training["dtype"]) == (recipe.output.weights, recipe.output.dtype)
+    assert training["epochs"] == recipe.training.epochs and training["seed"] == recipe.training.seed
