@@ -113,7 +113,8 @@ def main() -> int:
         final = replace(final, provenance={
             "data": "SyRIP training poses held out of 4-fold priors (benchmarks/folds.py), GT and FiDIP 2D; "
                     "never Test100 or the synthetic rows", "recipe": "benchmarks/calibrate_uncertainty.py "
-                    f"--variant {args.variant} --weights={args.weights} --config '{args.config}'", **report})  # fmt: skip
+                    f"--variant {args.variant} --weights={args.weights} --config '{args.config}'",
+            **report})  # fmt: skip
         models = [m for m in models if not (m.prior_sha256 == sha and m.settings == calibration_settings(cfg))]
         write_calibrations(path, [*models, final])
         print(f"wrote {path}")
