@@ -87,3 +87,14 @@ def test_the_bundled_calibration_matches_the_bundled_prior_and_the_default_prese
         cover = model.provenance["cross_fitted_coverage"]
         assert all(0.85 <= cover[kind]["all"] <= 0.95 for kind in ("gt", "detected"))
     assert find_model(models, sha, joints, get_preset("faithful"))[0] is None
+
+
+def test_an_instance_without_usable_hypotheses_has_nan_spread_and_no_warning() -> None:
+    import warnings
+
+    hyps = np.full((2, 3, 2, 3), np.nan)
+    hyps[0] = 0.0  # instance 1 was not lifted: all its hypotheses are NaN
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's empty-slice warning would reach a user's stderr
+        spread = joint_spread(hyps, np.zeros((2, 2, 3)))
+    assert (spread[0] == 0).all() and np.isnan(spread[1]).all()

@@ -70,8 +70,11 @@ def joint_spread(hypotheses: np.ndarray | None, reported: np.ndarray) -> np.ndar
     if hypotheses is None:
         return np.zeros(reported.shape[:2])
     d2 = ((hypotheses - reported[:, None]) ** 2).sum(-1)  # (N, K, J)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.sqrt(np.nanmean(d2, axis=1)) if np.isfinite(d2).any() else np.full(reported.shape[:2], np.nan)
+    usable = np.isfinite(d2)
+    count = usable.sum(axis=1)
+    # NaN where no hypothesis is usable (an instance not lifted), without nanmean's empty-slice warning
+    mean = np.where(usable, d2, 0.0).sum(axis=1) / np.maximum(count, 1)
+    return np.where(count > 0, np.sqrt(mean), np.nan)
 
 
 def radius_m(model: UncertaintyModel, spread: np.ndarray) -> np.ndarray:
