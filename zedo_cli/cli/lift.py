@@ -44,6 +44,7 @@ from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plo
 
 if TYPE_CHECKING:
     from ..lifting.solver import LiftProgress, LiftResult
+    from ..lifting.uncertainty import UncertaintyModel
     from ..prior.weights import Prior
 
 # torch and the network code are imported inside the functions that lift, so that `zedo lift
@@ -54,13 +55,14 @@ def run_lift(
     kp: Keypoints2D, prior: Prior, cfg: LiftConfig, intrinsics: np.ndarray, *, min_confidence: float,
     device: str, quiet: bool, label: str = "lift", temporal: str = "none", sigma: float = DEFAULT_SIGMA_FRAMES,
     tracks: np.ndarray | None = None, frames: np.ndarray | None = None, seed: int = 0,
-    calibration: Path | None = None,
+    calibrations: tuple[UncertaintyModel, ...] | None = None,
 ) -> LiftResult:  # fmt: skip
     """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`); with the
-    calibrated per-joint uncertainty where the prior and settings have one (frame by frame only)."""
+    calibrated per-joint uncertainty where the prior and settings have one in `calibrations`
+    (None: the bundled ones; frame by frame only)."""
     from ..lifting.solver import lift
     from ..lifting.temporal import lift_sequence
-    from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations, read_calibrations
+    from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations
 
     with progress_bar(quiet) as bar:
         task = bar.add_task(label, total=1, status=f"{len(kp)} poses")
@@ -75,7 +77,7 @@ def run_lift(
             return replace(res, uncertainty_note=f"not calibrated for --temporal {temporal}")
         res = lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
                    device=device, callback=on_step, seed=seed)  # fmt: skip
-    models = bundled_calibrations() if calibration is None else read_calibrations(calibration)
+    models = bundled_calibrations() if calibrations is None else calibrations
     return attach_uncertainty(res, prior.sha256, prior.skeleton.joints, models)
 
 
@@ -96,10 +98,8 @@ def lift_params(prior: Prior, cfg: LiftConfig, *, seed: int, device: str, min_co
 
 def uncertainty_params(res: LiftResult) -> dict[str, Any]:
     """What the output says about `uncertainty_m`: present or not, and why."""
-    from ..lifting.uncertainty import COVERAGE
-
-    present = res.uncertainty_m is not None
-    return {"uncertainty_m": present, "coverage": COVERAGE if present else None, "note": res.uncertainty_note}
+    return {"uncertainty_m": res.uncertainty_m is not None, "coverage": res.uncertainty_coverage,
+            "note": res.uncertainty_note}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -128,7 +128,7 @@ class LiftSettings:
     overwrite: bool
     quiet: bool
     save_hypotheses: bool = False
-    calibration: Path | None = None
+    calibrations: tuple[UncertaintyModel, ...] | None = None  # --calibration's models, read once; None: bundled
 
 
 @dataclass
@@ -183,7 +183,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
-                   frames=_frame_numbers(kp), seed=st.seed, calibration=st.calibration)  # fmt: skip
+                   frames=_frame_numbers(kp), seed=st.seed, calibrations=st.calibrations)  # fmt: skip
     if not st.save_hypotheses:  # the writers write the hypotheses a result keeps
         res = replace(res, hypotheses=None)
     if not res.lifted.any():  # nothing but flags to write: fail loudly instead
@@ -508,7 +508,7 @@ def lift_command(
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
-                      plot, seed, device, overwrite, quiet, save_hypotheses, calibration)  # fmt: skip
+                      plot, seed, device, overwrite, quiet, save_hypotheses)  # fmt: skip
     _check_options(st)
     _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
@@ -526,10 +526,10 @@ def lift_command(
         check_plot_paths(sources, outputs, plot, overwrite)
         plot.mkdir(parents=True, exist_ok=True)
     prior = load_prior(resolve_prior_path(prior_spec), device=device)
-    if calibration is not None:  # a broken file fails before any work
+    if calibration is not None:  # read once for every input; a broken file fails before any work
         from ..lifting.uncertainty import read_calibrations
 
-        read_calibrations(calibration)
+        st = replace(st, calibrations=tuple(read_calibrations(calibration)))
     if not quiet:
         err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
                           markup=False)  # fmt: skip

@@ -111,6 +111,7 @@ class LiftResult:
     # where not lifted; None when no calibration fits the prior and settings (`uncertainty_note` says why).
     uncertainty_m: np.ndarray | None = None
     uncertainty_note: str = "not computed"
+    uncertainty_coverage: float | None = None  # the probability the radii hold (the calibration's)
 
     def __post_init__(self) -> None:
         if self.status is None:  # results built by hand know only "lifted" and "too few joints"

@@ -18,7 +18,9 @@ rather than a number that was never checked.
 
 from __future__ import annotations
 
+import functools
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
@@ -109,10 +111,11 @@ def bundled_calibrations_path() -> Path:
     return Path(str(resources.files("zedo_cli") / "weights" / "uncertainty.json"))
 
 
-def bundled_calibrations() -> list[UncertaintyModel]:
-    """The calibrations shipped with the package (none when the file is absent)."""
+@functools.cache
+def bundled_calibrations() -> tuple[UncertaintyModel, ...]:
+    """The calibrations shipped with the package (none when the file is absent), read once a process."""
     path = bundled_calibrations_path()
-    return read_calibrations(path) if path.exists() else []
+    return tuple(read_calibrations(path)) if path.exists() else ()
 
 
 def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
@@ -133,7 +136,7 @@ def write_calibrations(path: str | Path, models: list[UncertaintyModel]) -> None
 
 
 def find_model(
-    models: list[UncertaintyModel], prior_sha256: str, joints: tuple[str, ...], cfg: LiftConfig
+    models: Sequence[UncertaintyModel], prior_sha256: str, joints: tuple[str, ...], cfg: LiftConfig
 ) -> tuple[UncertaintyModel | None, str]:
     """The model calibrated for this prior and these settings, or None and why there is none."""
     mine = [m for m in models if m.prior_sha256 == prior_sha256 and m.joints == tuple(joints)]
@@ -149,7 +152,7 @@ def find_model(
 
 
 def attach_uncertainty(res: LiftResult, prior_sha256: str, joints: tuple[str, ...],
-                       models: list[UncertaintyModel]) -> LiftResult:  # fmt: skip
+                       models: Sequence[UncertaintyModel]) -> LiftResult:  # fmt: skip
     """`res` with `uncertainty_m` filled from the model calibrated for its prior and settings
     (NaN where not lifted), or left None with `uncertainty_note` saying why."""
     model, note = find_model(models, prior_sha256, joints, res.config)
@@ -161,4 +164,5 @@ def attach_uncertainty(res: LiftResult, prior_sha256: str, joints: tuple[str, ..
         spread = np.where((usable == res.config.hypotheses)[:, None], spread, np.nan)
     radius = radius_m(model, spread)
     radius[~res.lifted] = np.nan
-    return replace(res, uncertainty_m=radius, uncertainty_note=f"calibrated {model.coverage:.0%} radius")
+    return replace(res, uncertainty_m=radius, uncertainty_coverage=model.coverage,
+                   uncertainty_note=f"calibrated {model.coverage:.0%} radius")  # fmt: skip
