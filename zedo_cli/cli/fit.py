@@ -121,6 +121,7 @@ def fit_prior_command(
         Recipe,
         fit_prior,
         load_recipe,
+        member_seeds,
         with_output,
         with_overrides,
         write_fitted_prior,
@@ -143,15 +144,22 @@ def fit_prior_command(
         f"{chosen.training.epochs} epochs, batch {chosen.training.batch_size}, seed {chosen.training.seed}, {device}"
         + (f"; batches augmented {chosen.augment.to_dict()}" if chosen.augment.active else "")
     )
-    with epoch_progress(quiet, "fit-prior", chosen.training.epochs) as on_epoch:
-        fit = fit_prior(data, chosen, device=device, callback=on_epoch)
+    seeds = member_seeds(chosen)
+    fits = []
+    for number, member_seed in enumerate(seeds, 1):  # an ensemble recipe (output.members > 1) trains one per seed
+        label = "fit-prior" if len(seeds) == 1 else f"fit-prior, member {number}/{len(seeds)} (seed {member_seed})"
+        with epoch_progress(quiet, label, chosen.training.epochs) as on_epoch:
+            fits.append(fit_prior(data, with_overrides(chosen, seed=member_seed), device=device, callback=on_epoch))
+    fit = fits[0] if len(fits) == 1 else fits
     extra = {"recipe": str(recipe) if recipe else None, "device": device}
     sha = write_fitted_prior(out, fit, data, chosen, license_text=license_text, extra_training=extra)
     if ema_out is not None:
         ema_recipe = with_output(chosen, weights="ema")
         write_fitted_prior(ema_out, fit, data, ema_recipe, license_text=license_text, extra_training=extra)
         err_console.print(f"wrote {ema_out} (EMA weights)")
+    kind = "" if len(fits) == 1 else f", an ensemble of {len(fits)}"
     err_console.print(
-        f"wrote {out} ({chosen.output.weights} weights, {chosen.output.dtype}, sha256 {sha[:12]}); "
-        f"{fit.result.steps} steps in {fit.result.seconds:.0f} s, final loss {fit.result.final_loss:.3f}"
+        f"wrote {out} ({chosen.output.weights} weights, {chosen.output.dtype}{kind}, sha256 {sha[:12]}); "
+        f"{sum(f.result.steps for f in fits)} steps in {sum(f.result.seconds for f in fits):.0f} s, "
+        f"final loss {fits[-1].result.final_loss:.3f}"
     )

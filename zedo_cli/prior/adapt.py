@@ -22,6 +22,7 @@ from torch import nn
 from ..data.datasets import PoseSet
 from ..errors import ConfigError, DataError
 from .control import ControlledScoreNet
+from .ensemble import EnsembleScoreNet
 from .model import ScoreNet, parameter_count
 from .schedules import ADAPT_TRAINING, STRATEGIES, TrainConfig
 from .training import TrainProgress, TrainResult, train_score_model
@@ -105,6 +106,9 @@ def adapt_prior(
         )
     if strategy == "control" and isinstance(base.model, ControlledScoreNet):
         raise ConfigError("the base prior already carries a control branch; control a plain prior")
+    if isinstance(base.model, EnsembleScoreNet):
+        raise ConfigError(f"{base.label} is an ensemble prior; adapt one plain prior (an ensemble's members are "
+                          "trained separately: adapt each and combine them)")  # fmt: skip
     model = build_model(base, strategy, cfg.seed)
     poses = torch.as_tensor(data.poses, dtype=torch.float32)
     result = train_score_model(model, base.sde, poses, cfg, device=device, callback=callback)

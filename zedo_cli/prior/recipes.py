@@ -3,7 +3,8 @@
 A recipe has the tables `[model]` (PriorConfig fields except num_joints), `[sde]`,
 `[training]` (TrainConfig fields), `[augment]` (PoseAugmentation fields: per-batch random
 rotation and scale, off by default) and `[output]` (`weights` = "raw" | "ema", `dtype` =
-"float16" | "float32"). Unknown keys are errors. Command-line options override recipe values.
+"float16" | "float32", `members` = the number of networks: 1, or an ensemble of that many trainings
+with the seeds seed, seed + 1, ...). Unknown keys are errors. Command-line options override recipe values.
 """
 
 from __future__ import annotations
@@ -19,11 +20,12 @@ import torch
 from ..data.adult import PoseAugmentation
 from ..data.datasets import PoseSet
 from ..errors import ConfigError
+from .ensemble import ensemble_state
 from .model import PriorConfig, ScoreNet, parameter_count
 from .schedules import TrainConfig
 from .sde import SubVPSDE
 from .training import TrainProgress, TrainResult, train_score_model
-from .weights import save_prior
+from .weights import MAX_MEMBERS, save_prior
 
 SYRIP_LICENSE = (
     "Trained on SyRIP real-infant data (Huang, Fu, Liu, Ostadabbas, FG 2021) with the 3D "
@@ -39,8 +41,11 @@ DTYPES = {"float16": torch.float16, "float32": torch.float32}
 class OutputConfig:
     weights: str = "raw"  # the reference lifts with the raw (last-step) weights, not the EMA
     dtype: str = "float16"
+    members: int = 1  # > 1: an ensemble (ensemble.py) of trainings with seeds seed, seed + 1, ...
 
     def __post_init__(self) -> None:
+        if not isinstance(self.members, int) or isinstance(self.members, bool) or not 1 <= self.members <= MAX_MEMBERS:
+            raise ConfigError(f"output.members must be an integer from 1 to {MAX_MEMBERS}, got {self.members!r}")
         if self.weights not in WEIGHT_CHOICES:
             raise ConfigError(f"output.weights must be one of {WEIGHT_CHOICES}, got {self.weights!r}")
         if self.dtype not in DTYPES:
@@ -105,7 +110,8 @@ def with_output(recipe: Recipe, *, weights: str | None = None, dtype: str | None
     """The recipe with the given (non-None) output choices replaced."""
     if weights is None and dtype is None:
         return recipe
-    return replace(recipe, output=OutputConfig(weights or recipe.output.weights, dtype or recipe.output.dtype))
+    return replace(recipe, output=replace(recipe.output, weights=weights or recipe.output.weights,
+                                          dtype=dtype or recipe.output.dtype))  # fmt: skip
 
 
 @dataclass
@@ -135,9 +141,14 @@ def fit_prior(
     return FitResult(result, cfg, parameter_count(model))
 
 
+def member_seeds(recipe: Recipe) -> list[int]:
+    """The training seeds of the recipe's networks: seed, seed + 1, ... (`output.members` of them)."""
+    return [recipe.training.seed + i for i in range(recipe.output.members)]
+
+
 def write_fitted_prior(
     path: str | Path,
-    fit: FitResult,
+    fit: FitResult | list[FitResult],
     data: PoseSet,
     recipe: Recipe,
     *,
@@ -145,23 +156,28 @@ def write_fitted_prior(
     extra_training: dict[str, Any] | None = None,
 ) -> str:
     """Save the recipe's chosen weights (raw or EMA) with full metadata; return the sha256.
+    A list of fits (one per seed of `member_seeds`) is saved as one ensemble prior.
 
     The template is the first training pose, as in the reference.
     """
-    state = fit.result.state(recipe.output.weights)
+    fits = fit if isinstance(fit, list) else [fit]
+    states = [f.result.state(recipe.output.weights) for f in fits]
     training = {
         **recipe.training.to_dict(),
         "weights": recipe.output.weights,
         "dtype": recipe.output.dtype,
-        **fit.result.summary(),
-        "parameters": fit.parameters,
+        **fits[0].result.summary(),
+        "parameters": fits[0].parameters,
         "augment": recipe.augment.to_dict(),
         **(extra_training or {}),
     }
+    if len(fits) > 1:
+        training["seeds"] = member_seeds(recipe)
+        training["member_training"] = [f.result.summary() for f in fits]
     return save_prior(
         path,
-        state,
-        fit.config,
+        states[0] if len(states) == 1 else ensemble_state(states),
+        fits[0].config,
         recipe.sde,
         data.skeleton,
         torch.as_tensor(data.poses[0], dtype=torch.float32),
@@ -169,4 +185,6 @@ def write_fitted_prior(
         data=data.summary(),
         license_text=license_text,
         dtype=DTYPES[recipe.output.dtype],
+        architecture="scorenet" if len(states) == 1 else "ensemble",
+        members=len(states) if len(states) > 1 else None,
     )

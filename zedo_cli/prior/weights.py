@@ -13,6 +13,8 @@ Format version 2 adds one kind of network, written only for it: metadata `archit
 `model.base.*`, `model.branch_*`, `model.zero_*`, `model.prompt`) and `adapted_from` (JSON: the
 base prior's file name and sha256). Plain priors are still written as version 1, so older
 zedo versions read them; a version-2 file gives those a clear "not supported" error.
+Version 2 also holds an ensemble (`ensemble.py`): metadata `architecture` = "ensemble" and
+`members` (the count, 2 to 16), tensors `model.members.<i>.*` of same-config score networks.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from ..data.skeleton import Skeleton, get_skeleton
 from ..errors import ConfigError, WeightsError
 from ..version import __version__
 from .control import ControlledScoreNet
+from .ensemble import EnsembleScoreNet
 from .model import PriorConfig, ScoreNet
 from .sde import SubVPSDE
 
@@ -45,7 +48,8 @@ FORMAT = "zedo.prior"
 FORMAT_VERSION = "1"
 CONTROL_FORMAT_VERSION = "2"
 READABLE_VERSIONS = (FORMAT_VERSION, CONTROL_FORMAT_VERSION)
-ARCHITECTURES = ("scorenet", "control")
+ARCHITECTURES = ("scorenet", "control", "ensemble")
+MAX_MEMBERS = 16
 MODEL_PREFIX = "model."
 
 # Priors shipped inside the package: name -> file in zedo_cli/weights/.
@@ -60,7 +64,8 @@ DEFAULT_PRIOR = "syrip12-scratch"
 class Prior:
     """A loaded prior: the network (eval mode, float32), its SDE, skeleton and template.
 
-    `model` is a ScoreNet, or a ControlledScoreNet for an adapted prior that carries its branch.
+    `model` is a ScoreNet, a ControlledScoreNet for an adapted prior that carries its branch, or
+    an EnsembleScoreNet (several seeds of one recipe, their predictions averaged).
     """
 
     model: ScoreNet | ControlledScoreNet
@@ -98,11 +103,13 @@ def save_prior(
     dtype: torch.dtype = torch.float16,
     architecture: str = "scorenet",
     adapted_from: dict[str, Any] | None = None,
+    members: int | None = None,
 ) -> str:
     """Write a prior atomically (temporary file then rename) and return its sha256.
 
-    `architecture` "control" marks a controlled network's state (format version 2);
-    `adapted_from` names the base prior (file name, sha256) an adapted prior came from.
+    `architecture` "control" marks a controlled network's state and "ensemble" the state of
+    `members` networks (format version 2); `adapted_from` names the base prior (file name,
+    sha256) an adapted prior came from.
     """
     if architecture not in ARCHITECTURES:
         raise WeightsError(f"unknown architecture {architecture!r}; known: {', '.join(ARCHITECTURES)}")
@@ -114,9 +121,13 @@ def save_prior(
                                 license_text=license_text)  # fmt: skip
     if adapted_from is not None:
         metadata["adapted_from"] = json.dumps(adapted_from)
-    if architecture == "control":
+    if architecture != "scorenet":
         metadata["format_version"] = CONTROL_FORMAT_VERSION
         metadata["architecture"] = architecture
+    if architecture == "ensemble":
+        if members is None or not 2 <= members <= MAX_MEMBERS:
+            raise WeightsError(f"an ensemble needs 2 to {MAX_MEMBERS} members, got {members!r}")
+        metadata["members"] = str(members)
     return write_safetensors_atomic(path, tensors, metadata)
 
 
@@ -329,12 +340,14 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     if skeleton is not None and skel.name != skeleton:
         raise WeightsError(f"{path}: prior is for skeleton {skel.name!r}, not {skeleton!r}")
 
+    members = _member_count(meta, path) if architecture == "ensemble" else 0
+
     def build(generator: torch.Generator | None = None) -> nn.Module:
-        return (
-            ScoreNet(cfg)
-            if architecture == "scorenet"
-            else ControlledScoreNet(ScoreNet(cfg), prompt_generator=generator)
-        )
+        if architecture == "ensemble":
+            return EnsembleScoreNet([ScoreNet(cfg) for _ in range(members)])
+        if architecture == "control":
+            return ControlledScoreNet(ScoreNet(cfg), prompt_generator=generator)
+        return ScoreNet(cfg)
 
     check_tensor_header(path, header, build, {"template": (skel.num_joints, 3)})
     _, tensors = read_safetensors(path)
@@ -345,6 +358,16 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
     parsed = ("model_config", "sde_config", "training", "data", "adapted_from")
     metadata = {k: (json_field(meta, k, path) if k in parsed else v) for k, v in meta.items()}
     return Prior(model, sde, skel, template.float().to(device), metadata, file_sha256(path), str(path))
+
+
+def _member_count(meta: dict[str, str], path: Path) -> int:
+    """An ensemble file's metadata `members`: an integer from 2 to MAX_MEMBERS."""
+    text = meta.get("members")
+    if text is None:
+        raise WeightsError(f"{path}: metadata field 'members' is missing (an ensemble prior names its member count)")
+    if not text.isdigit() or not 2 <= int(text) <= MAX_MEMBERS:
+        raise WeightsError(f"{path}: metadata 'members' must be an integer from 2 to {MAX_MEMBERS}, got {text!r}")
+    return int(text)
 
 
 def bundled_prior_path(name: str = DEFAULT_PRIOR) -> Path:
