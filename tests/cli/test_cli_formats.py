@@ -58,7 +58,7 @@ def test_each_format_lifts_from_the_cli(case: str, tiny_prior_path: Path, tmp_pa
     src = CASES[case](tmp_path)
     # faithful's 5 small steps keep these straight-line test "poses" on their rays; fast's 5 steps of 1/5
     # would leave them far off (not lifted: poor_fit), and this test is about reading the formats.
-    args = ["lift", str(src), "--prior", str(tiny_prior_path), "--preset", "faithful", "--steps", "5", "-q", "-o", "-",
+    args = ["lift", str(src), "--prior", str(tiny_prior_path), "--preset", "faithful", "--steps", "10", "-q", "-o", "-",
             "--image-size", "640", "480", "--person", "all"]  # fmt: skip
     result = runner.invoke(app, args)
     assert result.exit_code == 0, result.output
@@ -69,7 +69,7 @@ def test_each_format_lifts_from_the_cli(case: str, tiny_prior_path: Path, tmp_pa
 
 def test_a_jsonl_stream_on_stdin(tiny_prior_path: Path) -> None:
     text = jsonl_text(jsonl_records())
-    args = ["lift", "-", "--prior", str(tiny_prior_path), "--preset", "faithful", "--steps", "5", "-q",
+    args = ["lift", "-", "--prior", str(tiny_prior_path), "--preset", "faithful", "--steps", "10", "-q",
             "--image-size", "640", "480"]  # fmt: skip
     result = runner.invoke(app, args, input=text)
     assert result.exit_code == 0, result.output

@@ -248,7 +248,7 @@ def test_source_skeleton_is_in_every_output_format(tiny_prior_path: Path, tmp_pa
     want = {"name": "h36m17", "reason": "categories[0].keypoints names, in the file's order"}
     for fmt in ("json", "jsonl", "csv", "npz"):
         out = tmp_path / f"kp.zedo.{fmt}"
-        result = runner.invoke(app, ["lift", str(src), "--prior", str(tiny_prior_path), "--steps", "5", "-q",
+        result = runner.invoke(app, ["lift", str(src), "--prior", str(tiny_prior_path), "--steps", "10", "-q",
                                      "-o", str(out)])  # fmt: skip
         assert result.exit_code == 0, result.output
         if fmt == "json":
@@ -266,7 +266,7 @@ def test_cli_skeleton_option(tiny_prior_path: Path, tmp_path: Path) -> None:
     doc = liftable_coco()
     doc["categories"][0]["keypoints"] = [f"joint{k}" for k in range(17)]
     src = write_json(tmp_path / "kp.json", doc)
-    base = ["lift", str(src), "--prior", str(tiny_prior_path), "--steps", "5", "-q", "-o", "-"]
+    base = ["lift", str(src), "--prior", str(tiny_prior_path), "--steps", "10", "-q", "-o", "-"]
     result = runner.invoke(app, base)
     assert result.exit_code == 3 and "categories[0].keypoints: unknown joint names" in result.output
     result = runner.invoke(app, [*base, "--skeleton", "coco17"])

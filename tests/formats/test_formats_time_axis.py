@@ -35,7 +35,7 @@ def test_openpose_empty_frames_keep_their_gap_in_frame_index(tiny_prior_path: Pa
     folder = _clip(tmp_path / "op", list(range(14)), empty=list(range(1, 12)))
     kp = read_keypoints(folder)
     assert kp.frame_indices == [0, 12, 13]
-    base = ["lift", str(folder), "--prior", str(tiny_prior_path), "--steps", "5", "-q", "--image-size", "640", "480"]
+    base = ["lift", str(folder), "--prior", str(tiny_prior_path), "--steps", "10", "-q", "--image-size", "640", "480"]
     result = runner.invoke(app, [*base, "-o", "-"])
     assert result.exit_code == 0, result.output
     assert [f["frame_index"] for f in json.loads(result.stdout)["frames"]] == [0, 12, 13]
@@ -71,7 +71,7 @@ def test_pose2sim_folder_without_keypoints_suffix_is_one_sequence(tiny_prior_pat
     assert is_openpose_folder(folder) and expand_inputs([str(folder)]) == [str(folder)]
     kp = read_keypoints(folder)
     assert kp.image_ids == ["cam01.0028", "cam01.0030", "cam01.0031"] and kp.frame_indices == [28, 30, 31]
-    result = runner.invoke(app, ["lift", str(folder), "--prior", str(tiny_prior_path), "--steps", "5", "-q",
+    result = runner.invoke(app, ["lift", str(folder), "--prior", str(tiny_prior_path), "--steps", "10", "-q",
                                  "--image-size", "640", "480", "-o", "-"])  # fmt: skip
     assert result.exit_code == 0, result.output
     assert [f["frame_index"] for f in json.loads(result.stdout)["frames"]] == [28, 30, 31]
@@ -98,7 +98,7 @@ def test_temporal_smoothing_does_not_blend_across_a_long_gap(tiny_prior_path: Pa
     alone = _clip(tmp_path / "alone", list(range(6)), empty=[])
     poses = []
     for folder in (both, alone):
-        result = runner.invoke(app, ["lift", str(folder), "--prior", str(tiny_prior_path), "--steps", "5", "-q",
+        result = runner.invoke(app, ["lift", str(folder), "--prior", str(tiny_prior_path), "--steps", "10", "-q",
                                      "--image-size", "640", "480", "--temporal", "smooth", "-o", "-"])  # fmt: skip
         assert result.exit_code == 0, result.output
         poses.append([f["persons"][0]["keypoints_3d_root_relative"] for f in json.loads(result.stdout)["frames"]])
