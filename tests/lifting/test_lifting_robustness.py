@@ -16,8 +16,17 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from zedo_cli.lifting.camera import solve_root_translation, solve_root_translation_ex
-from zedo_cli.lifting.config import LiftConfig, get_preset
-from zedo_cli.lifting.solver import LIFTED, MAX_REPROJECTION_RATIO, MIN_JOINT_DEPTH_M, NOT_LIFTED, geometry_status, lift
+from zedo_cli.lifting.config import MAX_AUTO_DELTA, LiftConfig, get_preset
+from zedo_cli.lifting.solver import (
+    LIFTED,
+    MAX_BONE_RATIO,
+    MAX_REPROJECTION_RATIO,
+    MIN_JOINT_DEPTH_M,
+    NOT_LIFTED,
+    bone_ratio,
+    geometry_status,
+    lift,
+)
 from zedo_cli.prior.weights import Prior
 
 QUICK = LiftConfig(steps=20, init_steps=20, step_delta=None)
@@ -160,3 +169,35 @@ def test_fuzzed_pixels_and_cameras_never_raise_and_never_lift_nonsense(tiny_prio
     ok = res.lifted
     assert np.isfinite(res.poses_camera[ok]).all() and np.isnan(res.poses_camera[~ok]).all()
     assert (res.poses_camera[ok][..., 2] >= MIN_JOINT_DEPTH_M).all()
+
+
+def test_few_steps_keep_a_stable_step_size() -> None:
+    """`--steps` far below the preset's 50 once meant steps of 1/steps, which diverge from t = 0.2
+    (10 steps: bones 11-13 times their length on SyRIP, all reported lifted)."""
+    fast = get_preset("fast")
+    assert fast.delta == pytest.approx(1 / 50)
+    for steps in (1, 5, 10, 33):
+        assert LiftConfig(steps=steps, step_delta=None).delta == MAX_AUTO_DELTA
+    assert LiftConfig(steps=10, step_delta=0.2).delta == 0.2  # an explicit step size is kept
+
+
+def test_bone_ratio_measures_against_the_template(tiny_prior: Prior) -> None:
+    template = tiny_prior.template.numpy().astype(np.float64)
+    poses = np.stack([template + 2.0, template * 5.0, np.full_like(template, np.nan)])
+    ratio = bone_ratio(poses, tiny_prior)
+    assert ratio[0] == pytest.approx(1.0) and ratio[1] == pytest.approx(5.0) and np.isnan(ratio[2])
+
+
+def test_a_diverged_loop_is_never_reported_as_lifted(tiny_prior: Prior) -> None:
+    """Huge explicit steps make the loop diverge: every pose is either flagged or a plausible
+    skeleton (no bone over MAX_BONE_RATIO times the template's), never a blown-up 'lifted' one."""
+    n = 40
+    poses = synthetic_poses(n, seed=11)
+    xy = project_poses(poses)
+    cfg = LiftConfig(preset="test", init_steps=20, steps=10, t_start=0.2, step_delta=0.2, release_fraction=0.15)
+    res = lift(xy, np.ones((n, 12)), np.repeat(K_TEST[None], n, 0), tiny_prior, cfg)
+    counts = Counter(res.status.tolist())
+    assert counts["implausible_skeleton"] > 0, counts
+    assert (bone_ratio(res.poses_camera[res.lifted], tiny_prior) <= MAX_BONE_RATIO).all()
+    assert np.isnan(res.poses_camera[res.status == "implausible_skeleton"]).all()
+    assert "implausible_skeleton" in NOT_LIFTED

@@ -388,7 +388,11 @@ def lift_command(
         ),
     ] = DEFAULT_PRESET,
     steps: Annotated[
-        Optional[int], typer.Option(help="Override the preset's prior iterations (fast: 50, faithful: 1000).")
+        Optional[int],
+        typer.Option(
+            help="Override the preset's prior iterations (fast: 50 of size 1/50; fewer keep the size at "
+            "most 0.03, so 10 steps are 5x faster for about 1 mm; faithful: 1000 of 1/1000)."
+        ),
     ] = None,
     input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
     skeleton: Annotated[

@@ -68,6 +68,10 @@ MIN_JOINT_DEPTH_M = 0.01
 # `fast`) stay below 0.04; tiny noisy detections drawn to the camera reach 1 to 5.
 MAX_REPROJECTION_RATIO = 0.5
 
+# A lifted bone longer than this many times the same bone of the prior's template pose is not a
+# body's: a safety net for a loop that diverged (default settings on SyRIP's 1400 real poses:
+# at most 2.7, from one FiDIP detection; diverged loops: 11-13).
+MAX_BONE_RATIO = 4.0
 # Why an instance is not lifted (`LiftResult.status`; "lifted" otherwise). Its 3D is NaN.
 NOT_LIFTED = {
     "too_few_observed_joints": "fewer observed joints than the lifting needs",
@@ -81,6 +85,8 @@ NOT_LIFTED = {
     "the prior, e.g. a tiny, partial or low-confidence detection)",
     "poor_fit": "the lifted pose misses its observed 2D joints by more than half the 2D pose's radius on average "
     "(the 2D pose does not fit the prior, e.g. a tiny, partial or low-confidence detection)",
+    "implausible_skeleton": f"a lifted bone is more than {MAX_BONE_RATIO:g} times as long as in the prior's template "
+    "(the loop diverged, e.g. with very few --steps)",
 }
 LIFTED = "lifted"
 
@@ -372,13 +378,14 @@ def lift(
                                tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick))  # fmt: skip
     hypotheses = aggregate = None
     if count > 1:
-        hypotheses = _usable_hypotheses(cam, singular, flipped)
+        ratio = bone_ratio(cam.reshape(n * count, joints, 3), prior).reshape(n, count)
+        hypotheses = _usable_hypotheses(cam, singular | ~(ratio <= MAX_BONE_RATIO), flipped)
         aggregate = _aggregate(hypotheses, config.aggregate)
     cam, singular, flipped = cam[:, 0], singular[:, 0], flipped[:, 0]
     if aggregate is not None:
         cam = np.where(np.isfinite(aggregate).all(axis=(1, 2))[:, None, None], aggregate, cam)
     reproj = reprojection_error_px(cam, xy, intrinsics, obs)
-    status = _result_status(status, cam, singular, flipped, xy, obs, reproj)
+    status = _result_status(status, cam, singular, flipped, xy, obs, reproj, bone_ratio(cam, prior))
     lifted = status == LIFTED
     cam[~lifted], reproj[~lifted] = np.nan, np.nan
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
@@ -390,8 +397,9 @@ def lift(
 
 
 def _usable_hypotheses(cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray) -> np.ndarray:
-    """Camera-frame hypotheses `cam (N, K, J, 3)` with those that failed (not finite, a singular or
-    behind-camera translation, a joint at or behind the camera) set to NaN."""
+    """Camera-frame hypotheses `cam (N, K, J, 3)` with those that failed (not finite, a singular
+    translation or an implausible skeleton (`singular`), a behind-camera translation, a joint at
+    or behind the camera) set to NaN."""
     with np.errstate(invalid="ignore"):
         good = np.isfinite(cam).all(axis=(2, 3)) & ~singular & ~flipped & (cam[..., 2] >= MIN_JOINT_DEPTH_M).all(-1)
     return np.where(good[..., None, None], cam, np.nan)
@@ -429,14 +437,26 @@ def geometry_status(xy: np.ndarray, intrinsics: np.ndarray, observed: np.ndarray
     return status
 
 
+def bone_ratio(cam: np.ndarray, prior: Prior) -> np.ndarray:
+    """Per pose `cam (N, J, 3)`, the largest ratio of a bone's length to its length in the
+    prior's template `(N,)` (NaN for a pose that is not finite)."""
+    bones = np.asarray(prior.skeleton.bones)
+    template = prior.template.detach().cpu().numpy().astype(np.float64)
+    reference = np.linalg.norm(template[bones[:, 0]] - template[bones[:, 1]], axis=-1)
+    lengths = np.linalg.norm(cam[:, bones[:, 0]] - cam[:, bones[:, 1]], axis=-1)
+    with np.errstate(all="ignore"):
+        return (lengths / np.maximum(reference, 1e-6)).max(axis=1)
+
+
 def _result_status(
     status: np.ndarray, cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray, xy: np.ndarray,
-    observed: np.ndarray, reproj: np.ndarray,
+    observed: np.ndarray, reproj: np.ndarray, bones: np.ndarray,
 ) -> np.ndarray:  # fmt: skip
     """`status (N,)` after lifting: a lifted pose `cam (N, J, 3)` that is not finite, whose
     translation solve was `singular (N,)` or behind the camera (`flipped (N,)`), that has a
-    joint at or behind the camera, or whose reprojection errors `reproj (N, J)` px miss its
-    observed pixels `xy (N, J, 2)` by far, is marked so (in this order of precedence)."""
+    joint at or behind the camera, whose reprojection errors `reproj (N, J)` px miss its
+    observed pixels `xy (N, J, 2)` by far, or whose `bones (N,)` ratio (`bone_ratio`) exceeds
+    MAX_BONE_RATIO, is marked so (in this order of precedence)."""
     with np.errstate(all="ignore"):  # the poses of failed instances may hold inf and NaN
         finite = np.isfinite(cam).all(axis=(1, 2))
         near = (cam[..., 2] < MIN_JOINT_DEPTH_M).any(1)
@@ -445,10 +465,12 @@ def _result_status(
         radius = np.sqrt(np.where(observed, ((xy - centre[:, None]) ** 2).sum(-1), 0.0).sum(1) / count)
         mean_error = np.where(observed, reproj, 0.0).sum(1) / count
         poor = ~(mean_error <= MAX_REPROJECTION_RATIO * radius)  # NaN errors count as poor
+        implausible = ~(bones <= MAX_BONE_RATIO)
     out = status.copy()
     todo = status == LIFTED
     for failed, reason in ((~finite, "non_finite_result"), (singular, "degenerate_geometry"),
-                           (flipped | near, "behind_camera"), (poor, "poor_fit")):  # fmt: skip
+                           (flipped | near, "behind_camera"), (poor, "poor_fit"),
+                           (implausible, "implausible_skeleton")):  # fmt: skip
         out[todo & failed] = reason
         todo &= ~failed
     return out
