@@ -16,7 +16,7 @@ from zedo_cli.cli import app
 from zedo_cli.errors import ConfigError, WeightsError
 from zedo_cli.prior.adapt import adapt_prior
 from zedo_cli.prior.combine import combine_priors
-from zedo_cli.prior.ensemble import EnsembleScoreNet, ensemble_state, member_states
+from zedo_cli.prior.ensemble import EnsembleScoreNet, ensemble_state
 from zedo_cli.prior.model import PriorConfig, ScoreNet
 from zedo_cli.prior.sde import SubVPSDE
 from zedo_cli.prior.weights import load_prior, save_prior
@@ -52,9 +52,11 @@ def test_an_ensemble_needs_two_members_of_one_config() -> None:
         EnsembleScoreNet([_member(1), _member(2, PriorConfig(12, hidden=64, embed=8, groups=4, num_blocks=1))])
 
 
-def test_member_states_inverts_ensemble_state() -> None:
+def test_ensemble_state_is_the_ensembles_state_dict() -> None:
     states = [_member(1).state_dict(), _member(2).state_dict()]
-    back = member_states(ensemble_state(states))
+    ensemble = EnsembleScoreNet([_member(3), _member(4)])
+    ensemble.load_state_dict(ensemble_state(states), strict=True)
+    back = [m.state_dict() for m in ensemble.members]
     assert len(back) == 2 and all(torch.equal(back[i][k], states[i][k]) for i in range(2) for k in states[i])
 
 

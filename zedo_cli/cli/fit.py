@@ -150,12 +150,11 @@ def fit_prior_command(
         label = "fit-prior" if len(seeds) == 1 else f"fit-prior, member {number}/{len(seeds)} (seed {member_seed})"
         with epoch_progress(quiet, label, chosen.training.epochs) as on_epoch:
             fits.append(fit_prior(data, with_overrides(chosen, seed=member_seed), device=device, callback=on_epoch))
-    fit = fits[0] if len(fits) == 1 else fits
     extra = {"recipe": str(recipe) if recipe else None, "device": device}
-    sha = write_fitted_prior(out, fit, data, chosen, license_text=license_text, extra_training=extra)
+    sha = write_fitted_prior(out, fits, data, chosen, license_text=license_text, extra_training=extra)
     if ema_out is not None:
         ema_recipe = with_output(chosen, weights="ema")
-        write_fitted_prior(ema_out, fit, data, ema_recipe, license_text=license_text, extra_training=extra)
+        write_fitted_prior(ema_out, fits, data, ema_recipe, license_text=license_text, extra_training=extra)
         err_console.print(f"wrote {ema_out} (EMA weights)")
     kind = "" if len(fits) == 1 else f", an ensemble of {len(fits)}"
     err_console.print(

@@ -434,7 +434,8 @@ def lift_command(
     twin_rate: Annotated[
         Optional[float],
         typer.Option(
-            help="Fraction of each left/right limb-length mismatch removed per prior step, 0 to 1 (fast: 0.5; 0: "
+            help="Fraction of each left/right limb-length mismatch removed per prior step, 0 to 1 (fast: "
+            f"{PRESETS['fast'].twin_rate:g}; 0: "
             "the reference loop, slightly better symmetry angles but implausible limb lengths; no calibrated "
             "uncertainty then)."
         ),

@@ -378,8 +378,8 @@ def lift(
                                tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick))  # fmt: skip
     hypotheses = aggregate = None
     if count > 1:
-        ratio = bone_ratio(cam.reshape(n * count, joints, 3), prior).reshape(n, count)
-        hypotheses = _usable_hypotheses(cam, singular | ~(ratio <= MAX_BONE_RATIO), flipped)
+        bones = bone_ratio(cam.reshape(n * count, joints, 3), prior).reshape(n, count)
+        hypotheses = _usable_hypotheses(cam, singular, flipped, bones)
         aggregate = _aggregate(hypotheses, config.aggregate)
     cam, singular, flipped = cam[:, 0], singular[:, 0], flipped[:, 0]
     if aggregate is not None:
@@ -396,12 +396,13 @@ def lift(
                       status, hypotheses)  # fmt: skip
 
 
-def _usable_hypotheses(cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray) -> np.ndarray:
-    """Camera-frame hypotheses `cam (N, K, J, 3)` with those that failed (not finite, a singular
-    translation or an implausible skeleton (`singular`), a behind-camera translation, a joint at
-    or behind the camera) set to NaN."""
+def _usable_hypotheses(cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray, bones: np.ndarray) -> np.ndarray:
+    """Camera-frame hypotheses `cam (N, K, J, 3)` with those that failed (not finite, a singular or
+    behind-camera translation, a joint at or behind the camera, a `bones (N, K)` ratio over
+    MAX_BONE_RATIO) set to NaN."""
     with np.errstate(invalid="ignore"):
         good = np.isfinite(cam).all(axis=(2, 3)) & ~singular & ~flipped & (cam[..., 2] >= MIN_JOINT_DEPTH_M).all(-1)
+        good &= bones <= MAX_BONE_RATIO
     return np.where(good[..., None, None], cam, np.nan)
 
 

@@ -39,12 +39,3 @@ class EnsembleScoreNet(nn.Module):
 def ensemble_state(states: list[dict[str, torch.Tensor]]) -> dict[str, torch.Tensor]:
     """The state dict of an EnsembleScoreNet from its members' ScoreNet state dicts."""
     return {f"{MEMBERS_PREFIX}{i}.{name}": value for i, state in enumerate(states) for name, value in state.items()}
-
-
-def member_states(state: dict[str, torch.Tensor]) -> list[dict[str, torch.Tensor]]:
-    """The members' ScoreNet state dicts from an EnsembleScoreNet state dict (inverse of `ensemble_state`)."""
-    members: dict[int, dict[str, torch.Tensor]] = {}
-    for key, value in state.items():
-        index, name = key[len(MEMBERS_PREFIX) :].split(".", 1)
-        members.setdefault(int(index), {})[name] = value
-    return [members[i] for i in sorted(members)]

@@ -156,7 +156,7 @@ def write_fitted_prior(
     extra_training: dict[str, Any] | None = None,
 ) -> str:
     """Save the recipe's chosen weights (raw or EMA) with full metadata; return the sha256.
-    A list of fits (one per seed of `member_seeds`) is saved as one ensemble prior.
+    A list of several fits (one per seed of `member_seeds`) is saved as one ensemble prior.
 
     The template is the first training pose, as in the reference.
     """
