@@ -102,4 +102,7 @@ def test_temporal_smoothing_does_not_blend_across_a_long_gap(tiny_prior_path: Pa
                                      "--image-size", "640", "480", "--temporal", "smooth", "-o", "-"])  # fmt: skip
         assert result.exit_code == 0, result.output
         poses.append([f["persons"][0]["keypoints_3d_root_relative"] for f in json.loads(result.stdout)["frames"]])
-    assert poses[0][:6] == poses[1]
+    # Equal up to float rounding (a batch of 12 and one of 6 may round differently on some CPUs);
+    # blending across the gap would move joints by millimetres.
+    diff = np.abs(np.array(poses[0][:6]) - np.array(poses[1])).max()
+    assert diff < 1e-5
