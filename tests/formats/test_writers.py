@@ -133,8 +133,10 @@ def test_csv_rows_columns_missing_values_and_sidecar(tmp_path: Path) -> None:
     missing = next(r for r in rows if r["instance_index"] == "1" and r["joint_index"] == "2")
     assert missing["observed"] == "false" and missing["u_px"] == "" and missing["reprojection_error_px"] == ""
     assert missing["confidence"] == "" and missing["x_cam_mm"] != ""  # filled by the prior
+    assert missing["status"] == "lifted"
     for r in (r for r in rows if r["instance_index"] == str(UNLIFTED)):
         assert r["lifted"] == "false" and r["x_cam_mm"] == r["y_cam_mm"] == r["z_cam_mm"] == ""
+        assert r["status"] == "too_few_observed_joints"  # why, as JSON's flag and NPZ's status say
         assert r["k_source"] == "pseudo" and r["file_name"] == "" and r["frame_index"] == "2"
     frame1 = next(r for r in rows if r["image_id"] == "11")
     assert (frame1["fx_px"], frame1["cx_px"], frame1["k_source"]) == ("1500.0", "320.0", "file")

@@ -17,7 +17,7 @@ and the axes are always OpenCV's (x right, y down, z forward).
 
 Missing values are empty fields (read as NaN by pandas and NA by R; a literal "nan" would make
 R read the column as text), never 0. Booleans are `true`/`false`. Unlifted instances keep their
-rows, with empty coordinates.
+rows, with empty coordinates and the reason in `status`.
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ def csv_columns(units: str = "m", frame: str = "camera", *, uncertainty: bool = 
     """The header row; `uncertainty_m` last when the result has a calibrated uncertainty."""
     return [
         "frame_index", "image_id", "file_name", "person", "instance_index", "joint", "joint_index",
-        *coordinate_columns(units, frame), "observed", "lifted", "confidence", "u_px", "v_px",
+        *coordinate_columns(units, frame), "observed", "lifted", "status", "confidence", "u_px", "v_px",
         "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source",
         *(["uncertainty_m"] if uncertainty else []),
     ]  # fmt: skip
@@ -91,7 +91,8 @@ def csv_rows(
                 conf = kp.confidence[i, j]
                 yield [
                     *head, joint, j, *(_cell(v, opts.digits) for v in poses[i, j]),
-                    _bool(res.observed[i, j]), _bool(res.lifted[i]), _cell(conf, 4) if conf > 0 else "",
+                    _bool(res.observed[i, j]), _bool(res.lifted[i]), str(res.status[i]),
+                    _cell(conf, 4) if conf > 0 else "",
                     _cell(kp.xy[i, j, 0], 3), _cell(kp.xy[i, j, 1], 3),
                     _cell(res.reprojection_error_px[i, j], 3), *camera,
                     *([] if radii is None else [_cell(radii[i, j], 4)]),
@@ -133,7 +134,9 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
         "instance_index": "0-based index of the instance in the input",
         f"{x}, {y}, {z}": f"3D joint position in {units}, {where}; empty where not lifted",
         "observed": "the joint was a 2D constraint (false: filled by the prior)",
-        "lifted": "the instance was lifted (false: too few observed joints, coordinates empty)",
+        "lifted": "the instance was lifted (false: coordinates empty, `status` says why)",
+        "status": "'lifted', or why the instance was not (too_few_observed_joints, ray_out_of_range, "
+        "degenerate_geometry, non_finite_result, behind_camera, poor_fit, implausible_skeleton; README)",
         "confidence": "input joint confidence; empty where missing",
         "u_px, v_px": "input 2D keypoint in pixels; empty where missing",
         "reprojection_error_px": "pixel distance between the 2D input and the projected 3D joint; empty if unobserved",
