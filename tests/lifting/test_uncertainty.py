@@ -67,6 +67,19 @@ def test_a_model_holds_only_for_its_prior_and_settings(tmp_path: Path) -> None:
     assert none is None and "--hypotheses 1" in why
 
 
+def test_a_calibration_predating_a_setting_holds_for_its_default_only() -> None:
+    """A calibration written before `twin_iterations` existed was made with its default (1): it
+    holds for the default and not for another value; a setting it names that LiftConfig lacks
+    never matches."""
+    error, spread = np.full((20, 3), 0.05), np.zeros((20, 3))
+    model = fit_model(error, spread, coverage=0.9, prior_sha256="abc", cfg=FAST, joints=JOINTS, provenance={})
+    older = replace(model, settings={k: v for k, v in model.settings.items() if k != "twin_iterations"})
+    assert find_model([older], "abc", JOINTS, FAST)[0] is older
+    assert find_model([older], "abc", JOINTS, replace(FAST, twin_iterations=2))[0] is None
+    unknown = replace(model, settings={**model.settings, "a_future_setting": 1})
+    assert find_model([unknown], "abc", JOINTS, FAST)[0] is None
+
+
 def test_a_file_of_another_kind_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "cal.json"
     path.write_text("[1, 2]")

@@ -17,6 +17,7 @@ MAX_HYPOTHESES = 64
 # 98 mm); 10 steps of 0.03 lifted 43.5 mm, 20 of 0.03 41.9 mm (50 of 1/50: 42.5).
 MAX_AUTO_DELTA = 0.03
 AGGREGATES = ("mean", "median", "first")
+MAX_TWIN_ITERATIONS = 10
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,7 @@ class LiftConfig:
     # Anatomical consistency (twin_limbs.py): fraction of each left/right limb-length mismatch
     # removed per prior iteration; 0 = off (the reference).
     twin_rate: float = 0.0
+    twin_iterations: int = 1  # twin-limb steps per prior iteration (fewer, larger prior steps need more)
     # Multiple hypotheses: `hypotheses` solutions per instance, lifted together. Hypothesis 0 is
     # the deterministic lift; the others start with their observed joints' depths jittered by
     # `start_jitter_m` (normal, metres) and take stochastic steps (`hypothesis_noise` times the
@@ -79,6 +81,8 @@ class LiftConfig:
             raise ConfigError(f"warm_step_delta must be > 0, got {self.warm_step_delta}")
         if not 0 <= self.twin_rate <= 1:
             raise ConfigError(f"twin_rate must be in [0, 1], got {self.twin_rate}")
+        if not 1 <= self.twin_iterations <= MAX_TWIN_ITERATIONS:
+            raise ConfigError(f"twin_iterations must be in [1, {MAX_TWIN_ITERATIONS}], got {self.twin_iterations}")
         if not 1 <= self.hypotheses <= MAX_HYPOTHESES:
             raise ConfigError(f"hypotheses must be in [1, {MAX_HYPOTHESES}], got {self.hypotheses}")
         if self.start_jitter_m < 0 or self.hypothesis_noise < 0:

@@ -288,7 +288,8 @@ def _prior_loop(
             trans, singular, flipped = solved.translation, singular | solved.singular, flipped | solved.flipped
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
         x = torch.where(obs[..., None], on_rays, x)
-        x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
+        for _ in range(cfg.twin_iterations):
+            x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
         with _network_precision(cfg, x.device):
             eps = prior.model(x, ts[i]).to(x.dtype)
         x = probability_flow_step(x, eps, ts[i], prior.sde, delta, cfg.flow)

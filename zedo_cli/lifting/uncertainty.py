@@ -143,8 +143,11 @@ def find_model(
     if not mine:
         return None, "no uncertainty calibration for this prior"
     wanted = calibration_settings(cfg)
+    # A setting added to LiftConfig after a calibration was made is absent from it; its default
+    # keeps the loop as it was (every new setting's default does), so that is what it was made with.
+    defaults = calibration_settings(LiftConfig())
     for m in mine:
-        if m.settings == wanted:
+        if {k: m.settings.get(k, defaults[k]) for k in wanted} == wanted and set(m.settings) <= set(wanted):
             return m, "calibrated"
     ks = sorted({m.settings.get("hypotheses", 1) for m in mine})
     return None, ("no uncertainty calibration for these lifting settings (calibrated: the default preset with "
