@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -38,3 +39,25 @@ def project_poses(poses: np.ndarray, depth: float = 1.0) -> np.ndarray:
     """Pixels `(n, 12, 2)` of root-relative poses placed `depth` metres in front of K_TEST."""
     cam = poses + np.array([0.0, 0.0, depth])
     return project(torch.tensor(cam), torch.tensor(K_TEST)).numpy()
+
+
+COCO_NAMES = list(get_skeleton("coco17").joints)
+SYRIP_TO_COCO = [COCO_NAMES.index(j) for j in get_skeleton("syrip12").joints]
+
+
+def write_coco(path: Path, n: int = 3, *, drop_joint: int | None = None) -> Path:
+    """A COCO annotation file of `n` generated poses (COCO joints absent from syrip12 at v=0).
+    Image size 640x480, so the default pseudo K is f=2000 at (320, 240)."""
+    xy = project_poses(synthetic_poses(n, seed=3))
+    images, anns = [], []
+    for i in range(n):
+        kp = np.zeros((17, 3))
+        kp[SYRIP_TO_COCO, :2] = xy[i]
+        kp[SYRIP_TO_COCO, 2] = 2
+        if drop_joint is not None:
+            kp[SYRIP_TO_COCO[drop_joint]] = 0
+        images.append({"id": 10 + i, "width": 640, "height": 480, "file_name": f"img{i}.jpg"})
+        anns.append({"id": i, "image_id": 10 + i, "category_id": 1, "keypoints": kp.ravel().tolist()})
+    cats = [{"id": 1, "name": "person", "keypoints": COCO_NAMES, "skeleton": []}]
+    path.write_text(json.dumps({"images": images, "annotations": anns, "categories": cats}))
+    return path

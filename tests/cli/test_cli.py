@@ -7,33 +7,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import K_TEST, project_poses, synthetic_poses
+from helpers import K_TEST, project_poses, synthetic_poses, write_coco  # noqa: F401 (tests/cli import it from here)
 from typer.testing import CliRunner
 
 from zedo_cli.cli import app
 from zedo_cli.data.skeleton import get_skeleton
 
 runner = CliRunner()
-COCO_NAMES = list(get_skeleton("coco17").joints)
-SYRIP_TO_COCO = [COCO_NAMES.index(j) for j in get_skeleton("syrip12").joints]
-
-
-def write_coco(path: Path, n: int = 3, *, drop_joint: int | None = None) -> Path:
-    """A COCO annotation file of `n` generated poses (COCO joints absent from syrip12 at v=0).
-    Image size 640x480, so the default pseudo K is f=2000 at (320, 240)."""
-    xy = project_poses(synthetic_poses(n, seed=3))
-    images, anns = [], []
-    for i in range(n):
-        kp = np.zeros((17, 3))
-        kp[SYRIP_TO_COCO, :2] = xy[i]
-        kp[SYRIP_TO_COCO, 2] = 2
-        if drop_joint is not None:
-            kp[SYRIP_TO_COCO[drop_joint]] = 0
-        images.append({"id": 10 + i, "width": 640, "height": 480, "file_name": f"img{i}.jpg"})
-        anns.append({"id": i, "image_id": 10 + i, "category_id": 1, "keypoints": kp.ravel().tolist()})
-    cats = [{"id": 1, "name": "person", "keypoints": COCO_NAMES, "skeleton": []}]
-    path.write_text(json.dumps({"images": images, "annotations": anns, "categories": cats}))
-    return path
 
 
 def lift_args(prior: Path, *extra: str) -> list[str]:

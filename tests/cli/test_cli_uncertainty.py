@@ -8,6 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pytest
 from test_cli import lift_args, runner, write_coco
 
 from zedo_cli.cli import app
@@ -115,11 +116,16 @@ def test_every_writer_carries_the_uncertainty(tiny_prior_path: Path, tmp_path: P
         assert data["hypotheses"].shape == (3, 2, 12, 3)
 
 
-def test_twin_rate_is_bounded_and_other_rates_are_not_calibrated(tiny_prior_path: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("option", ["twin_rate", "proportion_rate"])
+def test_length_rates_are_bounded_and_other_rates_are_not_calibrated(
+    option: str, tiny_prior_path: Path, tmp_path: Path
+) -> None:
+    flag = "--" + option.replace("_", "-")
     src = write_coco(tmp_path / "kp.json")
     for bad in ("-0.1", "1.5", "nan"):
-        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--twin-rate", bad))
-        assert result.exit_code == 2 and "--twin-rate" in result.output
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), flag, bad))
+        assert result.exit_code == 2 and flag in result.output
     cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
-    doc = _lift(tiny_prior_path, src, "--twin-rate", "0", "--calibration", str(cal))
-    assert doc["params"]["config"]["twin_rate"] == 0.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False
+    assert _lift(tiny_prior_path, src, "--calibration", str(cal))["params"]["uncertainty"]["uncertainty_m"] is True
+    doc = _lift(tiny_prior_path, src, flag, "0", "--calibration", str(cal))
+    assert doc["params"]["config"][option] == 0.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False

@@ -68,8 +68,8 @@ def test_unlifted_instances_have_no_hypotheses(tiny_prior: Prior) -> None:
 
 
 @pytest.mark.parametrize("bad", [{"hypotheses": 0}, {"hypotheses": 65}, {"twin_rate": 1.5}, {"twin_rate": -0.1},
-                                 {"start_jitter_m": -1.0}, {"aggregate": "mode"}, {"twin_iterations": 0},
-                                 {"twin_iterations": 11}])  # fmt: skip
+                                 {"start_jitter_m": -1.0}, {"aggregate": "mode"}, {"length_iterations": 0},
+                                 {"length_iterations": 11}])  # fmt: skip
 def test_invalid_hypothesis_settings_are_refused(bad: dict) -> None:
     with pytest.raises(ConfigError):
         replace(BASE, **bad)
@@ -107,7 +107,7 @@ def test_twin_term_in_the_loop_evens_the_lifted_limbs(tiny_prior: Prior) -> None
     even = lift(xy, conf, k, tiny_prior, replace(BASE, twin_rate=0.5))
     r0, r1 = twin_limb_ratio(plain.poses_root_relative, SKELETON), twin_limb_ratio(even.poses_root_relative, SKELETON)
     assert np.median(r1) < np.median(r0)
-    twice = lift(xy, conf, k, tiny_prior, replace(BASE, twin_rate=0.5, twin_iterations=2))
+    twice = lift(xy, conf, k, tiny_prior, replace(BASE, twin_rate=0.5, length_iterations=2))
     assert np.median(twin_limb_ratio(twice.poses_root_relative, SKELETON)) < np.median(r1)  # two steps per iteration
     # still on the rays: the last prior step moves joints off them about as much as without the term
     assert np.nanmean(even.reprojection_error_px) < 1.5 * np.nanmean(plain.reprojection_error_px) + 1.0

@@ -92,15 +92,16 @@ def test_wrong_joint_count_is_an_error(tiny_prior: Prior) -> None:
         lift(np.zeros((1, 17, 2)), np.ones((1, 17)), K_TEST[None], tiny_prior, FAST)
 
 
-def test_fast_preset_spreads_the_same_total_step_over_fewer_steps() -> None:
+def test_fast_preset_takes_few_stable_steps_with_the_length_terms() -> None:
     fast, faithful = get_preset("fast"), get_preset("faithful")
-    assert (fast.steps, fast.init_steps, fast.release_fraction) == (50, 100, 0.15)
-    assert fast.delta == pytest.approx(1 / 50) and faithful.delta == pytest.approx(1e-3)
-    assert fast.steps * fast.delta == pytest.approx(faithful.steps * faithful.delta)
-    assert replace(fast, steps=40).delta == pytest.approx(1 / 40)  # --steps keeps the total
+    assert (fast.steps, fast.init_steps, fast.release_fraction, fast.t_start) == (20, 100, 0.15, 0.2)
+    assert fast.delta == pytest.approx(0.03) and faithful.delta == pytest.approx(1e-3)  # 1/20 capped
+    assert (fast.twin_rate, fast.proportion_rate, fast.length_iterations) == (0.85, 0.3, 2)
+    assert (faithful.twin_rate, faithful.proportion_rate, faithful.length_iterations) == (0.0, 0.0, 1)  # reference
+    assert replace(fast, steps=40).delta == pytest.approx(1 / 40)  # --steps: 1/steps ...
     assert replace(fast, steps=25).delta == pytest.approx(0.03)  # ... up to the stable step size
     assert get_preset("fast-bf16") == replace(fast, preset="fast-bf16", bf16=True)
-    assert fast.to_dict()["delta"] == pytest.approx(0.02)
+    assert fast.to_dict()["delta"] == pytest.approx(0.03)
 
 
 @pytest.mark.parametrize(

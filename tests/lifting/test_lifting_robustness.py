@@ -7,6 +7,7 @@ the other instances of the batch are lifted as usual; nothing raises.
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -172,10 +173,10 @@ def test_fuzzed_pixels_and_cameras_never_raise_and_never_lift_nonsense(tiny_prio
 
 
 def test_few_steps_keep_a_stable_step_size() -> None:
-    """`--steps` far below the preset's 50 once meant steps of 1/steps, which diverge from t = 0.2
-    (10 steps: bones 11-13 times their length on SyRIP, all reported lifted)."""
+    """`--steps 10` once meant steps of 1/10, which diverge from t = 0.2 (bones 11-13 times their
+    length on SyRIP, all reported lifted): a preset's step is 1/steps but at most MAX_AUTO_DELTA."""
     fast = get_preset("fast")
-    assert fast.delta == pytest.approx(1 / 50)
+    assert fast.delta == MAX_AUTO_DELTA and replace(fast, steps=50).delta == pytest.approx(1 / 50)
     for steps in (1, 5, 10, 33):
         assert LiftConfig(steps=steps, step_delta=None).delta == MAX_AUTO_DELTA
     assert LiftConfig(steps=10, step_delta=0.2).delta == 0.2  # an explicit step size is kept

@@ -68,16 +68,17 @@ def test_a_model_holds_only_for_its_prior_and_settings(tmp_path: Path) -> None:
 
 
 def test_a_calibration_predating_a_setting_holds_for_its_default_only() -> None:
-    """A calibration written before `twin_iterations` existed was made with its default (1): it
+    """A calibration written before `length_iterations` existed was made with its default (1): it
     holds for the default and not for another value; a setting it names that LiftConfig lacks
     never matches."""
     error, spread = np.full((20, 3), 0.05), np.zeros((20, 3))
-    model = fit_model(error, spread, coverage=0.9, prior_sha256="abc", cfg=FAST, joints=JOINTS, provenance={})
-    older = replace(model, settings={k: v for k, v in model.settings.items() if k != "twin_iterations"})
-    assert find_model([older], "abc", JOINTS, FAST)[0] is older
-    assert find_model([older], "abc", JOINTS, replace(FAST, twin_iterations=2))[0] is None
+    one = replace(FAST, length_iterations=1)
+    model = fit_model(error, spread, coverage=0.9, prior_sha256="abc", cfg=one, joints=JOINTS, provenance={})
+    older = replace(model, settings={k: v for k, v in model.settings.items() if k != "length_iterations"})
+    assert find_model([older], "abc", JOINTS, one)[0] is older
+    assert find_model([older], "abc", JOINTS, replace(FAST, length_iterations=2))[0] is None
     unknown = replace(model, settings={**model.settings, "a_future_setting": 1})
-    assert find_model([unknown], "abc", JOINTS, FAST)[0] is None
+    assert find_model([unknown], "abc", JOINTS, one)[0] is None
 
 
 def test_a_file_of_another_kind_is_refused(tmp_path: Path) -> None:

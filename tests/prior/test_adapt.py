@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 import torch
-from format_fixtures import coco_annotations, write_json
+from helpers import write_coco
 from safetensors import safe_open
 from safetensors.torch import load_file, save_file
 from typer.testing import CliRunner
@@ -172,7 +172,7 @@ def test_finetuned_prior_stays_format_version_1(tiny_prior, tmp_path) -> None:
 
 
 def test_cli_adapt_then_lift_with_the_controlled_prior(tiny_prior, tmp_path) -> None:
-    coco_file = write_json(tmp_path / "kp.json", coco_annotations())
+    coco_file = write_coco(tmp_path / "kp.json")  # poses of the kind the tiny prior was trained on
     data = _infant_set(30)
     npz = tmp_path / "infants.npz"
     np.savez(npz, poses=data.poses, joint_names=np.array(data.skeleton.joints))

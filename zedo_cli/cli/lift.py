@@ -384,14 +384,14 @@ def lift_command(
     preset: Annotated[
         str,
         typer.Option(
-            help=f"Lifting preset: {', '.join(PRESETS)}. fast: 50 prior steps, about 20x faithful's poses/s at the same accuracy; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs)."
+            help=f"Lifting preset: {', '.join(PRESETS)}. fast: 20 prior steps with plausible bone lengths, about 50x faithful's poses/s and more accurate; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs)."
         ),
     ] = DEFAULT_PRESET,
     steps: Annotated[
         Optional[int],
         typer.Option(
-            help="Override the preset's prior iterations (fast: 50 of size 1/50; fewer keep the size at "
-            "most 0.03, so 10 steps are 5x faster for about 1 mm; faithful: 1000 of 1/1000)."
+            help="Override the preset's prior iterations (fast: 20 of size 0.03; fewer keep the size at "
+            "most 0.03; faithful: 1000 of 1/1000). Another count has no calibrated uncertainty."
         ),
     ] = None,
     input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
@@ -438,6 +438,14 @@ def lift_command(
             f"{PRESETS['fast'].twin_rate:g}; 0: "
             "the reference loop, slightly better symmetry angles but implausible limb lengths; no calibrated "
             "uncertainty then)."
+        ),
+    ] = None,
+    proportion_rate: Annotated[
+        Optional[float],
+        typer.Option(
+            help="Fraction of each bone's mismatch with its share of the skeleton's size in the prior's template "
+            f"removed per step, 0 to 1 (fast: {PRESETS['fast'].proportion_rate:g}; 0: off, about 0.5 mm less "
+            "accurate, slightly lower symmetry-angle error; no calibrated uncertainty then)."
         ),
     ] = None,
     save_hypotheses: Annotated[
@@ -509,6 +517,8 @@ def lift_command(
     cfg = replace(cfg, hypotheses=hypotheses) if hypotheses is not None else cfg
     check_range("--twin-rate", twin_rate, 0, 1)
     cfg = replace(cfg, twin_rate=twin_rate) if twin_rate is not None else cfg
+    check_range("--proportion-rate", proportion_rate, 0, 1)
+    cfg = replace(cfg, proportion_rate=proportion_rate) if proportion_rate is not None else cfg
     if skeleton is not None:
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,

@@ -6,7 +6,8 @@
    by R0 about the root.
 3. Loop ("OIL"), t from t_start down to t_end: (a) in the last `release_fraction` of the
    iterations, re-solve the root translation T by least squares; (b) project the observed
-   joints onto their rays; (c) one probability-flow step of the prior.
+   joints onto their rays; (c) where enabled, even twin limbs and bone proportions, moving
+   observed joints along their rays; (d) one probability-flow step of the prior.
 
 Vectorised over all poses of a chunk: no per-pose Python loop, no host copies inside the loop,
 no per-iteration history. Deviations from the reference, all documented in the README: missing
@@ -14,11 +15,12 @@ joints are left out of the fit, the projection and the translation solve (the pr
 them); the output is re-centred on the skeleton's root.
 
 Presets: `faithful` is the reference's loop (1000 prior steps of delta 1/1000, 500 fit steps).
-`fast` (the CLI default) takes 50 prior steps of delta 1/50, so the steps still add up to the
-same total, re-solves the root translation over the last 15 % of them instead of 5 %, and fits
-R0/T0 in 100 steps; measured on the SyRIP train split, chosen there, and confirmed on Test100
-(README, "Speed"). Cutting the reference to 100 steps while keeping delta = 1/1000 loses 6 mm:
-the steps then denoise only a tenth as far.
+`fast` (the CLI default) starts at t = 0.2 and takes 20 prior steps of delta 0.03, re-solves the
+root translation over the last 15 % of them instead of 5 %, fits R0/T0 in 100 steps, and after
+each ray projection takes two rounds of the bone-length terms (twin limbs, `twin_limbs.py`, and
+proportions, `proportions.py`); chosen on held-out SyRIP training folds and confirmed on Test100
+(README, "Speed" and "Plausible skeletons"). Cutting the reference to 100 steps while keeping
+delta = 1/1000 loses 6 mm: the steps then denoise only a tenth as far.
 
 Instances that cannot be lifted are never reported as lifted: `geometry_status` refuses, before
 any work, those whose rays are out of range or coincide; after the loop, a pose that is not
@@ -53,6 +55,7 @@ from ..prior.weights import Prior
 from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .config import LiftConfig
+from .proportions import bone_proportion_step, template_fractions
 from .twin_limbs import twin_limb_step
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
@@ -278,6 +281,8 @@ def _prior_loop(
     """
     obs = w > 0
     pairs = twin_limbs(prior.skeleton)
+    bones = torch.as_tensor(prior.skeleton.bones, device=x.device).reshape(-1, 2)
+    fractions = template_fractions(prior.template, prior.skeleton).to(device=x.device, dtype=x.dtype)
     steps = len(ts)
     singular = torch.zeros(x.shape[0], dtype=torch.bool, device=x.device)
     flipped = torch.zeros_like(singular)
@@ -288,8 +293,9 @@ def _prior_loop(
             trans, singular, flipped = solved.translation, singular | solved.singular, flipped | solved.flipped
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
         x = torch.where(obs[..., None], on_rays, x)
-        for _ in range(cfg.twin_iterations):
+        for _ in range(cfg.length_iterations):
             x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
+            x = bone_proportion_step(x, unit, obs, bones, fractions, cfg.proportion_rate)
         with _network_precision(cfg, x.device):
             eps = prior.model(x, ts[i]).to(x.dtype)
         x = probability_flow_step(x, eps, ts[i], prior.sde, delta, cfg.flow)

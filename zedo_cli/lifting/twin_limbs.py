@@ -37,11 +37,22 @@ def twin_limb_step(
         mismatch = 0.5 * (torch.log(left2) - torch.log(right2))  # log(left / right)
         idx = [lc, lp, rc, rp]
         grad = torch.stack([left / left2, -left / left2, -right / right2, right / right2], dim=1)  # (B, 4, 3)
-        ray = unit[:, idx]
-        along = (grad * ray).sum(-1, keepdim=True) * ray
-        grad = torch.where(observed[:, idx, None], along, grad)
+        grad = along_rays(grad, unit[:, idx], observed[:, idx])
         norm2 = (grad * grad).sum((1, 2))[:, None]  # (B, 1)
         scale = -rate * mismatch / (norm2 + DAMPING * (1.0 / left2 + 1.0 / right2))
         delta.index_add_(1, torch.tensor(idx, device=x.device), scale[:, :, None] * grad)
+    return x + capped(delta)
+
+
+def along_rays(grad: torch.Tensor, unit: torch.Tensor, observed: torch.Tensor) -> torch.Tensor:
+    """Joint gradients `grad (B, n, 3)` with those of observed joints (`observed (B, n)`) reduced to
+    their component along the joints' unit rays `unit (B, n, 3)`: observed joints move only along
+    their rays, so the ray constraint holds."""
+    along = (grad * unit).sum(-1, keepdim=True) * unit
+    return torch.where(observed[..., None], along, grad)
+
+
+def capped(delta: torch.Tensor) -> torch.Tensor:
+    """Joint moves `delta (B, J, 3)` each shortened to at most MAX_MOVE_M."""
     length = delta.norm(dim=-1, keepdim=True)
-    return x + delta * (MAX_MOVE_M / length.clamp_min(MAX_MOVE_M))
+    return delta * (MAX_MOVE_M / length.clamp_min(MAX_MOVE_M))
