@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from folds import FOLDS, held_out_names
+from folds import fold_priors
 from lift_validation import summarise
 
 MIRROR_KEYS = ("mirror", "symmetrised", "min_confidence")
@@ -72,10 +72,9 @@ def lift_variant(prior, kp, mats: np.ndarray, cfg, lever: dict) -> np.ndarray:
 def main() -> int:
     from zedo_cli.data.skeleton import center_on_root
     from zedo_cli.evaluation.plausibility import symmetry_angle_error_deg, twin_ratio_fractions
-    from zedo_cli.evaluation.syrip_benchmark import load_syrip_train_inputs, score_poses
+    from zedo_cli.evaluation.syrip_benchmark import score_poses
     from zedo_cli.lifting.camera import resolve_intrinsics
     from zedo_cli.lifting.config import get_preset
-    from zedo_cli.prior.weights import load_prior
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--syrip-dir", required=True)
@@ -86,12 +85,7 @@ def main() -> int:
     ap.add_argument("--out", type=Path, required=True)
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
-    for k in range(FOLDS):
-        path = args.folds / f"fold{k}{args.weights}.safetensors"
-        if not path.exists():
-            continue
-        prior = load_prior(path)
-        truth, inputs = load_syrip_train_inputs(args.syrip_dir, held_out_names(args.folds, k))
+    for k, prior, truth, inputs in fold_priors(args.folds, args.weights, args.syrip_dir):
         for name, text in args.variant:
             spec = json.loads(text)
             lever = {key: spec.pop(key) for key in MIRROR_KEYS if key in spec}

@@ -24,7 +24,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from folds import FOLDS, held_out_names
+from folds import fold_priors
 
 
 def score_variant(prior, truth, kp, cfg, seed: int) -> tuple[dict, dict]:
@@ -66,19 +66,12 @@ def main() -> int:
 
     import torch
 
-    from zedo_cli.evaluation.syrip_benchmark import load_syrip_train_inputs
     from zedo_cli.lifting.config import get_preset
-    from zedo_cli.prior.weights import load_prior
 
     torch.set_num_threads(args.threads)
     done = {(r["fold"], r["variant"], r["input"], r.get("weights", "")) for r in _rows(args.out)}
     base = get_preset(args.preset)
-    for k in range(FOLDS):
-        path = args.folds / f"fold{k}{args.weights}.safetensors"
-        if not path.exists():
-            continue
-        prior = load_prior(path)
-        truth, inputs = load_syrip_train_inputs(args.syrip_dir, held_out_names(args.folds, k))
+    for k, prior, truth, inputs in fold_priors(args.folds, args.weights, args.syrip_dir):
         for name, overrides in args.variant:
             cfg = replace(base, **json.loads(overrides))
             for kind in args.inputs:
