@@ -384,7 +384,7 @@ def lift_command(
     preset: Annotated[
         str,
         typer.Option(
-            help=f"Lifting preset: {', '.join(PRESETS)}. fast: 20 prior steps with plausible bone lengths, about 50x faithful's poses/s and more accurate; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs)."
+            help=f"Lifting preset: {', '.join(PRESETS)}. fast: 20 prior steps with plausible bone lengths, about 40x faithful's poses/s and more accurate; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs)."
         ),
     ] = DEFAULT_PRESET,
     steps: Annotated[
