@@ -27,9 +27,10 @@ from lift_validation import summarise
 MIRROR_KEYS = ("mirror", "symmetrised", "min_confidence")
 
 
-def mirrored(points: np.ndarray, flip: list[int]) -> np.ndarray:
-    """Camera-frame points `(..., J, 3)` reflected through x = 0, left and right joints swapped."""
-    out = points[..., flip, :].copy()
+def mirrored(points: np.ndarray | torch.Tensor, flip: list[int]) -> np.ndarray | torch.Tensor:
+    """Camera-frame points `(..., J, 3)` (numpy or torch) reflected through x = 0, left and right
+    joints swapped; a new array (indexing by the list `flip` copies)."""
+    out = points[..., flip, :]
     out[..., 0] = -out[..., 0]
     return out
 
@@ -43,12 +44,8 @@ class SymmetrisedNet(torch.nn.Module):
         self.net, self.flip = net, flip
 
     def forward(self, x: torch.Tensor, t: torch.Tensor) -> torch.Tensor:
-        mx = x[:, self.flip].clone()
-        mx[..., 0] = -mx[..., 0]
-        eps = self.net(torch.cat([x, mx]), t)
-        back = eps[len(x) :][:, self.flip].clone()
-        back[..., 0] = -back[..., 0]
-        return (eps[: len(x)] + back) / 2
+        eps = self.net(torch.cat([x, mirrored(x, self.flip)]), t)
+        return (eps[: len(x)] + mirrored(eps[len(x) :], self.flip)) / 2
 
 
 def lift_variant(prior, kp, mats: np.ndarray, cfg, lever: dict) -> np.ndarray:
