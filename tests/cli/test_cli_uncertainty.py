@@ -129,3 +129,17 @@ def test_length_rates_are_bounded_and_other_rates_are_not_calibrated(
     assert _lift(tiny_prior_path, src, "--calibration", str(cal))["params"]["uncertainty"]["uncertainty_m"] is True
     doc = _lift(tiny_prior_path, src, flag, "0", "--calibration", str(cal))
     assert doc["params"]["config"][option] == 0.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False
+
+
+def test_twin_ratio_cap_is_zero_or_at_least_one_and_other_caps_are_not_calibrated(
+    tiny_prior_path: Path, tmp_path: Path
+) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    for bad in ("0.5", "-1", "nan", "1000"):
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--twin-ratio-cap", bad))
+        assert result.exit_code == 2 and "--twin-ratio-cap" in result.output
+    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
+    for cap in ("0", "1.2"):
+        doc = _lift(tiny_prior_path, src, "--twin-ratio-cap", cap, "--calibration", str(cal))
+        assert doc["params"]["config"]["twin_ratio_cap"] == float(cap)
+        assert doc["params"]["uncertainty"]["uncertainty_m"] is False

@@ -13,7 +13,7 @@ from zedo_cli.data.skeleton import twin_limb_ratio, twin_limbs
 from zedo_cli.errors import ConfigError
 from zedo_cli.lifting.config import LiftConfig
 from zedo_cli.lifting.solver import lift
-from zedo_cli.lifting.twin_limbs import twin_limb_step
+from zedo_cli.lifting.twin_limbs import cap_twin_ratios, twin_limb_step
 from zedo_cli.prior.weights import Prior
 
 BASE = LiftConfig(steps=40, init_steps=50, step_delta=None, release_fraction=0.15)
@@ -69,7 +69,8 @@ def test_unlifted_instances_have_no_hypotheses(tiny_prior: Prior) -> None:
 
 @pytest.mark.parametrize("bad", [{"hypotheses": 0}, {"hypotheses": 65}, {"twin_rate": 1.5}, {"twin_rate": -0.1},
                                  {"start_jitter_m": -1.0}, {"aggregate": "mode"}, {"length_iterations": 0},
-                                 {"length_iterations": 11}])  # fmt: skip
+                                 {"length_iterations": 11}, {"twin_ratio_cap": 0.5}, {"twin_ratio_cap": -1.0},
+                                 {"twin_ratio_cap": float("nan")}])  # fmt: skip
 def test_invalid_hypothesis_settings_are_refused(bad: dict) -> None:
     with pytest.raises(ConfigError):
         replace(BASE, **bad)
@@ -94,6 +95,33 @@ def test_twin_step_evens_limbs_and_keeps_observed_joints_on_their_rays() -> None
     moved = x.numpy() + trans
     off_ray = np.linalg.norm(np.cross(moved, unit), axis=-1)
     assert off_ray.max() < 1e-5  # observed joints move only along their rays
+
+
+def test_cap_brings_long_twins_to_the_cap_and_leaves_the_others() -> None:
+    even = torch.as_tensor(synthetic_poses(8, 4), dtype=torch.float32)
+    free = torch.zeros(8, 12, dtype=torch.bool)
+    for _ in range(30):  # twin limbs of equal length to start from
+        even = twin_limb_step(even, even, free, twin_limbs(SKELETON), 1.0)
+    trans = np.array([0.0, 0.0, 1.0])
+    cam = even.numpy().astype(np.float64) + trans
+    knee, ankle = SKELETON.index("left_knee"), SKELETON.index("left_ankle")
+    shank = cam[:, ankle] - cam[:, knee]
+    longer = np.array([1.5, 1.8, 2.2, 2.5, 1.0, 1.1, 1.2, 1.3])[:, None]  # four shanks far too long, four not
+    cam[:, ankle] = cam[:, knee] + shank * longer
+    unit = torch.as_tensor(cam / np.linalg.norm(cam, axis=-1, keepdims=True), dtype=torch.float32)
+    x = torch.as_tensor(cam - trans, dtype=torch.float32)
+    obs = torch.ones(8, 12, dtype=torch.bool)
+    obs[:, SKELETON.index("right_ankle")] = False  # a missing joint moves freely
+    before = twin_limb_ratio(x.numpy(), SKELETON)
+    assert (before[:4] > 1.45).all() and (before[4:] < 1.4).all()
+    capped = cap_twin_ratios(x, unit, obs, twin_limbs(SKELETON), 1.4)
+    after = twin_limb_ratio(capped.numpy(), SKELETON)
+    assert ((after[:4] > 1.39) & (after[:4] < 1.45)).all()  # brought to about the cap, not evened
+    assert torch.equal(capped[4:], x[4:])  # poses within the cap are not touched
+    moved = capped.numpy() + trans
+    off_ray = np.linalg.norm(np.cross(moved, unit.numpy()), axis=-1)[obs.numpy()]
+    assert off_ray.max() < 1e-5  # observed joints move only along their rays
+    assert cap_twin_ratios(x, unit, obs, twin_limbs(SKELETON), 0.0) is x  # 0: off
 
 
 def test_twin_step_off_is_the_identity() -> None:

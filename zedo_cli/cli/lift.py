@@ -448,6 +448,14 @@ def lift_command(
             "accurate, slightly lower symmetry-angle error; no calibrated uncertainty then)."
         ),
     ] = None,
+    twin_ratio_cap: Annotated[
+        Optional[float],
+        typer.Option(
+            help="After the loop, limbs more than this many times as long as their left/right twin are brought to "
+            f"this ratio along the camera rays; 0: off (fast: {PRESETS['fast'].twin_ratio_cap:g}, which leaves "
+            "pairs within it untouched; no calibrated uncertainty with another value)."
+        ),
+    ] = None,
     save_hypotheses: Annotated[
         bool, typer.Option(help="Also write every hypothesis (JSON: hypotheses_m per person; NPZ: hypotheses).")
     ] = False,
@@ -519,6 +527,9 @@ def lift_command(
     cfg = replace(cfg, twin_rate=twin_rate) if twin_rate is not None else cfg
     check_range("--proportion-rate", proportion_rate, 0, 1)
     cfg = replace(cfg, proportion_rate=proportion_rate) if proportion_rate is not None else cfg
+    if twin_ratio_cap != 0:
+        check_range("--twin-ratio-cap", twin_ratio_cap, 1, 100)
+    cfg = replace(cfg, twin_ratio_cap=twin_ratio_cap) if twin_ratio_cap is not None else cfg
     if skeleton is not None:
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,

@@ -56,7 +56,7 @@ from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .config import LiftConfig
 from .proportions import bone_proportion_step, template_fractions
-from .twin_limbs import twin_limb_step
+from .twin_limbs import cap_twin_ratios, twin_limb_step
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
 # such a ray means a wrong focal length or principal point (or wrong coordinates).
@@ -271,8 +271,9 @@ def _prior_loop(
 ) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
     iteration `release` on, observed joints projected onto their rays, twin limbs evened
-    (`cfg.twin_rate`), one prior step; rows with a `noise (B, 1, 1)` factor above 0 also get that
-    fraction of the reverse SDE's noise (drawn from `generator`).
+    (`cfg.twin_rate`) and bone proportions kept (`cfg.proportion_rate`), one prior step; rows with
+    a `noise (B, 1, 1)` factor above 0 also get that fraction of the reverse SDE's noise (drawn
+    from `generator`). After the loop, twin ratios over `cfg.twin_ratio_cap` are capped.
 
     A pose whose translation solve is singular keeps its previous translation and is reported;
     so is one whose least-squares translation was behind the camera at any solve (the
@@ -305,6 +306,7 @@ def _prior_loop(
         if (i + 1) % every == 0 or i + 1 == steps:
             tick(i + 1 - reported)
             reported = i + 1
+    x = cap_twin_ratios(x, unit, obs, pairs, cfg.twin_ratio_cap)
     return _ChunkResult(x, trans, singular, flipped)
 
 
