@@ -143,3 +143,13 @@ def test_twin_ratio_cap_is_zero_or_at_least_one_and_other_caps_are_not_calibrate
         doc = _lift(tiny_prior_path, src, "--twin-ratio-cap", cap, "--calibration", str(cal))
         assert doc["params"]["config"]["twin_ratio_cap"] == float(cap)
         assert doc["params"]["uncertainty"]["uncertainty_m"] is False
+
+
+def test_ray_weight_is_bounded_and_other_weights_are_not_calibrated(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    for bad in ("0", "-0.1", "1.5", "nan"):
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--ray-weight", bad))
+        assert result.exit_code == 2 and "--ray-weight" in result.output
+    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
+    doc = _lift(tiny_prior_path, src, "--ray-weight", "1", "--calibration", str(cal))
+    assert doc["params"]["config"]["ray_weight"] == 1.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False

@@ -70,7 +70,8 @@ def test_unlifted_instances_have_no_hypotheses(tiny_prior: Prior) -> None:
 @pytest.mark.parametrize("bad", [{"hypotheses": 0}, {"hypotheses": 65}, {"twin_rate": 1.5}, {"twin_rate": -0.1},
                                  {"start_jitter_m": -1.0}, {"aggregate": "mode"}, {"length_iterations": 0},
                                  {"length_iterations": 11}, {"twin_ratio_cap": 0.5}, {"twin_ratio_cap": -1.0},
-                                 {"twin_ratio_cap": float("nan")}])  # fmt: skip
+                                 {"twin_ratio_cap": float("nan")}, {"ray_weight": 0.0}, {"ray_weight": 1.5},
+                                 {"ray_weight": float("nan")}])  # fmt: skip
 def test_invalid_hypothesis_settings_are_refused(bad: dict) -> None:
     with pytest.raises(ConfigError):
         replace(BASE, **bad)
@@ -139,3 +140,16 @@ def test_twin_term_in_the_loop_evens_the_lifted_limbs(tiny_prior: Prior) -> None
     assert np.median(twin_limb_ratio(twice.poses_root_relative, SKELETON)) < np.median(r1)  # two steps per iteration
     # still on the rays: the last prior step moves joints off them about as much as without the term
     assert np.nanmean(even.reprojection_error_px) < 1.5 * np.nanmean(plain.reprojection_error_px) + 1.0
+
+
+def test_softer_rays_let_the_prior_hold_joints_off_noisy_rays(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(12, seed=9)
+    xy = xy + np.random.default_rng(2).normal(0.0, 4.0, xy.shape)  # 2D noise the prior cannot follow
+    exact = lift(xy, conf, k, tiny_prior, BASE)
+    soft = lift(xy, conf, k, tiny_prior, replace(BASE, ray_weight=0.5))
+    assert exact.lifted.all() and soft.lifted.all()
+    # the joints end further from their noisy pixels, by a bounded amount, and the pose moved
+    assert np.nanmean(exact.reprojection_error_px) < np.nanmean(soft.reprojection_error_px) < 40.0
+    assert np.abs(soft.poses_root_relative - exact.poses_root_relative).max() > 1e-3
+    same = lift(xy, conf, k, tiny_prior, replace(BASE, ray_weight=1.0))
+    np.testing.assert_array_equal(same.poses_camera, exact.poses_camera)  # 1: the reference loop, to the bit

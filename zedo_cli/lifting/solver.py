@@ -68,7 +68,8 @@ MIN_RAY_SPREAD = 1e-4
 MIN_JOINT_DEPTH_M = 0.01
 # A lifted pose whose mean reprojection error exceeds this fraction of the RMS radius of its
 # observed 2D joints does not reproduce its detection. SyRIP's 1400 real poses (GT and FiDIP 2D,
-# `fast`) stay below 0.04; tiny noisy detections drawn to the camera reach 1 to 5.
+# `fast`) stay below 0.14 (with exact rays, ray_weight 1: 0.04); tiny noisy detections drawn to the
+# camera reach 1 to 5.
 MAX_REPROJECTION_RATIO = 0.5
 
 # A lifted bone longer than this many times the same bone of the prior's template pose is not a
@@ -270,7 +271,8 @@ def _prior_loop(
     noise: torch.Tensor | None = None, generator: torch.Generator | None = None,
 ) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
-    iteration `release` on, observed joints projected onto their rays, twin limbs evened
+    iteration `release` on, observed joints moved onto their rays (the fraction `cfg.ray_weight` of
+    the way), twin limbs evened
     (`cfg.twin_rate`) and bone proportions kept (`cfg.proportion_rate`), one prior step; rows with
     a `noise (B, 1, 1)` factor above 0 also get that fraction of the reverse SDE's noise (drawn
     from `generator`). After the loop, twin ratios over `cfg.twin_ratio_cap` are capped.
@@ -293,6 +295,8 @@ def _prior_loop(
             solved = solve_root_translation_ex(x, rays, w, fallback=trans)
             trans, singular, flipped = solved.translation, singular | solved.singular, flipped | solved.flipped
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
+        if cfg.ray_weight < 1:  # part of the way: the prior may keep a joint off a ray it disagrees with
+            on_rays = torch.lerp(x, on_rays, cfg.ray_weight)
         x = torch.where(obs[..., None], on_rays, x)
         for _ in range(cfg.length_iterations):
             x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
