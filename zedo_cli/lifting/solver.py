@@ -5,9 +5,11 @@
 2. Start pose: every observed joint on its own ray at the depth of T0 (a flat pose), rotated
    by R0 about the root.
 3. Loop ("OIL"), t from t_start down to t_end: (a) in the last `release_fraction` of the
-   iterations, re-solve the root translation T by least squares; (b) project the observed
-   joints onto their rays; (c) where enabled, even twin limbs and bone proportions, moving
-   observed joints along their rays; (d) one probability-flow step of the prior.
+   iterations, re-solve the root translation T by least squares; (b) move the observed joints
+   onto their rays (all the way, as the reference, or the fraction `ray_weight`); (c) where
+   enabled, even twin limbs and bone proportions, moving observed joints along their rays;
+   (d) one probability-flow step of the prior. After the loop, where enabled, cap twin-limb
+   length ratios (`twin_limbs.cap_twin_ratios`).
 
 Vectorised over all poses of a chunk: no per-pose Python loop, no host copies inside the loop,
 no per-iteration history. Deviations from the reference, all documented in the README: missing
@@ -16,10 +18,11 @@ them); the output is re-centred on the skeleton's root.
 
 Presets: `faithful` is the reference's loop (1000 prior steps of delta 1/1000, 500 fit steps).
 `fast` (the CLI default) starts at t = 0.2 and takes 20 prior steps of delta 0.03, re-solves the
-root translation over the last 15 % of them instead of 5 %, fits R0/T0 in 100 steps, and after
-each ray projection takes two rounds of the bone-length terms (twin limbs, `twin_limbs.py`, and
-proportions, `proportions.py`); chosen on held-out SyRIP training folds and confirmed on Test100
-(README, "Speed" and "Plausible skeletons"). Cutting the reference to 100 steps while keeping
+root translation over the last 15 % of them instead of 5 %, fits R0/T0 in 100 steps, moves
+observed joints 0.75 of the way onto their rays, then takes two rounds of the bone-length terms
+(twin limbs, `twin_limbs.py`, and proportions, `proportions.py`) per step, and caps twin ratios at
+1.4 after the loop; chosen on held-out SyRIP training folds and confirmed on Test100 (README,
+"Speed" and "Plausible skeletons"). Cutting the reference to 100 steps while keeping
 delta = 1/1000 loses 6 mm: the steps then denoise only a tenth as far.
 
 Instances that cannot be lifted are never reported as lifted: `geometry_status` refuses, before
