@@ -164,6 +164,32 @@ def test_evaluate_scores_a_result_against_npz_truth(tiny_prior_path: Path, tmp_p
     assert set(scores["per_joint_mpjpe_mm"]) == set(get_skeleton("syrip12").joints)
 
 
+def test_evaluate_scores_lifted_persons_and_counts_the_ground_truth_left_unscored(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json", n=3)
+    doc = json.loads(src.read_text())
+    kp = np.array(doc["annotations"][2]["keypoints"]).reshape(17, 3)
+    kp[np.flatnonzero(kp[:, 2] > 0)[2:]] = 0  # two joints left: too few to lift
+    doc["annotations"][2]["keypoints"] = kp.ravel().tolist()
+    src.write_text(json.dumps(doc))
+    out = tmp_path / "r.json"
+    assert runner.invoke(app, lift_args(tiny_prior_path, str(src), "-o", str(out))).exit_code == 0
+    names = np.array([f"img{i}.jpg" for i in range(3)])
+    joints = np.array(get_skeleton("syrip12").joints)
+    np.savez(tmp_path / "gt3.npz", poses=synthetic_poses(3, seed=3), joint_names=joints, names=names)
+    np.savez(tmp_path / "gt2.npz", poses=synthetic_poses(3, seed=3)[:2], joint_names=joints, names=names[:2])
+    scores = {}
+    for gt in ("gt3", "gt2"):
+        result = runner.invoke(app, ["evaluate", str(out), "--gt", str(tmp_path / f"{gt}.npz"), "--json"])
+        assert result.exit_code == 0 and "Traceback" not in result.output, result.output
+        scores[gt] = json.loads(result.stdout)
+    assert scores["gt3"]["count"] == scores["gt2"]["count"] == 2
+    assert (scores["gt3"]["ground_truth_without_prediction"], scores["gt2"]["ground_truth_without_prediction"]) == (1, 0)
+    for key in ("mpjpe_mm", "pa_mpjpe_mm"):  # the person not lifted is counted, not scored
+        assert scores["gt3"][key] == scores["gt2"][key] and np.isfinite(scores["gt3"][key])
+    table = runner.invoke(app, ["evaluate", str(out), "--gt", str(tmp_path / "gt3.npz")])
+    assert table.exit_code == 0 and "1 ground-truth poses have no lifted prediction" in " ".join(table.output.split())
+
+
 def test_evaluate_errors(tmp_path: Path) -> None:
     bad = tmp_path / "r.json"
     bad.write_text(json.dumps({"schema": "other"}))
@@ -194,3 +220,17 @@ def test_line_progress_prints_plain_lines_only_after_the_interval(capsys) -> Non
     task = every_call.add_task("fit", total=10, status="")
     every_call.update(task, completed=5, status="loss 1.0")
     assert "fit: 5/10 loss 1.0" in capsys.readouterr().err
+
+
+def test_benchmark_table_says_how_many_poses_were_not_lifted() -> None:
+    from rich.console import Console
+
+    from zedo_cli.cli.evaluate import _benchmark_table
+    from zedo_cli.evaluation.syrip_benchmark import Score
+
+    scores = [("p / fast", Score("gt", 100, 40.0, 26.0, {}, 1.0, 100.0, 0.1, 0.0, 16.0, 0.9, 2)),
+              ("p / fast", Score("detected", 100, 44.0, 27.0, {}, 1.0, 100.0, 0.1, 0.0, 17.0, 0.9))]  # fmt: skip
+    console = Console(record=True, width=250)
+    console.print(_benchmark_table(scores))
+    text = console.export_text()
+    assert "100 (2 not lifted, not scored)" in text and text.count("not lifted") == 1

@@ -73,6 +73,22 @@ def test_pa_mpjpe_of_a_similarity_copy_is_zero() -> None:
     assert pa_mpjpe_mm(2.0 * target @ rot + 1.0, target) < 1e-6
 
 
+def test_benchmark_scores_leave_out_poses_that_were_not_lifted() -> None:
+    from zedo_cli.evaluation.syrip_benchmark import lifted_rows, score_poses
+
+    target = _poses(4, 12, 6)
+    pred = target + 0.01 * np.random.default_rng(7).normal(size=target.shape)
+    pred[2] = np.nan  # a person the lift refused: NaN, as LiftResult reports it
+    assert lifted_rows(pred).tolist() == [True, True, False, True]
+    keep = [0, 1, 3]
+    mpjpe, pa, per_joint = score_poses(pred, target, SYRIP12.joints)
+    assert mpjpe == pytest.approx(mpjpe_mm(pred[keep], target[keep]))
+    assert pa == pytest.approx(pa_mpjpe_mm(pred[keep], target[keep]))  # no SVD of NaN
+    assert set(per_joint) == set(SYRIP12.joints) and all(np.isfinite(v) for v in per_joint.values())
+    none = score_poses(np.full_like(pred, np.nan), target, SYRIP12.joints)
+    assert np.isnan(none[0]) and np.isnan(none[1]) and all(np.isnan(v) for v in none[2].values())
+
+
 # --- npz loader ----------------------------------------------------------------------------
 
 

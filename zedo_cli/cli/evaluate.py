@@ -59,13 +59,16 @@ def evaluate_command(
     pred = read_result_file(result)
     p, t, skel = align_to_truth(pred, truth, protocol)
     mpjpe, pa, per_joint = score_poses(p, t, skel.joints)
+    missing = len(truth.names) - len(p)  # e.g. persons the lift refused: not in the result as lifted
     doc = {"protocol": protocol, "count": len(p), "unmatched_predictions": len(pred.keys) - len(p),
+           "ground_truth_without_prediction": missing,
            "mpjpe_mm": round(mpjpe, 2), "pa_mpjpe_mm": round(pa, 2),
            "per_joint_mpjpe_mm": {k: round(v, 2) for k, v in per_joint.items()}}  # fmt: skip
     if as_json:
         sys.stdout.write(json.dumps(doc, indent=1) + "\n")
         return
-    table = Table(title=f"{result} vs {truth.source}, protocol {protocol}, {len(p)} poses")
+    unscored = f" ({missing} ground-truth poses have no lifted prediction)" if missing else ""
+    table = Table(title=f"{result} vs {truth.source}, protocol {protocol}, {len(p)} poses{unscored}")
     table.add_column("joint")
     table.add_column("MPJPE (mm)", justify="right")
     for joint, err in per_joint.items():
@@ -83,8 +86,9 @@ def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
         table.add_column(col, justify="left" if col in ("prior / preset", "2D input") else "right")
     for label, s in rows:
         coverage = "-" if s.coverage is None else f"{s.coverage:.1%}"
+        poses = str(s.count) if not s.not_lifted else f"{s.count} ({s.not_lifted} not lifted, not scored)"
         table.add_row(label, s.input_2d, f"{s.mpjpe_mm:.1f}", f"{s.pa_mpjpe_mm:.1f}", f"{s.twin_over_1_3:.0%}",
-                      f"{s.twin_over_1_6:.0%}", f"{s.symmetry_error_deg:.1f}", coverage, str(s.count),
+                      f"{s.twin_over_1_6:.0%}", f"{s.symmetry_error_deg:.1f}", coverage, poses,
                       f"{s.seconds:.1f}", f"{s.poses_per_second:.1f}")  # fmt: skip
     from ..evaluation.syrip_benchmark import PAPER_FIGURES
 

@@ -53,13 +53,25 @@ class Score:
     symmetry_error_deg: float = float("nan")
     # fraction of true joints within their `uncertainty_m` radius; None: the lift had no uncertainty
     coverage: float | None = None
+    not_lifted: int = 0  # poses the lift refused (NaN); the errors above are over the others
 
 
 def score_poses(pred: np.ndarray, target: np.ndarray, joints: tuple[str, ...]) -> tuple[float, float, dict[str, float]]:
-    """MPJPE, PA-MPJPE (mm) and per-joint MPJPE of root-relative `pred`, `target (N, J, 3)`."""
+    """MPJPE, PA-MPJPE (mm) and per-joint MPJPE of root-relative `pred`, `target (N, J, 3)`, over
+    the poses of `pred` that are finite (a person not lifted is NaN; see `lifted_rows`); NaN
+    when none is."""
+    scored = lifted_rows(pred)
+    if not scored.any():
+        return float("nan"), float("nan"), dict.fromkeys(joints, float("nan"))
+    pred, target = pred[scored], target[scored]
     err = per_joint_error_mm(pred, target)
     pa = pa_per_joint_error_mm(pred, target)
     return float(err.mean()), float(pa.mean()), {j: float(e) for j, e in zip(joints, err.mean(0), strict=True)}
+
+
+def lifted_rows(pred: np.ndarray) -> np.ndarray:
+    """`(N,)` True for the poses of `pred (N, J, 3)` that are finite (lifted)."""
+    return np.isfinite(pred).all(axis=(1, 2))
 
 
 def _best_per_key(kp: Keypoints2D, keys: list[object]) -> dict[object, int]:
@@ -144,10 +156,13 @@ def lift_and_score(
     mpjpe, pa, per_joint = score_poses(pred, truth.poses, prior.skeleton.joints)
     twins = twin_ratio_fractions(pred, prior.skeleton)
     coverage = None
-    if res.uncertainty_m is not None:
-        coverage = float((np.linalg.norm(pred - truth.poses, axis=-1) <= res.uncertainty_m).mean())
+    lifted = lifted_rows(pred)
+    if res.uncertainty_m is not None and lifted.any():
+        within = np.linalg.norm(pred - truth.poses, axis=-1) <= res.uncertainty_m
+        coverage = float(within[lifted].mean())
     return Score(input_2d, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds, twins[1.3], twins[1.6],
-                 symmetry_angle_error_deg(pred, truth.poses, prior.skeleton), coverage), res  # fmt: skip
+                 symmetry_angle_error_deg(pred, truth.poses, prior.skeleton), coverage,
+                 int((~lifted).sum())), res  # fmt: skip
 
 
 def _best_per_image(kp: Keypoints2D) -> Keypoints2D:
