@@ -164,7 +164,9 @@ def test_evaluate_scores_a_result_against_npz_truth(tiny_prior_path: Path, tmp_p
     assert set(scores["per_joint_mpjpe_mm"]) == set(get_skeleton("syrip12").joints)
 
 
-def test_evaluate_scores_lifted_persons_and_counts_the_ground_truth_left_unscored(tiny_prior_path: Path, tmp_path: Path) -> None:
+def test_evaluate_scores_lifted_persons_and_counts_the_ground_truth_left_unscored(
+    tiny_prior_path: Path, tmp_path: Path
+) -> None:
     src = write_coco(tmp_path / "kp.json", n=3)
     doc = json.loads(src.read_text())
     kp = np.array(doc["annotations"][2]["keypoints"]).reshape(17, 3)
@@ -183,7 +185,10 @@ def test_evaluate_scores_lifted_persons_and_counts_the_ground_truth_left_unscore
         assert result.exit_code == 0 and "Traceback" not in result.output, result.output
         scores[gt] = json.loads(result.stdout)
     assert scores["gt3"]["count"] == scores["gt2"]["count"] == 2
-    assert (scores["gt3"]["ground_truth_without_prediction"], scores["gt2"]["ground_truth_without_prediction"]) == (1, 0)
+    assert (scores["gt3"]["ground_truth_without_prediction"], scores["gt2"]["ground_truth_without_prediction"]) == (
+        1,
+        0,
+    )
     for key in ("mpjpe_mm", "pa_mpjpe_mm"):  # the person not lifted is counted, not scored
         assert scores["gt3"][key] == scores["gt2"][key] and np.isfinite(scores["gt3"][key])
     table = runner.invoke(app, ["evaluate", str(out), "--gt", str(tmp_path / "gt3.npz")])
