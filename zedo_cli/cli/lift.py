@@ -444,9 +444,9 @@ def lift_command(
         Optional[float],
         typer.Option(
             help="Fraction of each left/right limb-length mismatch removed per prior step, 0 to 1 (fast: "
-            f"{PRESETS['fast'].twin_rate:g}; 0: "
-            "the reference loop, slightly better symmetry angles but implausible limb lengths; no calibrated "
-            "uncertainty then)."
+            f"{PRESETS['fast'].twin_rate:g}; lower: symmetry angles about 1 degree closer to the truth, as "
+            "accurate, but more limbs far longer than their twin, up to 38 % over 1.3x at 0 on held-out SyRIP "
+            "poses; no calibrated uncertainty then)."
         ),
     ] = None,
     proportion_rate: Annotated[
