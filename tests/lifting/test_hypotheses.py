@@ -12,7 +12,7 @@ from helpers import K_TEST, SKELETON, project_poses, synthetic_poses
 from zedo_cli.data.skeleton import twin_limb_ratio, twin_limbs
 from zedo_cli.errors import ConfigError
 from zedo_cli.lifting.config import LiftConfig
-from zedo_cli.lifting.solver import lift
+from zedo_cli.lifting.solver import lift, ray_pull
 from zedo_cli.lifting.twin_limbs import cap_twin_ratios, twin_limb_step
 from zedo_cli.prior.weights import Prior
 
@@ -71,7 +71,8 @@ def test_unlifted_instances_have_no_hypotheses(tiny_prior: Prior) -> None:
                                  {"start_jitter_m": -1.0}, {"aggregate": "mode"}, {"length_iterations": 0},
                                  {"length_iterations": 11}, {"twin_ratio_cap": 0.5}, {"twin_ratio_cap": -1.0},
                                  {"twin_ratio_cap": float("nan")}, {"ray_weight": 0.0}, {"ray_weight": 1.5},
-                                 {"ray_weight": float("nan")}])  # fmt: skip
+                                 {"ray_weight": float("nan")}, {"ray_confidence_ratio": -0.1},
+                                 {"ray_confidence_ratio": 1.5}, {"ray_confidence_ratio": float("nan")}])  # fmt: skip
 def test_invalid_hypothesis_settings_are_refused(bad: dict) -> None:
     with pytest.raises(ConfigError):
         replace(BASE, **bad)
@@ -153,3 +154,28 @@ def test_softer_rays_let_the_prior_hold_joints_off_noisy_rays(tiny_prior: Prior)
     assert np.abs(soft.poses_root_relative - exact.poses_root_relative).max() > 1e-3
     same = lift(xy, conf, k, tiny_prior, replace(BASE, ray_weight=1.0))
     np.testing.assert_array_equal(same.poses_camera, exact.poses_camera)  # 1: the reference loop, to the bit
+
+
+def test_ray_pull_scales_the_weight_down_for_joints_less_sure_than_their_pose() -> None:
+    conf = np.array([[1.0, 0.8, 0.8, 0.5, 0.2, 0.0, np.nan]])  # median of the observed joints: 0.8
+    obs = np.array([[True] * 5 + [False] * 2])
+    assert ray_pull(conf, obs, LiftConfig()) is None  # the reference: every joint all the way
+    np.testing.assert_allclose(ray_pull(conf, obs, replace(BASE, ray_weight=0.75)), np.full((1, 7), 0.75))
+    cfg = replace(BASE, ray_weight=0.75, ray_confidence_ratio=0.5)  # below 0.4: in proportion
+    expected = [[0.75, 0.75, 0.75, 0.75, 0.375, 0.0, 0.0]]
+    np.testing.assert_allclose(ray_pull(conf, obs, cfg), expected)
+    np.testing.assert_allclose(ray_pull(0.3 * conf, obs, cfg), expected)  # another detector's scale: the same
+    assert np.isfinite(ray_pull(np.zeros((1, 7)), np.zeros((1, 7), dtype=bool), cfg)).all()  # nothing observed
+
+
+def test_unsure_joints_are_held_less_to_their_rays(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(12, seed=9)
+    xy = xy + np.random.default_rng(2).normal(0.0, 4.0, xy.shape)
+    conf = conf.copy()
+    conf[:, ::2] = 0.1  # every other joint: a detection the detector doubts (median 0.55)
+    cfg = replace(BASE, ray_weight=0.8)
+    alike = lift(xy, conf, k, tiny_prior, cfg)
+    doubted = lift(xy, conf, k, tiny_prior, replace(cfg, ray_confidence_ratio=0.5))
+    assert alike.lifted.all() and doubted.lifted.all()
+    miss_alike, miss_doubted = alike.reprojection_error_px[:, ::2], doubted.reprojection_error_px[:, ::2]
+    assert np.nanmean(miss_doubted) > np.nanmean(miss_alike)  # the prior holds doubted joints off their rays

@@ -96,9 +96,16 @@ def test_fast_preset_takes_few_stable_steps_with_the_length_terms() -> None:
     fast, faithful = get_preset("fast"), get_preset("faithful")
     assert (fast.steps, fast.init_steps, fast.release_fraction, fast.t_start) == (20, 100, 0.15, 0.2)
     assert fast.delta == pytest.approx(0.03) and faithful.delta == pytest.approx(1e-3)  # 1/20 capped
-    loop_terms = ("ray_weight", "twin_rate", "proportion_rate", "length_iterations", "twin_ratio_cap")
-    assert [getattr(fast, k) for k in loop_terms] == [0.75, 0.85, 0.7, 2, 1.4]
-    assert [getattr(faithful, k) for k in loop_terms] == [1.0, 0.0, 0.0, 1, 0.0]  # the reference
+    loop_terms = (
+        "ray_weight",
+        "ray_confidence_ratio",
+        "twin_rate",
+        "proportion_rate",
+        "length_iterations",
+        "twin_ratio_cap",
+    )
+    assert [getattr(fast, k) for k in loop_terms] == [0.75, 0.6, 0.85, 0.7, 2, 1.4]
+    assert [getattr(faithful, k) for k in loop_terms] == [1.0, 0.0, 0.0, 0.0, 1, 0.0]  # the reference
     assert replace(fast, steps=40).delta == pytest.approx(1 / 40)  # --steps: 1/steps ...
     assert replace(fast, steps=25).delta == pytest.approx(0.03)  # ... up to the stable step size
     assert get_preset("fast-bf16") == replace(fast, preset="fast-bf16", bf16=True)

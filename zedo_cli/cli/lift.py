@@ -440,6 +440,16 @@ def lift_command(
             "accurate on held-out SyRIP poses; no calibrated uncertainty with another value)."
         ),
     ] = None,
+    ray_confidence_ratio: Annotated[
+        Optional[float],
+        typer.Option(
+            help="Joints whose confidence is below this fraction of the median confidence of their pose move onto "
+            "their rays only in proportion (--ray-weight x confidence / (this x median)), 0 to 1; relative, so the "
+            f"detector's confidence scale does not matter (fast: {PRESETS['fast'].ray_confidence_ratio:g}; 0: every "
+            "observed joint alike; no calibrated uncertainty with another value). --min-confidence drops joints "
+            "instead."
+        ),
+    ] = None,
     twin_rate: Annotated[
         Optional[float],
         typer.Option(
@@ -534,6 +544,8 @@ def lift_command(
     cfg = replace(cfg, hypotheses=hypotheses) if hypotheses is not None else cfg
     check_range("--ray-weight", ray_weight, 0, 1, low_open=True)
     cfg = replace(cfg, ray_weight=ray_weight) if ray_weight is not None else cfg
+    check_range("--ray-confidence-ratio", ray_confidence_ratio, 0, 1)
+    cfg = replace(cfg, ray_confidence_ratio=ray_confidence_ratio) if ray_confidence_ratio is not None else cfg
     check_range("--twin-rate", twin_rate, 0, 1)
     cfg = replace(cfg, twin_rate=twin_rate) if twin_rate is not None else cfg
     check_range("--proportion-rate", proportion_rate, 0, 1)

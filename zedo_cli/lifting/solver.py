@@ -222,11 +222,12 @@ def fit_rotation_depth(
 
 @torch.no_grad()
 def _lift_chunk(
-    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, cfg: LiftConfig,
+    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None, cfg: LiftConfig,
     tick: Callable[[int], None], generator: torch.Generator,
 ) -> _ChunkResult:  # fmt: skip
     """Root-relative poses X `(B, K, J, 3)` and translations T `(B, K, 3)` of one chunk's K
-    hypotheses (`cfg.hypotheses`; the perturbations drawn from `generator`)."""
+    hypotheses (`cfg.hypotheses`; the perturbations drawn from `generator`); `pull (B, J)` from
+    `ray_pull`."""
     skel = prior.skeleton
     obs = w > 0
     rays = pixel_rays(xy, k)  # (B, J, 3), z = 1
@@ -246,18 +247,19 @@ def _lift_chunk(
     noise = None
     if count > 1:  # hypothesis 0 of each instance is the deterministic lift, the others are perturbed
         x, trans, rays, unit, w = (t.repeat_interleave(count, 0) for t in (x, trans, rays, unit, w))
+        pull = None if pull is None else pull.repeat_interleave(count, 0)
         other = (torch.arange(x.shape[0], device=x.device) % count != 0).to(x.dtype)[:, None, None]
         jitter = torch.randn(x.shape[:2], generator=generator, device=x.device, dtype=x.dtype)[..., None]
         x = x + other * cfg.start_jitter_m * torch.where(w[..., None] > 0, jitter * unit, 0.0)
         noise = other * cfg.hypothesis_noise
-    out = _prior_loop(prior, x, trans, rays, unit, w, ts, release, cfg.delta, cfg, tick, noise, generator)
+    out = _prior_loop(prior, x, trans, rays, unit, w, pull, ts, release, cfg.delta, cfg, tick, noise, generator)
     return out.per_instance(count)
 
 
 @torch.no_grad()
 def _warm_chunk(
-    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, x0: torch.Tensor, t0: torch.Tensor,
-    cfg: LiftConfig, tick: Callable[[int], None],
+    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None, x0: torch.Tensor,
+    t0: torch.Tensor, cfg: LiftConfig, tick: Callable[[int], None],
 ) -> _ChunkResult:  # fmt: skip
     """Like `_lift_chunk`, from start poses `x0 (B, J, 3)` and translations `t0 (B, 3)`: no fit,
     a short loop from `warm_t_start`; one hypothesis."""
@@ -265,17 +267,18 @@ def _warm_chunk(
     unit = rays / rays.norm(dim=-1, keepdim=True)
     ts = torch.linspace(cfg.warm_t_start, cfg.t_end, cfg.warm_steps, dtype=xy.dtype, device=xy.device)
     release = round(cfg.warm_steps * (1.0 - cfg.warm_release_fraction))
-    return _prior_loop(prior, x0, t0, rays, unit, w, ts, release, cfg.warm_delta, cfg, tick).per_instance(1)
+    return _prior_loop(prior, x0, t0, rays, unit, w, pull, ts, release, cfg.warm_delta, cfg, tick).per_instance(1)
 
 
 def _prior_loop(
     prior: Prior, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor, w: torch.Tensor,
-    ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig, tick: Callable[[int], None],
+    pull: torch.Tensor | None, ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig,
+    tick: Callable[[int], None],
     noise: torch.Tensor | None = None, generator: torch.Generator | None = None,
 ) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
-    iteration `release` on, observed joints moved onto their rays (the fraction `cfg.ray_weight` of
-    the way), twin limbs evened
+    iteration `release` on, observed joints moved onto their rays (all the way, or the fraction
+    `pull (B, J)` of it), twin limbs evened
     (`cfg.twin_rate`) and bone proportions kept (`cfg.proportion_rate`), one prior step; rows with
     a `noise (B, 1, 1)` factor above 0 also get that fraction of the reverse SDE's noise (drawn
     from `generator`). After the loop, twin ratios over `cfg.twin_ratio_cap` are capped.
@@ -298,8 +301,8 @@ def _prior_loop(
             solved = solve_root_translation_ex(x, rays, w, fallback=trans)
             trans, singular, flipped = solved.translation, singular | solved.singular, flipped | solved.flipped
         on_rays = project_onto_rays(x + trans[:, None], unit) - trans[:, None]
-        if cfg.ray_weight < 1:  # part of the way: the prior may keep a joint off a ray it disagrees with
-            on_rays = torch.lerp(x, on_rays, cfg.ray_weight)
+        if pull is not None:  # part of the way: the prior may keep a joint off a ray it disagrees with
+            on_rays = torch.lerp(x, on_rays, pull[..., None])
         x = torch.where(obs[..., None], on_rays, x)
         for _ in range(cfg.length_iterations):
             x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
@@ -377,6 +380,11 @@ def lift(
     def tensor(a: np.ndarray) -> torch.Tensor:
         return torch.as_tensor(a, dtype=torch.float32, device=device)
 
+    def rows(a: np.ndarray | None, idx: np.ndarray) -> torch.Tensor | None:
+        return None if a is None else tensor(a[idx])
+
+    pull = ray_pull(confidence, obs, config)
+
     def store(idx: np.ndarray, out: _ChunkResult) -> None:
         hyp = out.pose.shape[1]
         cam[idx, :hyp] = (out.pose + out.translation[:, :, None]).double().cpu().numpy()
@@ -387,11 +395,12 @@ def lift(
     generator = torch.Generator(device=device).manual_seed(seed)
     for idx in chunks:
         store(idx, _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               config, tick, generator))  # fmt: skip
+                               rows(pull, idx), config, tick, generator))  # fmt: skip
     for idx in warm_chunks:
         assert start_poses is not None and start_translation is not None
         store(idx, _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               tensor(start_poses[idx]), tensor(start_translation[idx]), config, tick))  # fmt: skip
+                               rows(pull, idx), tensor(start_poses[idx]), tensor(start_translation[idx]), config,
+                               tick))  # fmt: skip
     hypotheses = aggregate = None
     if count > 1:
         bones = bone_ratio(cam.reshape(n * count, joints, 3), prior).reshape(n, count)
@@ -410,6 +419,24 @@ def lift(
         hypotheses = hypotheses - hypotheses[:, :, prior.skeleton.root_indices].mean(axis=2, keepdims=True)
     return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start,
                       status, hypotheses)  # fmt: skip
+
+
+def ray_pull(confidence: np.ndarray, observed: np.ndarray, cfg: LiftConfig) -> np.ndarray | None:
+    """The fraction of the way to its ray `(N, J)` each joint moves before every prior step:
+    `cfg.ray_weight`, times confidence / (`cfg.ray_confidence_ratio` x the median confidence of the
+    pose's `observed (N, J)` joints) where that is below 1. None: all the way for every joint (the
+    reference)."""
+    if cfg.ray_weight == 1 and cfg.ray_confidence_ratio == 0:
+        return None
+    pull = np.full(confidence.shape, cfg.ray_weight)
+    if cfg.ray_confidence_ratio > 0:
+        conf = np.where(observed, np.nan_to_num(confidence), np.nan)
+        with warnings.catch_warnings():  # a pose with no observed joint is not lifted; its median is NaN
+            warnings.simplefilter("ignore", RuntimeWarning)
+            median = np.nanmedian(conf, axis=1, keepdims=True)
+        scale = cfg.ray_confidence_ratio * np.where(np.isfinite(median) & (median > 0), median, 1.0)
+        pull *= np.clip(np.nan_to_num(conf) / scale, 0.0, 1.0)
+    return pull
 
 
 def _usable_hypotheses(cam: np.ndarray, singular: np.ndarray, flipped: np.ndarray, bones: np.ndarray) -> np.ndarray:
