@@ -72,7 +72,7 @@ MIN_RAY_SPREAD = 1e-4
 MIN_JOINT_DEPTH_M = 0.01
 # A lifted pose whose mean reprojection error exceeds this fraction of the RMS radius of its
 # observed 2D joints does not reproduce its detection. SyRIP's 1400 real poses (GT and FiDIP 2D,
-# `fast`) stay below 0.14 (with exact rays, ray_weight 1: 0.04); tiny noisy detections drawn to the
+# `fast`) stay below 0.17 (with exact rays, ray_weight 1: 0.04); tiny noisy detections drawn to the
 # camera reach 1 to 5.
 MAX_REPROJECTION_RATIO = 0.5
 
