@@ -126,9 +126,9 @@ def test_small_low_confidence_partial_detections_are_never_placed_behind_the_cam
     res = lift(xy, conf, np.repeat(K_TEST[None], n, 0), tiny_prior, get_preset("fast"))
     counts = Counter(res.status.tolist())
     assert counts["behind_camera"] > 0 and counts["poor_fit"] > 0, counts
-    # The rest are lifted as usual (with fast's softer rays, 142 of 300; with exact rays, over 150:
-    # the prior holds joints off rays whose 2 px noise is a fifth of the pose's size, and poor_fit says so).
-    assert counts[LIFTED] > 130, counts
+    # The rest are lifted as usual: with fast 135 of 300 (every joint alike: 142; exact rays: over 150):
+    # the prior holds joints off rays whose 2 px noise is a fifth of the pose's size, and poor_fit says so.
+    assert counts[LIFTED] > 120, counts
     lifted = res.lifted
     assert (res.poses_camera[lifted][..., 2] >= MIN_JOINT_DEPTH_M).all()
     assert np.nanmax(res.reprojection_error_px[lifted]) < 50.0
