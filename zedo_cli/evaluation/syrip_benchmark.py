@@ -156,13 +156,12 @@ def lift_and_score(
     mpjpe, pa, per_joint = score_poses(pred, truth.poses, prior.skeleton.joints)
     twins = twin_ratio_fractions(pred, prior.skeleton)
     coverage = None
-    lifted = lifted_rows(pred)
-    if res.uncertainty_m is not None and lifted.any():
+    if res.uncertainty_m is not None and res.lifted.any():
         within = np.linalg.norm(pred - truth.poses, axis=-1) <= res.uncertainty_m
-        coverage = float(within[lifted].mean())
+        coverage = float(within[res.lifted].mean())
     return Score(input_2d, len(kp), mpjpe, pa, per_joint, seconds, len(kp) / seconds, twins[1.3], twins[1.6],
                  symmetry_angle_error_deg(pred, truth.poses, prior.skeleton), coverage,
-                 int((~lifted).sum())), res  # fmt: skip
+                 int((~res.lifted).sum())), res  # fmt: skip
 
 
 def _best_per_image(kp: Keypoints2D) -> Keypoints2D:

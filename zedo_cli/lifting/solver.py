@@ -20,10 +20,10 @@ Presets: `faithful` is the reference's loop (1000 prior steps of delta 1/1000, 5
 `fast` (the CLI default) starts at t = 0.2 and takes 20 prior steps of delta 0.03, re-solves the
 root translation over the last 15 % of them instead of 5 %, fits R0/T0 in 100 steps, moves
 observed joints 0.75 of the way onto their rays (less for joints under 0.6 times their pose's
-median confidence), then takes two rounds of the bone-length terms
-(twin limbs, `twin_limbs.py`, and proportions, `proportions.py`) per step, and caps twin ratios at
-1.4 after the loop; chosen on held-out SyRIP training folds and confirmed on Test100 (README,
-"Speed" and "Plausible skeletons"). Cutting the reference to 100 steps while keeping
+median confidence), then takes two rounds of the bone-length terms (twin limbs, `twin_limbs.py`,
+and proportions, `proportions.py`) per step, and caps twin ratios at 1.4 after the loop; chosen on
+held-out SyRIP training folds and confirmed on Test100 (README, "Speed" and "Plausible
+skeletons"). Cutting the reference to 100 steps while keeping
 delta = 1/1000 loses 6 mm: the steps then denoise only a tenth as far.
 
 Instances that cannot be lifted are never reported as lifted: `geometry_status` refuses, before
@@ -279,10 +279,10 @@ def _prior_loop(
 ) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
     iteration `release` on, observed joints moved onto their rays (all the way, or the fraction
-    `pull (B, J)` of it), twin limbs evened
-    (`cfg.twin_rate`) and bone proportions kept (`cfg.proportion_rate`), one prior step; rows with
-    a `noise (B, 1, 1)` factor above 0 also get that fraction of the reverse SDE's noise (drawn
-    from `generator`). After the loop, twin ratios over `cfg.twin_ratio_cap` are capped.
+    `pull (B, J)` of it), twin limbs evened (`cfg.twin_rate`) and bone proportions kept
+    (`cfg.proportion_rate`), one prior step; rows with a `noise (B, 1, 1)` factor above 0 also get
+    that fraction of the reverse SDE's noise (drawn from `generator`). After the loop, twin ratios
+    over `cfg.twin_ratio_cap` are capped.
 
     A pose whose translation solve is singular keeps its previous translation and is reported;
     so is one whose least-squares translation was behind the camera at any solve (the
@@ -361,6 +361,7 @@ def lift(
     if joints != prior.skeleton.num_joints:
         raise ConfigError(f"keypoints have {joints} joints, the prior's skeleton {prior.skeleton.num_joints}")
     obs = observed_mask(xy, confidence, min_confidence)
+    pull = ray_pull(confidence, obs, config)
     status = geometry_status(xy, intrinsics, obs, config.min_observed)
     todo_all = status == LIFTED
     warm = _warm_mask(start_poses, start_translation, n, joints) & todo_all
@@ -383,8 +384,6 @@ def lift(
 
     def rows(a: np.ndarray | None, idx: np.ndarray) -> torch.Tensor | None:
         return None if a is None else tensor(a[idx])
-
-    pull = ray_pull(confidence, obs, config)
 
     def store(idx: np.ndarray, out: _ChunkResult) -> None:
         hyp = out.pose.shape[1]

@@ -16,7 +16,8 @@ every pair within it untouched.
 
 from __future__ import annotations
 
-import numpy as np
+import math
+
 import torch
 
 # Levenberg damping of the Gauss-Newton step, in units of the pair's squared inverse lengths:
@@ -39,7 +40,7 @@ def twin_limb_step(
     `tolerance` above 1, only the part of a ratio above it counts as mismatch."""
     if rate <= 0 or not pairs:
         return x
-    slack = float(np.log(tolerance))
+    slack = math.log(tolerance)
     delta = torch.zeros_like(x)
     for (lp, lc), (rp, rc) in pairs:
         left, right = x[:, lc] - x[:, lp], x[:, rc] - x[:, rp]
