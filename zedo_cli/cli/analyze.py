@@ -3,8 +3,6 @@ accuracy on SyRIP Test100)."""
 
 from __future__ import annotations
 
-import json
-import sys
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
@@ -23,7 +21,7 @@ from ..files import check_writable
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
-from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, progress_bar
+from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, print_json_report, progress_bar
 from .lift_plan import STDIN, expand_inputs
 
 if TYPE_CHECKING:
@@ -307,7 +305,7 @@ def benchmark_symmetry_command(
                                        reference=reference, device=device, callback=on_step)  # fmt: skip
     if as_json:
         doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": preset, **asdict(bench)}
-        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        print_json_report(doc)
         return
     console = Console()
     for table in _benchmark_tables(bench):

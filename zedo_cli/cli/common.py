@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import functools
+import json
+import math
 import os
 import sys
 import time
@@ -82,6 +84,26 @@ def error_boundary(func: Callable[P, R]) -> Callable[P, R]:
             raise typer.Exit(EXIT_RUNTIME) from None
 
     return wrapper
+
+
+def finite_or_null(value: Any) -> Any:
+    """`value` with every NaN or infinite float (also numpy's) inside dicts, lists and tuples
+    replaced by None, so that it serialises as strict JSON (`null`, not `NaN`)."""
+    if isinstance(value, dict):
+        return {k: finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_or_null(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):  # numpy's float64 is a float
+        return None
+    if hasattr(value, "dtype") and getattr(value, "shape", None) == () and value.dtype.kind == "f":
+        return finite_or_null(float(value))
+    return value
+
+
+def print_json_report(doc: dict[str, Any]) -> None:
+    """A command's `--json` report on stdout: strict JSON, unknown figures (NaN: e.g. a preset
+    that lifted no pose) as null."""
+    sys.stdout.write(json.dumps(finite_or_null(doc), indent=1, allow_nan=False) + "\n")
 
 
 def silence_stdout() -> None:

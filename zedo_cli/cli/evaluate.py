@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import json
-import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
@@ -17,7 +15,7 @@ from ..errors import ConfigError
 from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
 from ..lifting.config import MAX_HYPOTHESES, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device, check_range, check_syrip_split
-from .common import err_console, error_boundary, progress_bar
+from .common import err_console, error_boundary, print_json_report, progress_bar
 
 if TYPE_CHECKING:
     from ..evaluation.syrip_benchmark import Score, Throughput
@@ -65,7 +63,7 @@ def evaluate_command(
            "mpjpe_mm": round(mpjpe, 2), "pa_mpjpe_mm": round(pa, 2),
            "per_joint_mpjpe_mm": {k: round(v, 2) for k, v in per_joint.items()}}  # fmt: skip
     if as_json:
-        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        print_json_report(doc)
         return
     unscored = f" ({missing} ground-truth poses have no lifted prediction)" if missing else ""
     table = Table(title=f"{result} vs {truth.source}, protocol {protocol}, {len(p)} poses{unscored}")
@@ -191,7 +189,7 @@ def benchmark_command(
                            for n, r in rates.items()},
             f"mpjpe_minus_{base}_mm": deltas,
         }  # fmt: skip
-        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        print_json_report(doc)
         return
     console = Console()
     console.print(_benchmark_table(rows))

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import json
-import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
@@ -15,7 +13,7 @@ from rich.table import Table
 from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
 from ..lifting.config import PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device, check_steps
-from .common import err_console, error_boundary, progress_bar
+from .common import err_console, error_boundary, print_json_report, progress_bar
 
 if TYPE_CHECKING:
     from ..evaluation.minirgbd_benchmark import MiniScore
@@ -101,7 +99,7 @@ def benchmark_minirgbd_command(
                "preset": cfg.preset, "stride": stride, "dropped_joint": drop_joint if protocol == "16" else None,
                "intrinsics": DEPTH_INTRINSICS.matrix().tolist(), "config": minirgbd_lift_config(cfg).to_dict(),
                **vars(s)}  # fmt: skip
-        sys.stdout.write(json.dumps(doc, indent=1) + "\n")
+        print_json_report(doc)
         return
     dropped = f" (without {drop_joint})" if protocol == "16" else ""
     title = (f"MINI-RGBD {split} split, {side} side, {s.count} frames, {mapping} mapping, "
