@@ -31,6 +31,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..data.skeleton import Skeleton
+
 MAX_TABLE_ROWS = 300  # per table; the CSV has every row
 MAX_SKELETONS = 6
 LEFT, RIGHT, MIRROR, CENTRE = "#1f77b4", "#d62728", "#e377c2", "#555555"
@@ -89,17 +91,31 @@ def _skeleton_frames(a: Analysis) -> list[int]:
     return list(dict.fromkeys(picks))[:MAX_SKELETONS]
 
 
+def _mirrored_segments(pose: np.ndarray, skel: Skeleton) -> np.ndarray:
+    """`(pairs, 2, 3)`: each pair's right segment mirrored through the mid-plane (its two ends)."""
+    segments = []
+    for p, d, base in PAIRS.values():
+        normal = unit(joint(pose, skel, f"left_{base}") - joint(pose, skel, f"right_{base}"))
+        centre = (joint(pose, skel, f"left_{base}") + joint(pose, skel, f"right_{base}")) / 2
+        segments.append([centre + reflect(joint(pose, skel, f"right_{x}") - centre, normal) for x in (p, d)])
+    return np.asarray(segments)
+
+
+def _view_half_width(pose: np.ndarray, skel: Skeleton) -> float:
+    """Half the side of a root-centred view that holds the pose and its mirrored right limbs,
+    which can reach further (a limb along the depth axis, mirrored through a tilted mid-plane,
+    turns into the image plane), with a 10 % margin."""
+    return 1.1 * float(np.nanmax(np.abs(np.concatenate([pose, *_mirrored_segments(pose, skel)]))))
+
+
 def _draw_pose(ax: Axes, pose: np.ndarray, a: Analysis, h: int, v: int, title: str, half: float) -> None:
     skel = a.result.skeleton
     for i, j in skel.bones:
         names = skel.joints[i] + skel.joints[j]
         colour = LEFT if names.count("left_") == 2 else RIGHT if names.count("right_") == 2 else CENTRE
         ax.plot(pose[[i, j], h], pose[[i, j], v], color=colour, lw=2.2, solid_capstyle="round")
-    for p, d, base in PAIRS.values():  # the right segment mirrored through the mid-plane
-        normal = unit(joint(pose, skel, f"left_{base}") - joint(pose, skel, f"right_{base}"))
-        centre = (joint(pose, skel, f"left_{base}") + joint(pose, skel, f"right_{base}")) / 2
-        ends = [centre + reflect(joint(pose, skel, f"right_{x}") - centre, normal) for x in (p, d)]
-        ax.plot([ends[0][h], ends[1][h]], [ends[0][v], ends[1][v]], color=MIRROR, lw=2.0, ls=(0, (3, 2)))
+    for ends in _mirrored_segments(pose, skel):
+        ax.plot(ends[:, h], ends[:, v], color=MIRROR, lw=2.0, ls=(0, (3, 2)))
     ax.set_xlim(-half, half)
     ax.set_ylim(half, -half)  # y (down) and z: drawn with the head / the camera side up
     ax.set_aspect("equal")
@@ -117,7 +133,7 @@ def skeleton_views(a: Analysis) -> list[str]:
     for k in _skeleton_frames(a):
         i = a.index[k]
         pose = res.poses[i] - np.nanmean(res.poses[i, res.skeleton.root_indices], axis=0)
-        half = 1.1 * float(np.nanmax(np.abs(pose)))
+        half = _view_half_width(pose, res.skeleton)
         fig = _figure(5.0, 3.0)
         axes = fig.subplots(1, 2)
         label = f"frame {res.frame_index[i]}" + (f" · {res.file_names[i]}" if res.file_names[i] else "")
