@@ -168,3 +168,13 @@ def test_ray_confidence_ratio_is_bounded_and_other_values_are_not_calibrated(
         doc["params"]["config"]["ray_confidence_ratio"] == 0.0
         and doc["params"]["uncertainty"]["uncertainty_m"] is False
     )
+
+
+def test_hip_ray_factor_is_bounded_and_other_values_are_not_calibrated(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    for bad in ("-0.1", "1.5", "nan"):
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--hip-ray-factor", bad))
+        assert result.exit_code == 2 and "--hip-ray-factor" in result.output
+    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
+    doc = _lift(tiny_prior_path, src, "--hip-ray-factor", "1", "--calibration", str(cal))
+    assert doc["params"]["config"]["hip_ray_factor"] == 1.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False

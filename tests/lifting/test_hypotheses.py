@@ -156,16 +156,42 @@ def test_softer_rays_let_the_prior_hold_joints_off_noisy_rays(tiny_prior: Prior)
     np.testing.assert_array_equal(same.poses_camera, exact.poses_camera)  # 1: the reference loop, to the bit
 
 
+SEVEN = ("left_hip", "a", "b", "right_hip", "c", "d", "e")  # joint names: two hips, at 0 and 3
+
+
 def test_ray_pull_scales_the_weight_down_for_joints_less_sure_than_their_pose() -> None:
     conf = np.array([[1.0, 0.8, 0.8, 0.5, 0.2, 0.0, np.nan]])  # median of the observed joints: 0.8
     obs = np.array([[True] * 5 + [False] * 2])
-    assert ray_pull(conf, obs, LiftConfig()) is None  # the reference: every joint all the way
-    np.testing.assert_allclose(ray_pull(conf, obs, replace(BASE, ray_weight=0.75)), np.full((1, 7), 0.75))
+    assert ray_pull(conf, obs, LiftConfig(), SEVEN) is None  # the reference: every joint all the way
+    np.testing.assert_allclose(ray_pull(conf, obs, replace(BASE, ray_weight=0.75), SEVEN), np.full((1, 7), 0.75))
     cfg = replace(BASE, ray_weight=0.75, ray_confidence_ratio=0.5)  # below 0.4: in proportion
     expected = [[0.75, 0.75, 0.75, 0.75, 0.375, 0.0, 0.0]]
-    np.testing.assert_allclose(ray_pull(conf, obs, cfg), expected)
-    np.testing.assert_allclose(ray_pull(0.3 * conf, obs, cfg), expected)  # another detector's scale: the same
-    assert np.isfinite(ray_pull(np.zeros((1, 7)), np.zeros((1, 7), dtype=bool), cfg)).all()  # nothing observed
+    np.testing.assert_allclose(ray_pull(conf, obs, cfg, SEVEN), expected)
+    np.testing.assert_allclose(ray_pull(0.3 * conf, obs, cfg, SEVEN), expected)  # another detector's scale: the same
+    nothing_observed = ray_pull(np.zeros((1, 7)), np.zeros((1, 7), dtype=bool), cfg, SEVEN)
+    assert np.isfinite(nothing_observed).all()
+
+
+def test_ray_pull_holds_the_hips_less_by_their_factor() -> None:
+    conf, obs = np.ones((2, 7)), np.ones((2, 7), dtype=bool)
+    hips = replace(BASE, hip_ray_factor=0.6)
+    np.testing.assert_allclose(ray_pull(conf, obs, hips, SEVEN), np.tile([0.6, 1, 1, 0.6, 1, 1, 1], (2, 1)))
+    both = replace(hips, ray_weight=0.75)  # the factor multiplies the pull
+    np.testing.assert_allclose(ray_pull(conf, obs, both, SEVEN)[0], [0.45, 0.75, 0.75, 0.45, 0.75, 0.75, 0.75])
+    no_hips = ("a", "b", "c", "d", "e", "f", "pelvis")  # a skeleton without hips: nothing to hold less
+    np.testing.assert_allclose(ray_pull(conf, obs, hips, no_hips), np.ones((2, 7)))
+    with pytest.raises(ConfigError, match="hip_ray_factor"):
+        LiftConfig(hip_ray_factor=1.5)
+
+
+def test_softer_hip_rays_move_only_the_hips_off_their_rays(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(6, seed=4)
+    xy = xy + np.random.default_rng(5).normal(0.0, 3.0, xy.shape)
+    exact = lift(xy, conf, k, tiny_prior, BASE)
+    held_less = lift(xy, conf, k, tiny_prior, replace(BASE, hip_ray_factor=0.3))
+    assert exact.lifted.all() and held_less.lifted.all()
+    hips = [tiny_prior.skeleton.joints.index(name) for name in ("left_hip", "right_hip")]
+    assert np.nanmean(held_less.reprojection_error_px[:, hips]) > np.nanmean(exact.reprojection_error_px[:, hips])
 
 
 def test_unsure_joints_are_held_less_to_their_rays(tiny_prior: Prior) -> None:

@@ -52,6 +52,10 @@ class LiftConfig:
     # joints move onto their rays only in proportion (ray_weight x confidence / (ratio x median));
     # relative, so a detector's confidence scale does not matter. 0 = off (every observed joint alike).
     ray_confidence_ratio: float = 0.0
+    # Hip joints (left_hip, right_hip) move this factor of their pull: a 2D hip is a landmark on
+    # the body's surface, a prior's hip the body model's joint inside the pelvis (SyRIP's 2D hips
+    # are about 0.8 times as far apart as its 3D hips, projected). 1 = like every other joint.
+    hip_ray_factor: float = 1.0
     # Anatomical consistency (twin_limbs.py): fraction of each left/right limb-length mismatch
     # removed per prior iteration; 0 = off (the reference).
     twin_rate: float = 0.0
@@ -99,6 +103,8 @@ class LiftConfig:
             raise ConfigError(f"ray_weight must be in (0, 1], got {self.ray_weight}")
         if not 0 <= self.ray_confidence_ratio <= 1:
             raise ConfigError(f"ray_confidence_ratio must be in [0, 1], got {self.ray_confidence_ratio}")
+        if not 0 <= self.hip_ray_factor <= 1:
+            raise ConfigError(f"hip_ray_factor must be in [0, 1], got {self.hip_ray_factor}")
         if not 0 <= self.twin_rate <= 1:
             raise ConfigError(f"twin_rate must be in [0, 1], got {self.twin_rate}")
         if not 0 <= self.proportion_rate <= 1:
@@ -149,7 +155,7 @@ class LiftConfig:
 #   --hypotheses K the others take the full SDE noise and the reported pose stays hypothesis 0
 #   (their mean cost 0.8 mm).
 _FAST = LiftConfig(preset="fast", init_steps=100, steps=20, t_start=0.2, step_delta=None, release_fraction=0.15,
-                   ray_weight=0.75, ray_confidence_ratio=0.6, twin_rate=0.85, proportion_rate=0.7,
+                   ray_weight=0.75, ray_confidence_ratio=0.6, hip_ray_factor=0.6, twin_rate=0.85, proportion_rate=0.7,
                    length_iterations=2, twin_ratio_cap=1.4, hypothesis_noise=1.0, aggregate="first")  # fmt: skip
 PRESETS: dict[str, LiftConfig] = {
     "faithful": LiftConfig(),

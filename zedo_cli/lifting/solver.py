@@ -6,7 +6,8 @@
    by R0 about the root.
 3. Loop ("OIL"), t from t_start down to t_end: (a) in the last `release_fraction` of the
    iterations, re-solve the root translation T by least squares; (b) move the observed joints
-   onto their rays (all the way, as the reference, or the fraction `ray_weight`); (c) where
+   onto their rays (all the way, as the reference, or the fraction `ray_weight`, less for
+   doubted joints and hips: `ray_pull`); (c) where
    enabled, even twin limbs and bone proportions, moving observed joints along their rays;
    (d) one probability-flow step of the prior. After the loop, where enabled, cap twin-limb
    length ratios (`twin_limbs.cap_twin_ratios`).
@@ -72,7 +73,7 @@ MIN_RAY_SPREAD = 1e-4
 MIN_JOINT_DEPTH_M = 0.01
 # A lifted pose whose mean reprojection error exceeds this fraction of the RMS radius of its
 # observed 2D joints does not reproduce its detection. SyRIP's 1400 real poses (GT and FiDIP 2D,
-# `fast`) stay below 0.17 (with exact rays, ray_weight 1: 0.04); tiny noisy detections drawn to the
+# `fast`) stay below 0.18 (with exact rays, ray_weight 1: 0.04); tiny noisy detections drawn to the
 # camera reach 1 to 5.
 MAX_REPROJECTION_RATIO = 0.5
 
@@ -80,6 +81,7 @@ MAX_REPROJECTION_RATIO = 0.5
 # body's: a safety net for a loop that diverged (default settings on SyRIP's 1400 real poses:
 # at most 2.7, from one FiDIP detection; diverged loops: 11-13).
 MAX_BONE_RATIO = 4.0
+HIP_JOINTS = ("left_hip", "right_hip")  # the joints `LiftConfig.hip_ray_factor` applies to
 # Why an instance is not lifted (`LiftResult.status`; "lifted" otherwise). Its 3D is NaN.
 NOT_LIFTED = {
     "too_few_observed_joints": "fewer observed joints than the lifting needs",
@@ -361,7 +363,7 @@ def lift(
     if joints != prior.skeleton.num_joints:
         raise ConfigError(f"keypoints have {joints} joints, the prior's skeleton {prior.skeleton.num_joints}")
     obs = observed_mask(xy, confidence, min_confidence)
-    pull = ray_pull(confidence, obs, config)
+    pull = ray_pull(confidence, obs, config, prior.skeleton.joints)
     status = geometry_status(xy, intrinsics, obs, config.min_observed)
     todo_all = status == LIFTED
     warm = _warm_mask(start_poses, start_translation, n, joints) & todo_all
@@ -421,14 +423,17 @@ def lift(
                       status, hypotheses)  # fmt: skip
 
 
-def ray_pull(confidence: np.ndarray, observed: np.ndarray, cfg: LiftConfig) -> np.ndarray | None:
+def ray_pull(
+    confidence: np.ndarray, observed: np.ndarray, cfg: LiftConfig, joints: tuple[str, ...]
+) -> np.ndarray | None:
     """The fraction of the way to its ray `(N, J)` each joint moves before every prior step:
     `cfg.ray_weight`, times confidence / (`cfg.ray_confidence_ratio` x the median confidence of the
-    pose's `observed (N, J)` joints) where that is below 1. None: all the way for every joint (the
-    reference)."""
-    if cfg.ray_weight == 1 and cfg.ray_confidence_ratio == 0:
+    pose's `observed (N, J)` joints) where that is below 1, times `cfg.hip_ray_factor` for the
+    `joints` named left_hip and right_hip. None: all the way for every joint (the reference)."""
+    if cfg.ray_weight == 1 and cfg.ray_confidence_ratio == 0 and cfg.hip_ray_factor == 1:
         return None
     pull = np.full(confidence.shape, cfg.ray_weight)
+    pull[:, [i for i, name in enumerate(joints) if name in HIP_JOINTS]] *= cfg.hip_ray_factor
     if cfg.ray_confidence_ratio > 0:
         conf = np.where(observed, np.nan_to_num(confidence), np.nan)
         with warnings.catch_warnings():  # a pose with no observed joint is not lifted; its median is NaN
