@@ -456,7 +456,8 @@ def lift_command(
             help="The hips (left_hip, right_hip) move this factor of their pull onto their rays, 0 to 1: a 2D hip "
             "is a landmark on the body's surface, the prior's hip a joint inside the pelvis (fast: "
             f"{PRESETS['fast'].hip_ray_factor:g}, about 0.6 mm more accurate on held-out SyRIP poses; 1: like every "
-            "other joint; no calibrated uncertainty with another value)."
+            "other joint, better for 2D projected from a body model's own joints, e.g. synthetic data; no calibrated "
+            "uncertainty with another value)."
         ),
     ] = None,
     twin_rate: Annotated[
