@@ -145,36 +145,21 @@ def test_twin_ratio_cap_is_zero_or_at_least_one_and_other_caps_are_not_calibrate
         assert doc["params"]["uncertainty"]["uncertainty_m"] is False
 
 
-def test_ray_weight_is_bounded_and_other_weights_are_not_calibrated(tiny_prior_path: Path, tmp_path: Path) -> None:
-    src = write_coco(tmp_path / "kp.json")
-    for bad in ("0", "-0.1", "1.5", "nan"):
-        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--ray-weight", bad))
-        assert result.exit_code == 2 and "--ray-weight" in result.output
-    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
-    doc = _lift(tiny_prior_path, src, "--ray-weight", "1", "--calibration", str(cal))
-    assert doc["params"]["config"]["ray_weight"] == 1.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False
-
-
-def test_ray_confidence_ratio_is_bounded_and_other_values_are_not_calibrated(
-    tiny_prior_path: Path, tmp_path: Path
+@pytest.mark.parametrize(
+    ("option", "field", "bad_values", "other"),
+    [
+        ("--ray-weight", "ray_weight", ("0", "-0.1", "1.5", "nan"), 1.0),
+        ("--ray-confidence-ratio", "ray_confidence_ratio", ("-0.1", "1.5", "nan"), 0.0),
+        ("--hip-ray-factor", "hip_ray_factor", ("-0.1", "1.5", "nan"), 1.0),
+    ],
+)
+def test_ray_pull_options_are_bounded_and_other_values_are_not_calibrated(
+    tiny_prior_path: Path, tmp_path: Path, option: str, field: str, bad_values: tuple[str, ...], other: float
 ) -> None:
     src = write_coco(tmp_path / "kp.json")
-    for bad in ("-0.1", "1.5", "nan"):
-        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--ray-confidence-ratio", bad))
-        assert result.exit_code == 2 and "--ray-confidence-ratio" in result.output
+    for bad in bad_values:
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), option, bad))
+        assert result.exit_code == 2 and option in result.output
     cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
-    doc = _lift(tiny_prior_path, src, "--ray-confidence-ratio", "0", "--calibration", str(cal))
-    assert (
-        doc["params"]["config"]["ray_confidence_ratio"] == 0.0
-        and doc["params"]["uncertainty"]["uncertainty_m"] is False
-    )
-
-
-def test_hip_ray_factor_is_bounded_and_other_values_are_not_calibrated(tiny_prior_path: Path, tmp_path: Path) -> None:
-    src = write_coco(tmp_path / "kp.json")
-    for bad in ("-0.1", "1.5", "nan"):
-        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--hip-ray-factor", bad))
-        assert result.exit_code == 2 and "--hip-ray-factor" in result.output
-    cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
-    doc = _lift(tiny_prior_path, src, "--hip-ray-factor", "1", "--calibration", str(cal))
-    assert doc["params"]["config"]["hip_ray_factor"] == 1.0 and doc["params"]["uncertainty"]["uncertainty_m"] is False
+    doc = _lift(tiny_prior_path, src, option, str(other), "--calibration", str(cal))
+    assert doc["params"]["config"][field] == other and doc["params"]["uncertainty"]["uncertainty_m"] is False
