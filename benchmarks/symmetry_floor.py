@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,36 +35,52 @@ from zedo_cli.data.skeleton import Skeleton
 WEIGHTS = (1.0, 0.75, 0.5)
 
 
-def truth_on_rays(poses: np.ndarray, kp, weight: float) -> np.ndarray:
-    """The root-relative truth `poses (N, J, 3)` in the pseudo camera of `kp`'s 2D, each observed
-    joint moved `weight` of the way onto its ray at fixed translation, and moved back by that
-    translation (the root itself may move: fine for symmetry angles, which ignore translation)."""
-    from zedo_cli.lifting.camera import pixel_rays, project_onto_rays, resolve_intrinsics, solve_root_translation
+@dataclass
+class TruthInCamera:
+    """The root-relative truth `pose (N, J, 3)` placed in the pseudo camera of a 2D input: its
+    translation `trans (N, 1, 3)` fitted to the rays `rays (N, J, 3)` (z = 1) of the `observed`
+    joints, as the lift places a pose; `k (N, 3, 3)` the intrinsics."""
+
+    pose: torch.Tensor
+    trans: torch.Tensor
+    rays: torch.Tensor
+    observed: torch.Tensor
+    k: torch.Tensor
+
+
+def place_truth(poses: np.ndarray, kp) -> TruthInCamera:
+    """`poses` placed in the pseudo camera of `kp`'s 2D (in the same joint order)."""
+    from zedo_cli.lifting.camera import pixel_rays, resolve_intrinsics, solve_root_translation
 
     mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
-    xy = torch.as_tensor(np.nan_to_num(kp.xy), dtype=torch.float64)
+    k = torch.as_tensor(mats, dtype=torch.float64)
+    rays = pixel_rays(torch.as_tensor(np.nan_to_num(kp.xy), dtype=torch.float64), k)
     observed = torch.as_tensor(kp.confidence > 0)
-    rays = pixel_rays(xy, torch.as_tensor(mats, dtype=torch.float64))
     pose = torch.as_tensor(poses, dtype=torch.float64)
     trans = solve_root_translation(pose, rays, observed.double())[:, None]
-    unit = rays / rays.norm(dim=-1, keepdim=True)
+    return TruthInCamera(pose, trans, rays, observed, k)
+
+
+def truth_on_rays(placed: TruthInCamera, weight: float) -> np.ndarray:
+    """The placed truth with each observed joint moved `weight` of the way onto its ray at fixed
+    translation, and moved back by that translation (the root itself may move: fine for symmetry
+    angles, which ignore translation)."""
+    from zedo_cli.lifting.camera import project_onto_rays
+
+    pose, trans = placed.pose, placed.trans
+    unit = placed.rays / placed.rays.norm(dim=-1, keepdim=True)
     moved = torch.lerp(pose, project_onto_rays(pose + trans, unit) - trans, weight)
-    return torch.where(observed[..., None], moved, pose).numpy()
+    return torch.where(placed.observed[..., None], moved, pose).numpy()
 
 
-def width_ratio(poses: np.ndarray, kp, joint: str) -> float:
+def width_ratio(placed: TruthInCamera, kp, joint: str) -> float:
     """Median over poses of the 2D distance of the left and right `joint` over the distance of
-    the truth's two joints projected with the pose's fitted translation."""
-    from zedo_cli.lifting.camera import pixel_rays, project, resolve_intrinsics, solve_root_translation
+    the placed truth's two joints, projected."""
+    from zedo_cli.lifting.camera import project
 
     names = kp.skeleton.joints
     left, right = names.index(f"left_{joint}"), names.index(f"right_{joint}")
-    mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
-    k = torch.as_tensor(mats, dtype=torch.float64)
-    xy = torch.as_tensor(np.nan_to_num(kp.xy), dtype=torch.float64)
-    pose = torch.as_tensor(poses, dtype=torch.float64)
-    trans = solve_root_translation(pose, pixel_rays(xy, k), torch.as_tensor(kp.confidence > 0).double())
-    uv = project(pose + trans[:, None], k).numpy()
+    uv = project(placed.pose + placed.trans, placed.k).numpy()
     seen = (kp.confidence[:, left] > 0) & (kp.confidence[:, right] > 0)
     two_d = np.linalg.norm(kp.xy[:, left] - kp.xy[:, right], axis=-1)
     three_d = np.linalg.norm(uv[:, left] - uv[:, right], axis=-1)
@@ -119,12 +136,13 @@ def main() -> int:
     rows = []
     for kind, kp in inputs.items():
         kp = kp.to_skeleton(skeleton)
+        placed = place_truth(truth.poses, kp)
         row = {"split": args.split, "input": kind, "poses": len(truth.poses),
-               "hip_width_2d_over_3d": round(width_ratio(truth.poses, kp, "hip"), 3),
-               "shoulder_width_2d_over_3d": round(width_ratio(truth.poses, kp, "shoulder"), 3),
+               "hip_width_2d_over_3d": round(width_ratio(placed, kp, "hip"), 3),
+               "shoulder_width_2d_over_3d": round(width_ratio(placed, kp, "shoulder"), 3),
                "constant_yardstick_deg": round(float(constant), 2)}  # fmt: skip
         for w in WEIGHTS:
-            moved = truth_on_rays(truth.poses, kp, w)
+            moved = truth_on_rays(placed, w)
             row[f"truth_on_rays_{w:g}_deg"] = round(symmetry_angle_error_deg(moved, truth.poses, skeleton), 2)
         rows.append(row)
         print(json.dumps(row))
