@@ -147,6 +147,9 @@ class LiftConfig:
 #   on the same folds FiDIP 45.28 -> 45.08 mm and 15.7 -> 15.4 degrees, GT 2D +0.03 mm; relative,
 #   as a fixed threshold (0.5) did as well on FiDIP but lost 1.1 mm and refused 7 of 600 poses when
 #   the same detections' confidences were scaled by 0.4 (another detector's scale);
+# - the hips move 0.6 of that (a 2D hip is a surface landmark, the prior's hip a joint inside the
+#   pelvis): on the same folds 41.54 -> 41.02 mm (GT 2D) and 45.08 -> 44.38 (FiDIP), symmetry
+#   16.0 -> 15.2 and 15.4 -> 14.8 degrees; 2D projected from a body model's own joints lose by it;
 # - then two rounds of the twin-limb term (rate 0.85) and the bone-proportion term (rate 0.7; with
 #   exact rays 0.3 was chosen, as higher rates raised the symmetry-angle error);
 # - after the loop, twin limbs over 1.4 times each other are brought to 1.4 (the loop alone left

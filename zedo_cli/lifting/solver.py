@@ -21,11 +21,11 @@ Presets: `faithful` is the reference's loop (1000 prior steps of delta 1/1000, 5
 `fast` (the CLI default) starts at t = 0.2 and takes 20 prior steps of delta 0.03, re-solves the
 root translation over the last 15 % of them instead of 5 %, fits R0/T0 in 100 steps, moves
 observed joints 0.75 of the way onto their rays (less for joints under 0.6 times their pose's
-median confidence), then takes two rounds of the bone-length terms (twin limbs, `twin_limbs.py`,
-and proportions, `proportions.py`) per step, and caps twin ratios at 1.4 after the loop; chosen on
-held-out SyRIP training folds and confirmed on Test100 (README, "Speed" and "Plausible
-skeletons"). Cutting the reference to 100 steps while keeping
-delta = 1/1000 loses 6 mm: the steps then denoise only a tenth as far.
+median confidence, and 0.6 of that for the hips), then takes two rounds of the bone-length terms
+(twin limbs, `twin_limbs.py`, and proportions, `proportions.py`) per step, and caps twin ratios at
+1.4 after the loop; chosen on held-out SyRIP training folds and confirmed on Test100 (README,
+"Speed" and "Plausible skeletons"). Cutting the reference to 100 steps while keeping delta =
+1/1000 loses 6 mm: the steps then denoise only a tenth as far.
 
 Instances that cannot be lifted are never reported as lifted: `geometry_status` refuses, before
 any work, those whose rays are out of range or coincide; after the loop, a pose that is not
