@@ -550,21 +550,17 @@ def lift_command(
     check_seed(seed)
     check_range("--hypotheses", hypotheses, 1, MAX_HYPOTHESES)
     cfg = get_preset(preset)
-    cfg = replace(cfg, steps=steps) if steps is not None else cfg
-    cfg = replace(cfg, hypotheses=hypotheses) if hypotheses is not None else cfg
     check_range("--ray-weight", ray_weight, 0, 1, low_open=True)
-    cfg = replace(cfg, ray_weight=ray_weight) if ray_weight is not None else cfg
     check_range("--ray-confidence-ratio", ray_confidence_ratio, 0, 1)
-    cfg = replace(cfg, ray_confidence_ratio=ray_confidence_ratio) if ray_confidence_ratio is not None else cfg
     check_range("--hip-ray-factor", hip_ray_factor, 0, 1)
-    cfg = replace(cfg, hip_ray_factor=hip_ray_factor) if hip_ray_factor is not None else cfg
     check_range("--twin-rate", twin_rate, 0, 1)
-    cfg = replace(cfg, twin_rate=twin_rate) if twin_rate is not None else cfg
     check_range("--proportion-rate", proportion_rate, 0, 1)
-    cfg = replace(cfg, proportion_rate=proportion_rate) if proportion_rate is not None else cfg
     if twin_ratio_cap != 0:
         check_range("--twin-ratio-cap", twin_ratio_cap, 1, 100)
-    cfg = replace(cfg, twin_ratio_cap=twin_ratio_cap) if twin_ratio_cap is not None else cfg
+    overrides = {"steps": steps, "hypotheses": hypotheses, "ray_weight": ray_weight,
+                 "ray_confidence_ratio": ray_confidence_ratio, "hip_ray_factor": hip_ray_factor,
+                 "twin_rate": twin_rate, "proportion_rate": proportion_rate, "twin_ratio_cap": twin_ratio_cap}  # fmt: skip
+    cfg = replace(cfg, **{name: value for name, value in overrides.items() if value is not None})
     if skeleton is not None:
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
