@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "zedo_cli"
 LAYERS: list[set[str]] = [
     {"errors", "version", "lazy"},
     {"files", "rotation"},
-    {"data"},
+    {"data", "camera"},
     {"prior"},
     {"lifting"},
     {"formats"},
