@@ -44,9 +44,8 @@ class CameraModel:
             raise IntrinsicsError(f"focal lengths must be positive, got fx={self.fx:g}, fy={self.fy:g}")
         counts = (FISHEYE_COEFFICIENT_COUNT,) if self.model == "fisheye" else PINHOLE_COEFFICIENT_COUNTS
         if len(self.dist) not in counts:
-            raise IntrinsicsError(
-                f"a {self.model} camera takes {' or '.join(map(str, counts))} distortion coefficients, got {len(self.dist)}"
-            )
+            allowed = " or ".join(map(str, counts))
+            raise IntrinsicsError(f"a {self.model} camera takes {allowed} distortion values, not {len(self.dist)}")
 
     @property
     def distorted(self) -> bool:
