@@ -7,6 +7,7 @@ the presets and defaults without loading the network code.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
+from typing import Any
 
 from ..errors import ConfigError
 
@@ -135,6 +136,24 @@ class LiftConfig:
 
     def to_dict(self) -> dict[str, float | int | str | bool | None]:
         return {**asdict(self), "delta": self.delta}
+
+
+# Settings that do not change what a lift computes (or by under 0.1 mm): left out when a
+# calibration (per joint or per measure) is matched to the settings of a lift.
+CALIBRATION_IRRELEVANT = ("preset", "chunk_size", "bf16")
+
+
+def calibration_settings(cfg: LiftConfig) -> dict[str, Any]:
+    """The settings a calibration must match: `cfg` without what does not change the poses."""
+    return {k: v for k, v in cfg.to_dict().items() if k not in CALIBRATION_IRRELEVANT}
+
+
+def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
+    """Whether a calibration made with `calibrated` settings holds for a lift with `wanted` ones.
+    A setting added to LiftConfig after a calibration was made is absent from it; its default
+    keeps the loop as it was (every new setting's default does), so that is what it was made with."""
+    defaults = calibration_settings(LiftConfig())
+    return set(calibrated) <= set(wanted) and all(calibrated.get(k, defaults.get(k)) == v for k, v in wanted.items())
 
 
 # fast (issue 17; README "Plausible skeletons", benchmarks/lift_validation.py on held-out folds):

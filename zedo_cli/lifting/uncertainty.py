@@ -29,14 +29,12 @@ from typing import Any
 import numpy as np
 
 from ..errors import WeightsError
-from .config import LiftConfig
+from .config import LiftConfig, calibration_settings, settings_match
 from .solver import LiftResult
 
 COVERAGE = 0.9  # the probability each radius is calibrated to hold
 FORMAT = "zedo.uncertainty"
 FORMAT_VERSION = 1
-# Settings that do not change what a lift computes (or by under 0.1 mm), left out of the match.
-_IRRELEVANT = ("preset", "chunk_size", "bf16")
 
 
 @dataclass(frozen=True)
@@ -59,11 +57,6 @@ class UncertaintyModel:
         return cls(d["prior_sha256"], d["settings"], float(d["coverage"]), tuple(d["joints"]),
                    np.asarray(d["floor_m"], dtype=np.float64), np.asarray(d["scale"], dtype=np.float64),
                    d.get("provenance", {}))  # fmt: skip
-
-
-def calibration_settings(cfg: LiftConfig) -> dict[str, Any]:
-    """The settings a calibration must match: `cfg` without what does not change the poses."""
-    return {k: v for k, v in cfg.to_dict().items() if k not in _IRRELEVANT}
 
 
 def joint_spread(hypotheses: np.ndarray | None, reported: np.ndarray) -> np.ndarray:
@@ -143,11 +136,8 @@ def find_model(
     if not mine:
         return None, "no uncertainty calibration for this prior"
     wanted = calibration_settings(cfg)
-    # A setting added to LiftConfig after a calibration was made is absent from it; its default
-    # keeps the loop as it was (every new setting's default does), so that is what it was made with.
-    defaults = calibration_settings(LiftConfig())
     for m in mine:
-        if {k: m.settings.get(k, defaults[k]) for k in wanted} == wanted and set(m.settings) <= set(wanted):
+        if settings_match(m.settings, wanted):
             return m, "calibrated"
     ks = sorted({m.settings.get("hypotheses", 1) for m in mine})
     return None, ("no uncertainty calibration for these lifting settings (calibrated: the default preset with "
