@@ -53,7 +53,7 @@ def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     table = rows(done.stdout)
     assert len(table) == 2 * 20 and table[0]["measure"] == "symmetry_upper_arm_deg"
-    assert table[0]["interval"] == "no_uncertainty_in_result"
+    assert table[0]["interval"] == "none: no measure calibration for this prior"
 
 
 def test_stdin_in_jsonl_and_csv_output_choices(tiny_prior_path: Path, tmp_path: Path, kick: Path) -> None:
@@ -75,7 +75,7 @@ def test_summary_report_and_overwrite(kick: Path, tmp_path: Path) -> None:
     report = tmp_path / "report"
     result = runner.invoke(app, ["analyze", str(kick), "--report", str(report), "--symmetry-threshold", "20"])
     assert result.exit_code == 0, result.output
-    assert "no per-joint uncertainty" in result.stderr and "shank" in result.stderr
+    assert "no calibrated intervals" in result.stderr and "shank" in result.stderr
     page = (report / "kick.report.html").read_text()
     assert "Time series" in page and "symmetric at ≤ 20°" in page
     again = runner.invoke(app, ["analyze", str(kick), "--report", str(report)])
@@ -144,7 +144,7 @@ def test_usage_errors_exit_2(kick: Path, tmp_path: Path) -> None:
 def test_help_teaches_with_examples() -> None:
     result = runner.invoke(app, ["analyze", "--help"])
     assert result.exit_code == 0
-    for needle in ("symmetry", "uncertainty_m", "zedo lift kp.json -o - -q | zedo analyze -", "--report"):
+    for needle in ("symmetry", "calibrat", "zedo lift kp.json -o - -q | zedo analyze -", "--report"):
         assert needle in result.output
     assert "benchmark-symmetry" in runner.invoke(app, ["--help"]).output
 

@@ -1,7 +1,7 @@
 """Clinical measures of lifted poses (`zedo analyze`): postural symmetry (Huang et al. 2022),
-joint angles in a trunk frame, movement features of sequences, 90 % intervals from per-joint
-uncertainty, the tidy CSV / JSON outputs and the HTML report (`analysis.report`, not imported
-here so that matplotlib loads only when a report is asked for).
+joint angles in a trunk frame, movement features of sequences, measure-level estimates with
+calibrated intervals (`analysis.calibration`), the tidy CSV / JSON outputs and the HTML report
+(`analysis.report`, not imported here so that matplotlib loads only when a report is asked for).
 
 Builds on `formats` (reading zedo results), `data` (joint sets by name) and `files`.
 """
@@ -25,6 +25,6 @@ __getattr__, __dir__, __all__ = lazy_exports(
             "symmetry_band",
             "symmetry_call",
         ],
-        ".uncertainty": ["sample_intervals"],
+        ".calibration": ["MeasureCalibration", "MeasureModel", "bundled_calibrations", "find_calibration"],
     },
 )

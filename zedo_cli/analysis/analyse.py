@@ -13,6 +13,7 @@ movement features of each person's clip (frame_index, image_id and file_name emp
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -21,10 +22,20 @@ import numpy as np
 from ..data.skeleton import Skeleton
 from ..errors import ConfigError, InputFormatError
 from ..formats.result_reader import ResultPoses
+from .calibration import (
+    DEFAULT_CALL_LEVEL,
+    DEFAULT_LEVEL,
+    LEVELS,
+    MeasureCalibration,
+    bundled_calibrations,
+    find_calibration,
+    measure_joints,
+)
 from .geometry import require_joints
-from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name, joint_angles
-from .movement import MIN_FRAMES, left_right_correlation, series_features
+from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
+from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
 from .symmetry import (
+    CALLS,
     DEFAULT_THRESHOLD_DEG,
     PAIRS,
     SYMMETRY_JOINTS,
@@ -33,18 +44,16 @@ from .symmetry import (
     symmetry_band,
     symmetry_call,
 )
-from .uncertainty import DEFAULT_SAMPLES, sample_intervals
 
 COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
-           "call", "interval")  # fmt: skip
+           "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
 SYMMETRY_NAMES = tuple(measure_name(p) for p in PAIRS)
-# The `interval` column: why low_90 / high_90 are (or are not) filled.
-INTERVAL_SAMPLED = "from_uncertainty_m"
-INTERVAL_NONE = "no_uncertainty_in_result"
-INTERVAL_UNKNOWN_RADIUS = "radius_unknown"
+# The `interval` column: how low_90 / high_90 were obtained, or why they are empty.
+INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.calibration)
 INTERVAL_CLIP = "not_for_clip_features"
-NO_UNCERTAINTY_NOTE = ("no per-joint uncertainty (uncertainty_m) in the result: no 90 % intervals; "
-                       "symmetry calls are symmetric/asymmetric only, never uncertain")  # fmt: skip
+INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
+DEFAULT_MAX_VELOCITY_DEG_S = 500.0
+FLAG_TOO_FAST = "too_fast"
 
 
 @dataclass(frozen=True)
@@ -53,16 +62,21 @@ class AnalysisSettings:
 
     threshold_deg: float = DEFAULT_THRESHOLD_DEG
     fps: float | None = None  # overrides the fps recorded in the result
-    samples: int = DEFAULT_SAMPLES
-    seed: int = 0
+    level: float = DEFAULT_LEVEL  # the intervals' coverage
+    call_level: float = DEFAULT_CALL_LEVEL  # the symmetry calls use the interval of this level
+    max_velocity_deg_s: float = DEFAULT_MAX_VELOCITY_DEG_S  # faster joint-angle changes are flagged
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.threshold_deg <= 180.0:
             raise ConfigError(f"--symmetry-threshold must be in [0, 180] degrees, got {self.threshold_deg}")
         if self.fps is not None and not self.fps > 0:
             raise ConfigError(f"--fps must be > 0, got {self.fps}")
-        if self.samples < 100:
-            raise ConfigError(f"--samples must be at least 100, got {self.samples}")
+        if self.level not in LEVELS:
+            raise ConfigError(f"--level must be one of {', '.join(map(str, LEVELS))}, got {self.level}")
+        if self.call_level not in LEVELS:
+            raise ConfigError(f"--call-level must be one of {', '.join(map(str, LEVELS))}, got {self.call_level}")
+        if not self.max_velocity_deg_s > 0:
+            raise ConfigError(f"--max-angular-velocity must be > 0 deg/s, got {self.max_velocity_deg_s}")
 
 
 @dataclass
@@ -80,6 +94,10 @@ class Row:
     high_90: float = np.nan
     call: str = ""
     interval: str = ""
+    raw_value: float = np.nan
+    flag: str = ""
+    call_low: float = np.nan
+    call_high: float = np.nan
 
     def as_list(self) -> list[Any]:
         return [getattr(self, c) for c in COLUMNS]
@@ -92,16 +110,21 @@ class Analysis:
     result: ResultPoses
     settings: AnalysisSettings
     index: np.ndarray  # (M,) rows of `result` analysed (the lifted persons)
-    values: dict[str, np.ndarray]  # measure -> (M,) degrees
-    intervals: dict[str, tuple[np.ndarray, np.ndarray]] | None  # measure -> (low, high) (M,), or None
+    values: dict[str, np.ndarray]  # measure -> (M,) degrees: the estimate (calibrated where a calibration holds)
+    raw_values: dict[str, np.ndarray]  # measure -> (M,) degrees: the measure of the reported pose
+    intervals: dict[str, tuple[np.ndarray, np.ndarray]]  # measure -> (low, high) (M,), NaN where none
+    call_intervals: dict[str, tuple[np.ndarray, np.ndarray]]  # the same at settings.call_level
+    interval_how: dict[str, list[str]]  # measure -> (M,) the `interval` column
+    calibration_note: str  # "calibrated" or why no measure calibration holds
     fps: float | None
     fps_source: str  # "option", "result" or "none"
+    too_fast: dict[str, np.ndarray] = field(default_factory=dict)  # angle -> (M,) bool
     rows: list[Row] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
 
     @property
     def uncertainty_available(self) -> bool:
-        return self.intervals is not None
+        return self.calibration_note == INTERVAL_CALIBRATED
 
     @property
     def is_sequence(self) -> bool:
@@ -114,51 +137,129 @@ def all_measures(poses: np.ndarray, skeleton: Skeleton) -> dict[str, np.ndarray]
 
 
 def measure_ranges() -> dict[str, tuple[float, float]]:
-    """The values each frame measure can take, in degrees (intervals are clipped to them)."""
+    """The values each frame measure can take, in degrees (estimates and intervals stay in them)."""
     ranges = dict.fromkeys(SYMMETRY_NAMES, (0.0, 180.0))
     for name in ANGLE_NAMES:
         if "abduction" in name:
             ranges[name] = (-90.0, 90.0)
-        elif "hip_flexion" in name or "shoulder_flexion" in name:
-            ranges[name] = (-90.0, 270.0)
+        elif name in CIRCULAR_ANGLES:
+            ranges[name] = FLEXION_RANGE_DEG
         else:
             ranges[name] = (0.0, 180.0)
     return ranges
 
 
-def analyse(result: ResultPoses, settings: AnalysisSettings | None = None) -> Analysis:
-    """Every measure of every lifted person of `result`, with 90 % intervals where the result
-    carries `uncertainty_m`; movement features per person when an fps is known."""
+def calibrated_measures(
+    poses: np.ndarray, observed: np.ndarray, skeleton: Skeleton, calibration: MeasureCalibration | None,
+    why_not: str, levels: tuple[float, ...],
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], list[dict[str, tuple[np.ndarray, np.ndarray]]],
+           dict[str, list[str]]]:  # fmt: skip
+    """Raw measures, estimates, intervals at each of `levels` and the `interval` column of poses `(M, J, 3)`
+    (camera axes) with their observed joints `(M, J)`, under `calibration` (None: `why_not`)."""
+
+    def measures(p: np.ndarray) -> dict[str, np.ndarray]:
+        return all_measures(p, skeleton)
+
+    raw = measures(poses)
+    m = len(poses)
+    estimates = {k: v.copy() for k, v in raw.items()}
+    nan = np.full(m, np.nan)
+    intervals = [{k: (nan.copy(), nan.copy()) for k in raw} for _ in levels]
+    how = {k: [f"none: {why_not}"] * m for k in raw}
+    uses = measure_joints(skeleton, measures, list(raw))
+    ranges = measure_ranges()
+    for name, v in raw.items():
+        filled = ~observed[:, uses[name]]
+        for k in range(m):
+            if not np.isfinite(v[k]):
+                known = np.isfinite(poses[k]).all(-1)
+                missing = [j for j, u, ok in zip(skeleton.joints, uses[name], known, strict=True) if u and not ok]
+                how[name][k] = "none: joint missing: " + ", ".join(missing) if missing else "none: undefined here"
+            elif filled[k].any():
+                names = [j for j, u in zip(skeleton.joints, uses[name], strict=True) if u]
+                gone = [j for j, f in zip(names, filled[k], strict=True) if f]
+                how[name][k] = "none: joint filled by the prior (not calibrated): " + ", ".join(gone)
+        if calibration is None or name not in calibration.measures:
+            continue
+        model = calibration.measures[name]
+        ok = np.isfinite(v) & ~filled.any(1)
+        est = model.estimate(v[ok])
+        lo_r, hi_r = ranges[name]
+        estimates[name][ok] = np.clip(est, lo_r, hi_r)
+        for level, at_level in zip(levels, intervals, strict=True):
+            low, high = model.interval(est, v[ok], level)
+            at_level[name][0][ok], at_level[name][1][ok] = np.clip(low, lo_r, hi_r), np.clip(high, lo_r, hi_r)
+        for k in np.flatnonzero(ok):
+            how[name][k] = INTERVAL_CALIBRATED
+    return raw, estimates, intervals, how
+
+
+def analyse(
+    result: ResultPoses, settings: AnalysisSettings | None = None,
+    calibrations: Sequence[MeasureCalibration] | None = None,
+) -> Analysis:  # fmt: skip
+    """Every measure of every lifted person of `result`: the estimate, its calibrated interval where
+    a measure calibration holds for the result's prior, settings, temporal mode and camera
+    (`calibrations`: default the bundled ones), the symmetry calls, and movement features per
+    person when an fps is known."""
     settings = settings or AnalysisSettings()
     require_joints(result.skeleton, SYMMETRY_JOINTS, result.source)
     index = np.flatnonzero(result.lifted & np.isfinite(result.poses).any((1, 2)))
     if not len(index):
         raise InputFormatError(f"{result.source}: no lifted person in the result: nothing to analyse")
-    poses = result.poses[index]
-    values = all_measures(poses, result.skeleton)
-    intervals = None
-    if result.uncertainty_m is not None:
-        intervals = sample_intervals(poses, result.uncertainty_m[index],
-                                     lambda p: all_measures(p, result.skeleton),
-                                     ranges=measure_ranges(), samples=settings.samples, seed=settings.seed)  # fmt: skip
+    models = bundled_calibrations() if calibrations is None else calibrations
+    calibration, note = find_calibration(models, result.params, result.skeleton.joints)
+    raw, values, (intervals, call_intervals), how = calibrated_measures(
+        result.poses[index], result.observed[index], result.skeleton, calibration, note,
+        (settings.level, settings.call_level))  # fmt: skip
     fps, fps_source = (settings.fps, "option") if settings.fps is not None else (result.fps, "result")
     if fps is None:
         fps_source = "none"
-    a = Analysis(result, settings, index, values, intervals, fps, fps_source)
-    if intervals is None:
-        a.notes.append(NO_UNCERTAINTY_NOTE)
+    a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source)
+    if calibration is None:
+        a.notes.append(f"no calibrated intervals: {note}; every symmetry call is uncertain (no calibration backs one)")
     else:
-        a.notes.append(f"90 % intervals from the result's uncertainty_m ({settings.samples} samples per person, "
-                       f"seed {settings.seed}); a call whose interval straddles the threshold: uncertain")  # fmt: skip
+        data = calibration.provenance.get("data", "see the calibration file")
+        side = (1 - settings.call_level) / 2
+        a.notes.append(f"{settings.level:.0%} intervals and estimates calibrated at the level of each measure on "
+                       f"held-out lifts ({data}); a call is symmetric or asymmetric only when the "
+                       f"{settings.call_level:.0%} interval (call_low, call_high) lies on one side of the threshold, "
+                       f"each of whose ends misses the truth at most {side:.0%} of the time")  # fmt: skip
     if len(index) < len(result):
         a.notes.append(f"{len(result) - len(index)} of {len(result)} persons were not lifted and are left out")
     if fps is None:
         a.notes.append("no fps (neither --fps nor recorded by zedo lift --fps): frames are analysed as separate "
                        "images, without movement features")  # fmt: skip
+    else:
+        a.too_fast = _too_fast(a, fps)
+        flagged = sum(int(v.sum()) for v in a.too_fast.values())
+        if flagged:
+            bound = settings.max_velocity_deg_s
+            a.notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
+                           "frame: flagged too_fast and left out of the movement features")  # fmt: skip
     a.rows = _frame_rows(a)
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
     return a
+
+
+def _too_fast(a: Analysis, fps: float) -> dict[str, np.ndarray]:
+    """Per joint angle, `(M,)`: the value changed faster than the bound since the person's previous known frame."""
+    people, frames = a.result.person[a.index], a.result.frame_index[a.index]
+    out = {}
+    for name in ANGLE_NAMES:
+        flags = np.zeros(len(a.index), bool)
+        for p in np.unique(people):
+            sel = np.flatnonzero(people == p)
+            sel = sel[np.argsort(frames[sel], kind="stable")]
+            theta = a.values[name][sel]
+            known = sel[np.isfinite(theta)]
+            if len(known) < 2:
+                continue
+            speed = np.abs(angular_velocity(frames[known], a.values[name][known], fps))
+            flags[known[1:]] = speed > a.settings.max_velocity_deg_s
+        out[name] = flags
+    return out
 
 
 def _frame_rows(a: Analysis) -> list[Row]:
@@ -167,20 +268,19 @@ def _frame_rows(a: Analysis) -> list[Row]:
     for k, i in enumerate(a.index):
         head = (int(res.frame_index[i]), res.image_ids[i], res.file_names[i], int(res.person[i]))
         for name in (*SYMMETRY_NAMES, *ANGLE_NAMES):
-            v = float(a.values[name][k])
-            low = high = np.nan
-            if a.intervals is None:
-                how = INTERVAL_NONE
-            else:
-                low, high = (float(x[k]) for x in a.intervals[name])
-                how = INTERVAL_SAMPLED if np.isfinite(low) else INTERVAL_UNKNOWN_RADIUS
-            call = symmetry_call(v, thr, low, high) if name in SYMMETRY_NAMES else ""
-            rows.append(Row(*head, name, v, "deg", low, high, call, how))
+            v, raw = float(a.values[name][k]), float(a.raw_values[name][k])
+            low, high = (float(x[k]) for x in a.intervals[name])
+            how = a.interval_how[name][k]
+            flag = FLAG_TOO_FAST if name in a.too_fast and a.too_fast[name][k] else ""
+            call, c_low, c_high = "", np.nan, np.nan
+            if name in SYMMETRY_NAMES and np.isfinite(v):  # no calibrated interval: no decisive call
+                c_low, c_high = (float(x[k]) for x in a.call_intervals[name])
+                call = symmetry_call(v, thr, c_low, c_high) if np.isfinite(c_low) else "uncertain"
+            rows.append(Row(*head, name, v, "deg", low, high, call, how, raw, flag, c_low, c_high))
             if name in SYMMETRY_NAMES:
                 band = name.replace("_deg", "_band")
-                rows.append(
-                    Row(*head, band, symmetry_band(v), "band", symmetry_band(low), symmetry_band(high), "", how)
-                )
+                rows.append(Row(*head, band, symmetry_band(v), "band", symmetry_band(low), symmetry_band(high), "",
+                                how, symmetry_band(raw)))  # fmt: skip
     return rows
 
 
@@ -195,22 +295,36 @@ def _clip_rows(a: Analysis) -> list[Row]:
             a.notes.append(f"person {p}: fewer than {MIN_FRAMES} lifted frames, no movement features")
             continue
 
-        def add(measure: str, value: float, unit: str, p: int = p) -> None:
-            rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_CLIP))
+        def add(measure: str, value: float, unit: str, low: float = np.nan, high: float = np.nan,
+                how: str = INTERVAL_CLIP, p: int = p) -> None:  # fmt: skip
+            rows.append(Row(None, None, None, p, measure, value, unit, low, high, interval=how))
 
         for name in ANGLE_NAMES:
-            feats = series_features(frames[sel], a.values[name][sel], fps)
+            keep = sel & ~a.too_fast.get(name, np.zeros(len(sel), bool))
+            feats = series_features(frames[keep], a.values[name][keep], fps)
             stem = name.removesuffix("_deg")
             add(f"{stem}_median_abs_velocity_deg_s", feats["median_abs_velocity"], "deg/s")
             add(f"{stem}_abs_velocity_iqr_deg_s", feats["abs_velocity_iqr"], "deg/s")
             add(f"{stem}_range_deg", feats["range"], "deg")
+            add(f"{stem}_frames_too_fast", float((sel & ~keep).sum()), "frames")
         for base in ANGLE_BASES:
             left, right = (a.values[angle_name(side, base)][sel] for side in SIDES)
             add(f"{base}_left_right_correlation", left_right_correlation(left, right), "r")
         for name in SYMMETRY_NAMES:
             calls = [r.call for r in a.rows if r.measure == name and r.person == p and r.call]
-            share = calls.count("symmetric") / len(calls) if calls else np.nan
-            add(name.replace("_deg", "_fraction_symmetric"), share, "fraction")
+            stem = name.removesuffix("_deg")
+            for call in CALLS:
+                share = calls.count(call) / len(calls) if calls else np.nan
+                add(f"{stem}_fraction_{call}", share, "fraction")
+            v = a.values[name][sel]
+            lows, highs = a.intervals[name][0][sel], a.intervals[name][1][sel]
+            known = np.isfinite(v)
+            median = float(np.median(v[known])) if known.any() else np.nan
+            if known.any() and np.isfinite(lows[known]).all():
+                add(f"{stem}_median_deg", median, "deg", float(np.median(lows[known])), float(np.median(highs[known])),
+                    INTERVAL_CLIP_MEDIAN)  # fmt: skip
+            else:
+                add(f"{stem}_median_deg", median, "deg", how="none: not every frame has a calibrated interval")
     return rows
 
 
@@ -224,8 +338,10 @@ def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
             stats.update(mean=float(v.mean()), median=float(np.median(v)), min=float(v.min()), max=float(v.max()))
         if name in SYMMETRY_NAMES:
             calls = [r.call for r in a.rows if r.measure == name and r.frame_index is not None]
-            stats.update({c: calls.count(c) for c in ("symmetric", "asymmetric", "uncertain")})
+            stats.update({c: calls.count(c) for c in CALLS})
             bands = [symmetry_band(x) for x in v]
             stats.update({f"band_{b}": bands.count(float(b)) for b in (1, 2, 3)})
+        elif name in a.too_fast:
+            stats["too_fast"] = int(a.too_fast[name].sum())
         out[name] = stats
     return out

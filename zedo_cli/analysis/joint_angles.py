@@ -41,6 +41,7 @@ ANGLE_BASES = (
     "elbow_flexion",
 )
 FLEXION_UNDEFINED_DEG = 80.0  # beyond this abduction, flexion is NaN
+FLEXION_RANGE_DEG = (-90.0, 270.0)  # hip and shoulder flexion: [-90, 270), wrapping at 90 degrees of extension
 
 
 def angle_name(side: str, base: str) -> str:
@@ -49,6 +50,8 @@ def angle_name(side: str, base: str) -> str:
 
 
 ANGLE_NAMES = tuple(angle_name(side, base) for base in ANGLE_BASES for side in SIDES)
+# Angles on a circle (their differences wrap at 360 degrees): the hip and shoulder flexions.
+CIRCULAR_ANGLES = tuple(angle_name(side, f"{b}_flexion") for b in _TRUNK_LIMBS for side in SIDES)
 
 
 def trunk_frame(poses: np.ndarray, skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

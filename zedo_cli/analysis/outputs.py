@@ -2,10 +2,12 @@
 
 CSV (plain RFC 4180, one header line, read by pandas / R with their defaults): the columns of
 `analyse.COLUMNS`, one row per frame, person and measure, then the per-clip features (frame
-columns empty). Unknown values are empty fields, never 0. The last column, `interval`, says why
-low_90 / high_90 are filled or empty: `from_uncertainty_m` (a 90 % interval sampled from the
-result's per-joint radii), `no_uncertainty_in_result` (the result has none), `radius_unknown`
-(a joint the measure uses has a null radius) or `not_for_clip_features`.
+columns empty). Unknown values are empty fields, never 0. `value` is the measure's estimate,
+`raw_value` the measure of the reported pose. The `interval` column says how low_90 / high_90
+were obtained or why they are empty: `calibrated` (the measure-level calibration of
+`analysis.calibration`), `median_of_frame_interval_ends` (a clip's median), `not_for_clip_features`,
+or `none: <reason>` (no calibration holds for the result, a joint filled by the prior, a joint
+missing). `flag` is `too_fast` where a joint angle changed faster than the stated bound.
 
 JSON (schema `zedo.analysis/1`): the same rows, plus the input, the settings, the notes (e.g.
 that no uncertainty was available), the measures' units and descriptions, and a summary.
@@ -24,9 +26,8 @@ from typing import Any
 
 from ..files import write_text_atomic
 from ..version import __version__
-from .analyse import COLUMNS, NO_UNCERTAINTY_NOTE, Analysis, summary
+from .analyse import COLUMNS, Analysis, summary
 from .symmetry import BAND_EDGES_DEG, PAIRS
-from .uncertainty import CHI3_Q90
 
 SCHEMA = "zedo.analysis/1"
 _DIGITS = 3
@@ -66,7 +67,12 @@ def measure_descriptions() -> dict[str, str]:
         "|angular velocity| between consecutive known frames",
         "<angle>_range_deg": "per clip: max - min of the angle",
         "<base>_left_right_correlation": "per clip: Pearson r of the left and right series",
-        "symmetry_<pair>_fraction_symmetric": "per clip: share of the frames called symmetric",
+        "symmetry_<pair>_fraction_<call>": "per clip: share of the frames called symmetric, asymmetric or "
+        "uncertain (the frame rows' calls, counted)",
+        "symmetry_<pair>_median_deg": "per clip: the median of the frames' estimates; its interval is the median "
+        "of the frames' interval ends (coverage measured on synthetic clips, docs)",
+        "<angle>_frames_too_fast": "per clip: frames whose angle changed faster than the bound (left out of the "
+        "movement features)",
     }
 
 
@@ -74,9 +80,11 @@ def analysis_document(a: Analysis) -> dict[str, Any]:
     res = a.result
     uncertainty = {
         "available": a.uncertainty_available,
-        "note": None if a.uncertainty_available else NO_UNCERTAINTY_NOTE,
-        "method": "per joint, an isotropic Gaussian whose 90 % ball has the result's radius uncertainty_m "
-        f"(sigma = r / {CHI3_Q90}); measures of {a.settings.samples} seeded samples; 5th-95th percentile",
+        "note": a.calibration_note,
+        "level": a.settings.level,
+        "method": "per measure: the estimate and its interval from a split-conformal calibration on held-out "
+        "lifts, by bins of the measured value (analysis.calibration, docs/clinical.md); the interval column of "
+        "each row says how its interval was obtained or why it has none",
     }
     return {
         "schema": SCHEMA,
@@ -97,8 +105,8 @@ def analysis_document(a: Analysis) -> dict[str, Any]:
             "symmetry_bands_deg": list(BAND_EDGES_DEG),
             "fps": a.fps,
             "fps_source": a.fps_source,
-            "samples": a.settings.samples,
-            "seed": a.settings.seed,
+            "interval_level": a.settings.level,
+            "max_angular_velocity_deg_s": a.settings.max_velocity_deg_s,
         },  # fmt: skip
         "uncertainty": uncertainty,
         "notes": a.notes,

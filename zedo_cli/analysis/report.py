@@ -45,7 +45,7 @@ td,th{border:1px solid #ddd;padding:3px 7px;text-align:right}
 th{background:#f3f3f3} td.l,th.l{text-align:left} .meta{color:#555;font-size:13px}
 .note{padding:8px 12px;border-radius:4px;margin:10px 0;font-size:13.5px}
 .warn{background:#fff4d6;border:1px solid #e8c15a} .ok{background:#e9f6ec;border:1px solid #8cc79a}
-td.sym{background:#e3f4e6} td.asym{background:#fbe1df} td.unc{background:#fff1c9}
+td.sym,li.sym{background:#e3f4e6} td.asym,li.asym{background:#fbe1df} td.unc,li.unc{background:#fff1c9}
 .figs{display:flex;flex-wrap:wrap;gap:8px} .figs svg{height:auto;max-width:100%}
 small{color:#666}
 """
@@ -198,8 +198,8 @@ def _symmetry_summary(a: Analysis) -> str:
 def _cell(a: Analysis, name: str, k: int, call: str = "") -> str:
     v = a.values[name][k]
     text = _fmt(v)
-    if a.intervals is not None:
-        low, high = a.intervals[name][0][k], a.intervals[name][1][k]
+    low, high = a.intervals[name][0][k], a.intervals[name][1][k]
+    if np.isfinite(low) and np.isfinite(high):
         text += f" <small>[{_fmt(low)}, {_fmt(high)}]</small>"
     if call:
         text += f" <small>{call}</small>"
@@ -246,21 +246,59 @@ def _movement_table(a: Analysis) -> str:
     return f"<table>{''.join(out)}</table>"
 
 
+def _pair_label(name: str) -> str:
+    return name.removeprefix("symmetry_").removesuffix("_deg").replace("_", " ")
+
+
+def _decisions(a: Analysis) -> str:
+    """The calls first: what can be acted on, and what "uncertain" means here."""
+    thr = a.settings.threshold_deg
+    level = f"{a.settings.level:.0%}"
+    if not a.uncertainty_available:
+        return ("<div class='note warn'><b>No decisive calls.</b> No measure calibration holds for this result ("
+                f"{_esc(a.calibration_note)}), so no interval backs a call: every symmetry call is "
+                "<b>uncertain</b>. The values below are the measures of the lifted pose, without "
+                "intervals.</div>")  # fmt: skip
+    summ = summary(a)
+    head = ("<tr><th class=l>pair</th><th>symmetric</th><th>asymmetric</th><th>uncertain</th>"
+            "<th>decisive</th></tr>")  # fmt: skip
+    rows = []
+    for n in SYMMETRY_NAMES:
+        c = summ[n]
+        total = c["symmetric"] + c["asymmetric"] + c["uncertain"]
+        share = (c["symmetric"] + c["asymmetric"]) / total if total else np.nan
+        rows.append(f"<tr><td class=l>{_pair_label(n)}</td><td class=sym>{c['symmetric']}</td>"
+                    f"<td class=asym>{c['asymmetric']}</td><td class=unc>{c['uncertain']}</td>"
+                    f"<td>{_fmt(100 * share)} %</td></tr>")  # fmt: skip
+    explain = (f"<p><b>Symmetric</b> / <b>asymmetric</b>: the {level} interval of the symmetry angle lies wholly "
+               f"below / above {thr:g}°; on held-out infants such calls agree with the reference call at least "
+               f"as often as the interval holds the true angle ({level}). <b>Uncertain</b>: the interval "
+               f"includes {thr:g}°, so the image does not settle the question, usually because the limbs point "
+               "towards or away from the camera and their depth is guessed by the prior. Uncertain cases are for "
+               "a person to look at (the footage, or another view); they are not evidence either way.</p>")  # fmt: skip
+    listed = []
+    if len(a.index) <= 12:  # a few images: spell each case out
+        by_case = {(r.frame_index, r.person, r.measure): r for r in a.rows if r.measure in SYMMETRY_NAMES}
+        for i in a.index:
+            f, p = int(a.result.frame_index[i]), int(a.result.person[i])
+            image = a.result.file_names[i] or a.result.image_ids[i]
+            items = []
+            for n in SYMMETRY_NAMES:
+                r = by_case[(f, p, n)]
+                what = (f"{_fmt(r.value)}° [{_fmt(r.low_90)}, {_fmt(r.high_90)}]" if np.isfinite(r.low_90)
+                        else f"{_fmt(r.value)}° ({_esc(r.interval)})")  # fmt: skip
+                items.append(f"<li class={_CALL_CLASS.get(r.call, '')}><b>{_pair_label(n)}: {r.call}</b> {what}</li>")
+            items.sort(key=lambda t: "uncertain" in t)  # the decisive calls first
+            listed.append(f"<p class=meta>{_esc(image)}, person {p}</p><ul>{''.join(items)}</ul>")
+    return f"<h2>Decisions</h2><table>{head}{''.join(rows)}</table>{explain}{''.join(listed)}"
+
+
 def report_html(a: Analysis) -> str:
     """The whole report as one HTML string."""
     res = a.result
     frames = len(set(res.frame_index.tolist()))
-    if a.uncertainty_available:
-        box = ("<div class='note ok'>90 % intervals from the result's per-joint uncertainty (uncertainty_m), "
-               f"{a.settings.samples} samples per person: shown in brackets; a call whose interval straddles the "
-               "threshold is <b>uncertain</b>.</div>")  # fmt: skip
-    else:
-        box = (
-            "<div class='note warn'><b>No uncertainty available.</b> The result carries no per-joint "
-            "uncertainty (<code>uncertainty_m</code>), so no measure has a 90 % interval and each symmetry call "
-            "is symmetric or asymmetric only, never uncertain: treat calls near the threshold with care.</div>"
-        )
-    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes[1:])  # the first is the uncertainty note
+    box = _decisions(a)
+    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes[1:])  # the first is the calibration note
     fps = f"{a.fps:g} fps ({a.fps_source})" if a.fps else "none: frames analysed as separate images"
     sym_table, angle_table = _frame_tables(a)
     parts = [
@@ -289,7 +327,7 @@ def report_html(a: Analysis) -> str:
                   "<h2>Movement features</h2>", _movement_table(a)]  # fmt: skip
     parts += [
         "<h2>Symmetry per frame</h2><p class=meta>degrees"
-        + (" [90 % interval]" if a.uncertainty_available else "") + " and call.</p>", sym_table,
+        + (f" [{a.settings.level:.0%} interval]" if a.uncertainty_available else "") + " and call.</p>", sym_table,
         "<h2>Joint angles per frame</h2><p class=meta>degrees. Knee / elbow flexion: 0 = straight. Hip / "
         "shoulder flexion: from straight down the trunk, positive forward; abduction: positive away from the "
         "midline (trunk frame from the hips and shoulders; README, “zedo analyze”).</p>", angle_table,

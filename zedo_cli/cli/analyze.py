@@ -11,11 +11,18 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from ..analysis.analyse import SYMMETRY_NAMES, Analysis, AnalysisSettings, analyse, summary
+from ..analysis.analyse import (
+    DEFAULT_MAX_VELOCITY_DEG_S,
+    SYMMETRY_NAMES,
+    Analysis,
+    AnalysisSettings,
+    analyse,
+    summary,
+)
+from ..analysis.calibration import DEFAULT_CALL_LEVEL, DEFAULT_LEVEL, LEVELS
 from ..analysis.joint_angles import ANGLE_NAMES
 from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
-from ..analysis.uncertainty import DEFAULT_SAMPLES
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable
 from ..formats.result_reader import read_result
@@ -167,10 +174,23 @@ def analyze_command(
             "recorded, else the frames are separate images."
         ),  # fmt: skip
     ] = None,
-    samples: Annotated[
-        int, typer.Option(help="Samples per pose for the 90 % intervals (only when the result has uncertainty_m).")
-    ] = DEFAULT_SAMPLES,
-    seed: Annotated[int, typer.Option(help="Seed of the interval sampling, recorded in the JSON.")] = 0,
+    level: Annotated[
+        float, typer.Option(help=f"Coverage of the intervals: one of {', '.join(map(str, LEVELS))}.")
+    ] = DEFAULT_LEVEL,
+    call_level: Annotated[
+        float,
+        typer.Option(
+            help="The symmetry calls use the interval of this level: 0.8 makes a call only where each "
+            "end misses the truth at most 10 % of the time."
+        ),
+    ] = DEFAULT_CALL_LEVEL,
+    max_angular_velocity: Annotated[
+        float,
+        typer.Option(
+            help="Joint angles changing faster than this (deg/s) are flagged too_fast and left out of "
+            "the movement features."
+        ),
+    ] = DEFAULT_MAX_VELOCITY_DEG_S,
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No summary on stderr.")] = False,
 ) -> None:
@@ -187,12 +207,17 @@ def analyze_command(
     and IQR of |angular velocity|, range of motion and the left-right
     correlation of every angle.
 
-    Where the result carries per-joint uncertainty (uncertainty_m), every
-    measure gets a 90 % interval and a call whose interval straddles the
-    threshold is "uncertain"; otherwise every output says none was there.
+    Each measure's value is an estimate calibrated on held-out lifts, with a
+    90 % interval (--level) where a measure calibration holds for the result's
+    prior, settings, temporal mode and camera (the bundled prior, default
+    preset, pseudo camera, images or --temporal smooth). A call is symmetric or
+    asymmetric only when its --call-level interval (call_low, call_high) lies
+    on one side of the threshold, else "uncertain"; without a calibration
+    every call is uncertain and the interval column says why.
 
     Outputs: a tidy CSV (frame_index, image_id, file_name, person, measure,
-    value, unit, low_90, high_90, call, interval), a JSON with the same rows,
+    value, unit, low_90, high_90, call, interval, raw_value, flag, call_low,
+    call_high), a JSON with the same rows,
     the settings and a summary, and with --report DIR a self-contained HTML
     report. Files are replaced only with --overwrite. A file that is not a
     zedo result, or has no lifted person, exits with code 3.
@@ -207,7 +232,7 @@ def analyze_command(
 
       zedo analyze results/ --output-dir analysis/ --symmetry-threshold 30
     """
-    settings = AnalysisSettings(symmetry_threshold, fps, samples, seed)
+    settings = AnalysisSettings(symmetry_threshold, fps, level, call_level, max_angular_velocity)
     sources = expand_results(results)
     plans = plan_outputs(sources, csv_out, json_out, output_dir, report, overwrite)
     if report is not None:
@@ -244,6 +269,25 @@ def _benchmark_tables(bench: SymmetryBenchmark) -> list[Table]:
     sym.add_row("[b]all (pooled)[/b]", *(f"[b]{c}[/b]" for c in pooled))
     sym.add_row("equal calls", *(c for s in bench.scores for c in (f"{100 * s.agreement:.0f}%", "")))
     sym.add_row("asymmetric", *(c for s in bench.scores for c in (f"{100 * s.asymmetric_share:.0f}%", "")))
+    sym.add_row("raw err", *(c for s in bench.scores for c in (_deg(s.raw_mean_angle_error_deg), "")))
+    for pair in PAIRS:
+        n = measure_name(pair)
+        sym.add_row(f"90% cover {pair.replace('_', ' ')}",
+                    *(c for s in bench.scores for c in (_pct(s.interval_coverage, n), "")))  # fmt: skip
+    tables = [sym]
+    lifted = [s for s in bench.scores if s.risk_coverage]
+    if lifted:
+        risk = Table(title="Selective calls: share of the pair-cases with a decisive call, and how often those "
+                     "agree with the weak truth's call, per interval level")  # fmt: skip
+        risk.add_column("level", justify="right")
+        for s in lifted:
+            risk.add_column(f"{labels.get(s.source, s.source)} decisive", justify="right")
+            risk.add_column("agree", justify="right")
+        for i, row in enumerate(lifted[0].risk_coverage or []):
+            cells = [c for s in lifted for r in [(s.risk_coverage or [])[i]]
+                     for c in (f"{100 * r['decisive']:.0f}%", f"{100 * r['agreement']:.0f}%")]  # fmt: skip
+            risk.add_row(f"{row['level']:.2f}", *cells)
+        tables.append(risk)
     ang = Table(title="Joint-angle error vs the weak 3D ground truth (mean |difference|, deg)")
     ang.add_column("angle", justify="left")
     for s in bench.scores:
@@ -251,7 +295,15 @@ def _benchmark_tables(bench: SymmetryBenchmark) -> list[Table]:
     for n in ANGLE_NAMES:
         ang.add_row(n.removesuffix("_deg"), *(f"{s.joint_angle_error_deg[n]:.1f}" for s in bench.scores))
     ang.add_row("[b]mean[/b]", *(f"[b]{s.mean_joint_angle_error_deg:.1f}[/b]" for s in bench.scores))
-    return [sym, ang]
+    return [*tables, ang]
+
+
+def _deg(value: float | None) -> str:
+    return "" if value is None else f"{value:.1f}"
+
+
+def _pct(values: dict[str, float] | None, key: str) -> str:
+    return "" if not values else f"{100 * values[key]:.0f}%"
 
 
 @error_boundary
@@ -310,7 +362,8 @@ def benchmark_symmetry_command(
     console = Console()
     for table in _benchmark_tables(bench):
         console.print(table)
-    console.print("err: mean |symmetry-angle error| (deg); kappa: Cohen's kappa of the symmetric / asymmetric "
-                  "calls against the truth's; HW-HuP: the image model the weak truth was corrected from (reference)",
-                  markup=False)  # fmt: skip
+    console.print("err: mean |symmetry-angle error| (deg) of zedo analyze's values (calibrated estimates where a "
+                  "measure calibration holds; raw err: of the lifted pose's measures); kappa: Cohen's kappa of the "
+                  "symmetric / asymmetric calls at the threshold against the truth's; HW-HuP: the image model the "
+                  "weak truth was corrected from (reference)", markup=False)  # fmt: skip
     err_console.print(f"prior {prior.label}; preset {preset}; device {device}", markup=False)

@@ -195,6 +195,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         person=st.person,
         fps=st.fps,
         temporal={"mode": st.temporal, "sigma_frames": st.sigma},
+        camera=sorted(
+            set(sources)
+        ),  # where the intrinsics came from (pseudo, cli, file): measure calibrations match it
         uncertainty=uncertainty_params(res),
         save_hypotheses=st.save_hypotheses,
     )

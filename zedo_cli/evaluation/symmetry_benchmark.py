@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analysis.analyse import all_measures
+from ..analysis.analyse import all_measures, calibrated_measures
+from ..analysis.calibration import DEFAULT_LEVEL, LEVELS, bundled_calibrations, find_calibration
 from ..analysis.joint_angles import ANGLE_NAMES
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..data.datasets import SYRIP_POSES, syrip_rows_by_name
@@ -47,6 +48,10 @@ class SymmetryScore:
     joint_angle_error_deg: dict[str, float]  # per angle: mean |difference|
     mean_joint_angle_error_deg: float
     mpjpe_mm: float | None = None  # of the lift, for context
+    # zedo analyze's calibrated estimates and calls (lifts only; None where no measure calibration holds)
+    raw_mean_angle_error_deg: float | None = None  # of the measures of the lifted pose, before calibration
+    interval_coverage: dict[str, float] | None = None  # per pair: share of truths inside the 90 % interval
+    risk_coverage: list[dict[str, float]] | None = None  # per level: decisive share and its agreement, pooled
 
 
 @dataclass
@@ -65,7 +70,13 @@ def compare_measures(
     source: str = "pred",
 ) -> SymmetryScore:  # fmt: skip
     """Compare the measures of `pred` and `truth` `(N, J, 3)` (same poses, same order)."""
-    p, t = all_measures(pred, skeleton), all_measures(truth, skeleton)
+    return compare_measures_of(all_measures(pred, skeleton), all_measures(truth, skeleton), threshold, source)
+
+
+def compare_measures_of(
+    p: dict[str, np.ndarray], t: dict[str, np.ndarray], threshold: float, source: str
+) -> SymmetryScore:
+    """Compare measure values `p` with the truth's `t` (each `{name: (N,)}`, same cases)."""
     names = [measure_name(pair) for pair in PAIRS]
     if any(not np.isfinite(p[n]).all() or not np.isfinite(t[n]).all() for n in names):
         raise DataError(f"{source}: a symmetry angle is undefined (missing joint or zero-length segment)")
@@ -78,10 +89,44 @@ def compare_measures(
         d = np.abs((p[n] - t[n] + 180.0) % 360.0 - 180.0)
         angle_err[n] = float(np.nanmean(d)) if np.isfinite(d).any() else float("nan")
     return SymmetryScore(
-        source, len(pred), errors, float(np.mean(list(errors.values()))), kappas, cohen_kappa(pc, tc),
+        source, len(next(iter(p.values()))), errors, float(np.mean(list(errors.values()))), kappas, cohen_kappa(pc, tc),
         float((pc == tc).mean()), float((pc == "asymmetric").mean()), angle_err,
         float(np.nanmean(list(angle_err.values()))),
     )  # fmt: skip
+
+
+def calibrated_scores(
+    score: SymmetryScore, pred: np.ndarray, observed: np.ndarray, truth: np.ndarray, skeleton: Skeleton,
+    prior_sha256: str, config: LiftConfig, threshold: float,
+) -> SymmetryScore:  # fmt: skip
+    """`score` of the lifted poses redone as `zedo analyze` reports them: the calibrated estimates'
+    errors and calls, the intervals' coverage, and the decisive share and agreement at each level.
+    Unchanged (with raw_mean_angle_error_deg set) when no measure calibration holds."""
+    params = {"prior": {"sha256": prior_sha256}, "config": config.to_dict(), "temporal": {"mode": "none"},
+              "camera": ["pseudo"]}  # fmt: skip
+    calibration, why = find_calibration(bundled_calibrations(), params, skeleton.joints)
+    score.raw_mean_angle_error_deg = score.mean_angle_error_deg
+    if calibration is None:
+        return score
+    _, est, intervals, _ = calibrated_measures(pred, observed, skeleton, calibration, why, LEVELS)
+    t = all_measures(truth, skeleton)
+    names = [measure_name(pair) for pair in PAIRS]
+    redone = compare_measures_of(est, t, threshold, score.source)
+    redone.mpjpe_mm, redone.raw_mean_angle_error_deg = score.mpjpe_mm, score.mean_angle_error_deg
+    score = redone
+    at90 = intervals[LEVELS.index(DEFAULT_LEVEL)]
+    score.interval_coverage = {n: float(((at90[n][0] <= t[n]) & (t[n] <= at90[n][1])).mean()) for n in names}
+    score.risk_coverage = []
+    for level, at_level in zip(LEVELS, intervals, strict=True):
+        low = np.concatenate([at_level[n][0] for n in names])
+        high = np.concatenate([at_level[n][1] for n in names])
+        true_sym = np.concatenate([t[n] <= threshold for n in names])
+        decisive = (high <= threshold) | (low > threshold)
+        agree = (high <= threshold)[decisive] == true_sym[decisive]
+        score.risk_coverage.append({"level": level, "decisive": float(decisive.mean()),
+                                    "agreement": float(agree.mean()) if decisive.any() else float("nan"),
+                                    "calls": int(decisive.sum())})  # fmt: skip
+    return score
 
 
 def load_syrip_hwhup(syrip_dir: str | Path, names: list[str]) -> np.ndarray:
@@ -123,6 +168,8 @@ def run_symmetry_benchmark(
         score, res = lift_and_score(prior, truth, kps[key], config, input_2d=key, device=device, callback=on_progress)
         s = compare_measures(res.poses_camera, truth.poses, skel, threshold=threshold, source=key)
         s.mpjpe_mm = score.mpjpe_mm
+        s = calibrated_scores(s, res.poses_root_relative, res.observed, truth.poses, skel, prior.sha256, config,
+                              threshold)  # fmt: skip
         scores.append(s)
     if reference:
         hwhup = load_syrip_hwhup(syrip_dir, truth.names)

@@ -24,7 +24,7 @@ import io
 import json
 import sys
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -57,6 +57,7 @@ class ResultPoses:
     fps: float | None  # recorded by `zedo lift --fps`
     coordinate_frame: str  # camera | root
     units_in_file: str  # m | mm (poses are converted to metres)
+    params: dict[str, Any] = field(default_factory=dict)  # the lift's `params` (prior, settings, camera), if recorded
 
     def __len__(self) -> int:
         return len(self.poses)
@@ -190,6 +191,11 @@ def _units(value: Any, name: str, field: str = "units") -> str:
     return str(value)
 
 
+def _params(doc: Any) -> dict[str, Any]:
+    params = doc.get("params") if isinstance(doc, dict) else None
+    return params if isinstance(params, dict) else {}
+
+
 def _fps(params: Any, name: str) -> float | None:
     fps = params.get("fps") if isinstance(params, dict) else None
     if fps is None:
@@ -231,8 +237,10 @@ def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
                 has_radii = True
             radii.append(_radii(pers.get("uncertainty_m"), j, f"{at}.uncertainty_m"))
     fps = _fps(doc.get("params"), name)
-    return _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
-                   radii if has_radii else None, fps, str(coord), doc.get("units", "m"))  # fmt: skip
+    out = _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
+                  radii if has_radii else None, fps, str(coord), doc.get("units", "m"))  # fmt: skip
+    out.params = _params(doc)
+    return out
 
 
 def _finish(
@@ -330,9 +338,11 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         observed.append([inst["observed"][j] for j in range(skel.num_joints)])
         radii.append([inst["radii"].get(j, np.nan) for j in range(skel.num_joints)])
     fps = _fps(meta.get("params"), name) if meta is not None else None
-    return _finish(name, "csv", skel, poses, frame_index, person, ids, files, lifted,
-                   [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
-                   if "uncertainty_m" in columns else None, fps, coord, units)  # fmt: skip
+    out = _finish(name, "csv", skel, poses, frame_index, person, ids, files, lifted,
+                  [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
+                  if "uncertainty_m" in columns else None, fps, coord, units)  # fmt: skip
+    out.params = _params(meta)
+    return out
 
 
 # --- NPZ ----------------------------------------------------------------------------------------
@@ -368,11 +378,11 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         raise InputFormatError(f"{name}: uncertainty_m: expected shape ({n}, {skel.num_joints})")
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
-    return ResultPoses(
+    return ResultPoses(  # the lift's params come with the metadata
         name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
         np.asarray(arrays["person"], dtype=np.int64), [i.item() for i in np.asarray(ids)],
         [str(f) or None for f in files], np.asarray(arrays.get("lifted", np.isfinite(poses).all((1, 2))), dtype=bool),
         np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
-        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]),
+        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta),
     )  # fmt: skip
