@@ -22,8 +22,8 @@ from zedo_cli.analysis.calibration import (
     LEVELS,
     MeasureCalibration,
     MeasureModel,
-    fit_measure,
     find_calibration,
+    fit_measure,
     read_calibrations,
     write_calibrations,
 )
