@@ -12,6 +12,7 @@ from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
+from .render import render_command
 
 app = typer.Typer(
     name="zedo",
@@ -44,6 +45,7 @@ app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_comma
 app.command("analyze", no_args_is_help=True)(analyze_command)
 app.command("benchmark-symmetry", no_args_is_help=True)(benchmark_symmetry_command)
 app.command("calibrate", no_args_is_help=True)(calibrate_command)
+app.command("render", no_args_is_help=True)(render_command)
 
 
 def main() -> None:
