@@ -77,6 +77,18 @@ def test_projection_goes_through_the_lens(tmp_path: Path) -> None:
     assert np.abs(persons[0].px - pinhole).max() > 4  # the lens moves the outer joints by pixels
 
 
+def test_root_frame_result_is_put_back_in_the_camera(tmp_path: Path) -> None:
+    path = write_result(tmp_path / "r.zedo.json")
+    doc = json.loads(path.read_text())
+    doc["coordinate_frame"] = "root"
+    for frame in doc["frames"]:
+        person = frame["persons"][0]
+        person["keypoints_3d"] = (np.array(person["keypoints_3d"]) - person["root_translation"]).tolist()
+    (tmp_path / "root.zedo.json").write_text(json.dumps(doc))
+    camera, root = people(read_result(path)), people(read_result(tmp_path / "root.zedo.json"))
+    np.testing.assert_allclose(root[2].px, camera[2].px, atol=1e-6)
+
+
 def test_render_video(tmp_path: Path) -> None:
     clip = write_clip(tmp_path / "clip.mp4")
     result = write_result(tmp_path / "clip.zedo.json")
