@@ -20,7 +20,7 @@ LAYERS: list[set[str]] = [
     {"prior"},
     {"lifting"},
     {"formats"},
-    {"analysis"},
+    {"analysis", "footage"},
     {"augment", "evaluation"},
     {"cli"},
     {"__main__"},

@@ -59,3 +59,10 @@ class DataError(ZedoError):
     """A data set folder or 3D pose file is missing or inconsistent."""
 
     exit_code = 3
+
+
+class CalibrationError(ZedoError):
+    """`zedo calibrate` refuses a camera it cannot trust: the board found in no view or in too
+    few, an RMS reprojection error above the bound, or OpenCV's fit failing."""
+
+    exit_code = 5

@@ -7,10 +7,12 @@ import typer
 from .adapt import adapt_command
 from .analyze import analyze_command, benchmark_symmetry_command
 from .augment import augment_command, fit_augmenter_command
+from .calibrate import calibrate_command
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
+from .render import render_command
 
 app = typer.Typer(
     name="zedo",
@@ -18,6 +20,7 @@ app = typer.Typer(
         "Lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i).\n\n"
         "Exit codes: 0 success, 1 runtime failure, 2 usage error (bad option or value), "
         "3 unreadable or invalid input file, 4 some inputs of a batch failed (the others were written), "
+        "5 zedo calibrate refused an untrustworthy camera, "
         "130 interrupted, 141 stdout closed by its reader."
     ),
     no_args_is_help=True,
@@ -41,6 +44,8 @@ app.command("benchmark", no_args_is_help=True)(benchmark_command)
 app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)
 app.command("analyze", no_args_is_help=True)(analyze_command)
 app.command("benchmark-symmetry", no_args_is_help=True)(benchmark_symmetry_command)
+app.command("calibrate", no_args_is_help=True)(calibrate_command)
+app.command("render", no_args_is_help=True)(render_command)
 
 
 def main() -> None:

@@ -16,6 +16,7 @@ from rich.text import Text
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
+from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
 from ..lifting.config import (
@@ -43,6 +44,7 @@ from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, in
 from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
 
 if TYPE_CHECKING:
+    from ..camera.video import VideoInfo
     from ..lifting.solver import LiftProgress, LiftResult
     from ..lifting.uncertainty import UncertaintyModel
     from ..prior.weights import Prior
@@ -129,6 +131,7 @@ class LiftSettings:
     quiet: bool
     save_hypotheses: bool = False
     calibrations: tuple[UncertaintyModel, ...] | None = None  # --calibration's models, read once; None: bundled
+    video: VideoInfo | None = None  # --video: the keypoints are checked against it (footage.video_check)
 
 
 @dataclass
@@ -160,6 +163,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
 
     kp, places = read_selected(source, prior, st)
+    video = check_against_video(kp, st.video, source) if st.video is not None else None
+    if video is not None and video.warning():
+        err_console.print(f"zedo: warning: {source}: {video.warning()}", markup=False, soft_wrap=True)
     try:
         mats, sources = resolve_intrinsics(
             kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
@@ -201,6 +207,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         uncertainty=uncertainty_params(res),
         save_hypotheses=st.save_hypotheses,
     )
+    if video is not None:
+        params["video"] = video.params()
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
                   "zedo_version": __version__}  # fmt: skip
@@ -364,7 +372,16 @@ def lift_command(
             help=f"Whom to lift when a frame holds several people: {', '.join(PERSON_MODES)}. auto: the most complete person, then the same person frame after frame."
         ),
     ] = "auto",
-    fps: Annotated[Optional[float], typer.Option(help="Frame rate of a video input, recorded in the output.")] = None,
+    fps: Annotated[
+        Optional[float], typer.Option(help="Frame rate of a video input, recorded in the output. Default: --video's.")
+    ] = None,
+    video: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="The video the keypoints came from (one input): image size and fps from it; more keypoint frames "
+            "than it has is an error, keypoints far outside its frame are listed (docs/footage.md)."
+        ),
+    ] = None,
     temporal: Annotated[
         str,
         typer.Option(
@@ -566,12 +583,18 @@ def lift_command(
     cfg = replace(cfg, **{name: value for name, value in overrides.items() if value is not None})
     if skeleton is not None:
         get_skeleton(skeleton)  # an unknown name is a usage error, before any work
+    video_info = None
+    if video is not None:  # the video's size and fps, unless given
+        video_info, image_size, fps = video_options(video, image_size, fps)
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
                       plot, seed, device, overwrite, quiet, save_hypotheses)  # fmt: skip
+    st = replace(st, video=video_info)
     _check_options(st)
     _check_engine(engine, keypoints, out, workers)
     sources = expand_inputs(keypoints)
+    if video is not None and len(sources) > 1:
+        raise ConfigError(f"--video goes with one keypoint input, not {len(sources)}")
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
     # torch loads here: help and the errors above answer at once
     from ..lifting.camera import check_focal, check_image_size, check_principal_point

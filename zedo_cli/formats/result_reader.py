@@ -24,7 +24,7 @@ import io
 import json
 import sys
 import zipfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -58,6 +58,12 @@ class ResultPoses:
     coordinate_frame: str  # camera | root
     units_in_file: str  # m | mm (poses are converted to metres)
     params: dict[str, Any] = field(default_factory=dict)  # the lift's `params` (prior, settings, camera), if recorded
+    # JSON / JSON Lines only (None for CSV and NPZ): per row, its frame's camera block (K, image_size,
+    # source, and model / dist when the lift had a lens model), its flags, and its root point in the
+    # camera frame (metres; NaN when not lifted), which puts a root-frame result back in the camera.
+    cameras: list[dict[str, Any] | None] | None = None
+    flags: list[list[str]] | None = None
+    root_translation: np.ndarray | None = None  # (N, 3)
 
     def __len__(self) -> int:
         return len(self.poses)
@@ -215,6 +221,7 @@ def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
         raise InputFormatError(f"{name}: frames: expected a list")
     j = skel.num_joints
     poses, frame_index, person, ids, files, lifted, observed, radii = [], [], [], [], [], [], [], []
+    cameras, flags, roots = [], [], []
     has_radii = False
     for f, frame in enumerate(frames):
         where = f"{name}: frames[{f}]"
@@ -236,11 +243,14 @@ def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
             if "uncertainty_m" in pers:
                 has_radii = True
             radii.append(_radii(pers.get("uncertainty_m"), j, f"{at}.uncertainty_m"))
+            cameras.append(frame.get("camera") if isinstance(frame.get("camera"), dict) else None)
+            flags.append([str(x) for x in pers.get("flags") or []])
+            roots.append(_points([pers.get("root_translation")], 1, f"{at}.root_translation")[0] * scale)
     fps = _fps(doc.get("params"), name)
-    out = _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
+    res = _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
                   radii if has_radii else None, fps, str(coord), doc.get("units", "m"))  # fmt: skip
-    out.params = _params(doc)
-    return out
+    return replace(res, cameras=cameras, flags=flags, root_translation=np.asarray(roots).reshape(-1, 3),
+                   params=_params(doc))  # fmt: skip
 
 
 def _finish(
