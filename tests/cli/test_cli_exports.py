@@ -4,6 +4,7 @@ where the JSON has no pose; stdout and frames without numbers are refused with o
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +14,7 @@ from helpers import write_coco
 from typer.testing import CliRunner
 
 from zedo_cli.cli import app
+from zedo_cli.formats.result_schema import ResultDocument, result_json_schema
 
 runner = CliRunner()
 
@@ -20,6 +22,13 @@ runner = CliRunner()
 @pytest.fixture(scope="module")
 def clip(tiny_prior_path: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return lift_clip(tiny_prior_path, tmp_path_factory.mktemp("clip"))
+
+
+def test_the_json_fits_the_published_schema(clip: dict[str, Path]) -> None:
+    doc = json.loads(clip["json"].read_text(encoding="utf-8"))
+    ResultDocument.model_validate(doc, context={"joints": 12})
+    jsonschema = pytest.importorskip("jsonschema")
+    jsonschema.validate(doc, result_json_schema(), cls=jsonschema.Draft202012Validator)
 
 
 def test_trc_equals_the_json(clip: dict[str, Path]) -> None:

@@ -11,6 +11,7 @@ from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
+from .schema import schema_command
 
 app = typer.Typer(
     name="zedo",
@@ -41,6 +42,7 @@ app.command("benchmark", no_args_is_help=True)(benchmark_command)
 app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)
 app.command("analyze", no_args_is_help=True)(analyze_command)
 app.command("benchmark-symmetry", no_args_is_help=True)(benchmark_symmetry_command)
+app.command("schema", no_args_is_help=True)(schema_command)
 
 
 def main() -> None:

@@ -21,7 +21,6 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationIn
 from ..errors import InputFormatError
 
 SCHEMA = "zedo.pose3d/1"
-SCHEMA_ID = "https://github.com/zedo/zedo/docs/exports.md#result-schema"
 
 Coordinate = float | None  # null: not finite
 Point3 = Annotated[list[Coordinate], Field(min_length=3, max_length=3, description="[x, y, z], null where unknown")]
@@ -156,7 +155,7 @@ class ResultDocument(ResultHeader):
 
     model_config = ConfigDict(
         strict=True, extra="forbid", title="zedo result (zedo.pose3d/1)",
-        json_schema_extra={"$id": SCHEMA_ID, "$schema": "https://json-schema.org/draft/2020-12/schema"},
+        json_schema_extra={"$schema": "https://json-schema.org/draft/2020-12/schema"},
     )  # fmt: skip
     frames: list[Frame]
     summary: Summary
