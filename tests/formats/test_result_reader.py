@@ -54,6 +54,7 @@ def test_uncertainty_is_read_from_json_jsonl_csv_and_npz(tmp_path: Path) -> None
     assert np.isnan(got.uncertainty_m[1, 3]) and np.nansum(got.uncertainty_m) == pytest.approx(0.02 * 47)
     header = {k: v for k, v in doc.items() if k not in ("frames", "summary")}
     lines = [json.dumps({"type": "header", **header})] + [json.dumps({"type": "frame", **f}) for f in doc["frames"]]
+    lines.append(json.dumps({"type": "summary", **doc["summary"]}))
     got = read_result_bytes("\n".join(lines).encode(), "u.jsonl")
     assert got.format == "jsonl" and np.isnan(got.uncertainty_m[1, 3])
     # CSV: an uncertainty_m column; NPZ: an (N, J) array
@@ -86,14 +87,7 @@ def test_read_result_file_keeps_the_first_lifted_person_per_frame(tmp_path: Path
         (b'{"images": [], "annotations": []}', "schema: expected a zedo result file"),
         (b"[1, 2, 3]", "not a zedo result"),
         (b"hello,world\n1,2\n", "not a zedo result"),
-        (b'{"schema": "zedo.pose3d/1", "skeleton": {"name": "syrip12"}, "frames": []}', "no persons"),
-        (b'{"schema": "zedo.pose3d/1", "skeleton": {"name": "nope"}, "frames": []}', "skeleton.name: unknown"),
-        (
-            b'{"schema": "zedo.pose3d/1", "skeleton": {"name": "syrip12"}, "frames": [{"persons": [{"keypoints_3d": '
-            b"[[0, 0, 1]]}]}]}",
-            r"frames\[0\].persons\[0\].keypoints_3d: expected a list of 12",
-        ),  # fmt: skip
-        (b'{"type": "header", "schema": "zedo.pose3d/1"}\nnot json\n', "line 2: not JSON"),
+        (b'{"schema": "zedo.pose3d/1", "skeleton": {"name": "syrip12"}, "frames": []}', "zedo_version: field required"),
         (b"frame_index,image_id,person,joint,joint_index,lifted\n", "no coordinate columns"),
         (b"PK\x03\x04broken zip", "not a readable NPZ archive"),
     ],
@@ -109,3 +103,79 @@ def test_missing_file_and_folder(tmp_path: Path) -> None:
         read_result(tmp_path / "nope.json")
     with pytest.raises(InputFormatError, match="is a folder"):
         read_result(tmp_path)
+
+
+def _set(doc: dict, path: str, value: object) -> dict:
+    """`doc` with the field at `path` (dots and [i]) set to `value` (`...` deletes it)."""
+    keys = [int(k) if k.isdigit() else k for k in path.replace("[", ".").replace("]", "").split(".")]
+    target = doc
+    for key in keys[:-1]:
+        target = target[key]
+    if value is ...:
+        del target[keys[-1]]
+    else:
+        target[keys[-1]] = value
+    return doc
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "message"),
+    [
+        ("skeleton.name", "nope", "skeleton.name: unknown"),
+        ("skeleton.joints[0]", "hip", "skeleton.joints: not the joints of syrip12"),
+        ("units", "cm", "units: input should be 'm' or 'mm'"),
+        ("params.fps", -1, "params.fps: input should be greater than 0"),
+        (
+            "frames[1].persons[0].keypoints_3d",
+            [[0, 0, 1]],
+            r"frames\[1\].persons\[0\].keypoints_3d: expected 12 entries",
+        ),
+        ("frames[1].persons[0].keypoints_3d[2]", [0, 1], r"keypoints_3d\[2\]: list should have at least 3 items"),
+        ("frames[1].persons[0].keypoints_3d[2][0]", "0.1", r"keypoints_3d\[2\]\[0\]: input should be a valid number"),
+        (
+            "frames[1].persons[0].observed[0]",
+            1,
+            r"frames\[1\].persons\[0\].observed\[0\]: input should be a valid bool",
+        ),
+        ("frames[1].persons[0].uncertainty_m[0]", -0.1, r"uncertainty_m\[0\]: input should be greater than or equal"),
+        ("frames[1].camera.K", [[1, 0, 0]], r"frames\[1\].camera.K: list should have at least 3 items"),
+        ("frames[1].camera.model", "orthographic", r"frames\[1\].camera.model: input should be 'pinhole' or 'fisheye'"),
+        ("frames[1].frame_index", "1", r"frames\[1\].frame_index: input should be a valid integer"),
+        ("frames[1].persons[0].flags", ..., r"frames\[1\].persons\[0\].flags: field required"),
+        ("frames[1].persons[0].colour", "red", r"frames\[1\].persons\[0\].colour: extra inputs are not permitted"),
+        ("summary.frames_total", 7, "summary: 7 frames and 4 persons, but the file has 4 and 4"),
+        ("summary", ..., "summary: field required"),
+    ],
+)
+def test_a_result_that_does_not_fit_the_schema_is_refused_naming_the_field(
+    tmp_path: Path, path: str, value: object, message: str
+) -> None:
+    doc = _set(result_document(kicking_poses(4), fps=30.0, radius=0.02), path, value)
+    with pytest.raises(InputFormatError, match=message) as err:
+        read_result(write_document(tmp_path / "bad.zedo.json", doc))
+    assert str(err.value).startswith(str(tmp_path / "bad.zedo.json")) and "\n" not in str(err.value)
+    if path != "summary":  # the same in JSON Lines, with the line named
+        header = {k: v for k, v in doc.items() if k not in ("frames", "summary")}
+        lines = [{"type": "header", **header}, *({"type": "frame", **f} for f in doc["frames"])]
+        lines.append({"type": "summary", **doc["summary"]})
+        with pytest.raises(InputFormatError, match=r"bad.jsonl: (line \d+: )?.*" + message.split(": ")[-1][:20]):
+            read_result_bytes("\n".join(json.dumps(line) for line in lines).encode(), "bad.jsonl")
+
+
+def test_camera_lens_fields_and_new_flags_fit_the_schema(tmp_path: Path) -> None:
+    doc = result_document(kicking_poses(3), fps=30.0)
+    doc["frames"][0]["camera"].update(model="fisheye", dist=[0.1, -0.02, 0.0, 0.0])
+    doc["frames"][1]["camera"].update(model="pinhole", dist=[-0.3, 0.1, 0.0, 0.0, 0.0])
+    doc["frames"][2]["persons"][0]["flags"] = ["implausible_distance: 75.0 m", "keypoints_outside_image"]
+    assert len(read_result(write_document(tmp_path / "ok.zedo.json", doc))) == 3
+
+
+def test_jsonl_without_its_summary_line_is_incomplete() -> None:
+    doc = result_document(kicking_poses(2))
+    header = {k: v for k, v in doc.items() if k not in ("frames", "summary")}
+    lines = [{"type": "header", **header}, *({"type": "frame", **f} for f in doc["frames"])]
+    with pytest.raises(InputFormatError, match="no summary line: the file is incomplete"):
+        read_result_bytes("\n".join(json.dumps(line) for line in lines).encode(), "cut.jsonl")
+    with pytest.raises(InputFormatError, match="line 5: a line after the summary line"):
+        text = "\n".join(json.dumps(line) for line in [*lines, {"type": "summary", **doc["summary"]}, lines[1]])
+        read_result_bytes(text.encode(), "late.jsonl")

@@ -15,7 +15,8 @@ from writer_fixtures import INPUT_INFO, MISSING, PARAMS, UNLIFTED, make_case
 
 from zedo_cli.errors import ConfigError
 from zedo_cli.formats.result_json import build_result_document
-from zedo_cli.formats.writers import OUTPUT_FORMATS, default_output_name, output_format, write_result
+from zedo_cli.formats.result_reader import RESULT_FORMATS
+from zedo_cli.formats.writers import default_output_name, output_format, write_result
 from zedo_cli.formats.writers_csv import coordinate_columns, sidecar_path
 from zedo_cli.formats.writers_jsonl import JsonlWriter
 from zedo_cli.lifting.config import LiftConfig
@@ -64,7 +65,7 @@ def read_back(path: Path, fmt: str, joints: int = 12) -> tuple[np.ndarray, dict[
         return z["poses"], meta
 
 
-@pytest.mark.parametrize("fmt", OUTPUT_FORMATS)
+@pytest.mark.parametrize("fmt", RESULT_FORMATS)
 @pytest.mark.parametrize(("units", "frame"), OPTIONS)
 def test_values_round_trip_per_format_units_and_frame(tmp_path: Path, fmt: str, units: str, frame: str) -> None:
     kp, res, mats, sources = make_case()
@@ -172,7 +173,7 @@ def test_string_image_ids_are_kept_as_strings_in_npz(tmp_path: Path) -> None:
         assert z["image_ids"].tolist() == ["10", "10", "11", "clip/frame_0012"]
 
 
-@pytest.mark.parametrize("fmt", OUTPUT_FORMATS)
+@pytest.mark.parametrize("fmt", RESULT_FORMATS)
 def test_never_overwrites_without_permission_and_leaves_no_temp_file(tmp_path: Path, fmt: str) -> None:
     kp, res, mats, sources = make_case()
     out = tmp_path / f"r.{EXT[fmt]}"
@@ -197,7 +198,7 @@ def test_csv_sidecar_blocks_the_write_too(tmp_path: Path) -> None:
 def test_failed_write_leaves_nothing_behind(tmp_path: Path) -> None:
     kp, res, mats, sources = make_case()
     bad = {"seed": float("nan")}  # not valid JSON: the write fails part-way
-    for fmt in OUTPUT_FORMATS:
+    for fmt in RESULT_FORMATS:
         with pytest.raises(ValueError):
             write_result(tmp_path / f"r.{EXT[fmt]}", kp, res, mats, sources, bad, INPUT_INFO)
     with pytest.raises(KeyError), JsonlWriter(tmp_path / "s.jsonl") as writer:
@@ -265,8 +266,8 @@ def test_real_lift_result_agrees_across_formats(tiny_prior: Prior, tmp_path: Pat
     res = lift(kp.xy, kp.confidence, mats, tiny_prior, LiftConfig(init_steps=5, steps=5))
     assert res.lifted.tolist() == [True, True, True, False]
     poses = {}
-    for fmt in OUTPUT_FORMATS:
+    for fmt in RESULT_FORMATS:
         write_result(tmp_path / f"r.{EXT[fmt]}", kp, res, mats, sources, PARAMS, INPUT_INFO, units="mm", frame="root")
         poses[fmt] = read_back(tmp_path / f"r.{EXT[fmt]}", fmt)[0]
-    for fmt in OUTPUT_FORMATS:
+    for fmt in RESULT_FORMATS:
         np.testing.assert_allclose(poses[fmt], res.poses_root_relative * 1000.0, atol=1.5e-3)

@@ -13,6 +13,7 @@ from .fit import fit_prior_command
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
 from .render import render_command
+from .schema import schema_command
 
 app = typer.Typer(
     name="zedo",
@@ -46,6 +47,7 @@ app.command("analyze", no_args_is_help=True)(analyze_command)
 app.command("benchmark-symmetry", no_args_is_help=True)(benchmark_symmetry_command)
 app.command("calibrate", no_args_is_help=True)(calibrate_command)
 app.command("render", no_args_is_help=True)(render_command)
+app.command("schema", no_args_is_help=True)(schema_command)
 
 
 def main() -> None:

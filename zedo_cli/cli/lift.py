@@ -18,7 +18,8 @@ from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
 from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
-from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, write_result
+from ..formats.markers import MARKER_AXES, marker_frame_numbers
+from ..formats.writers import FRAMES, MARKER_FORMATS, OUTPUT_FORMATS, UNITS, output_format, write_result
 from ..lifting.config import (
     DEFAULT_PRESET,
     DEFAULT_SIGMA_FRAMES,
@@ -132,6 +133,7 @@ class LiftSettings:
     save_hypotheses: bool = False
     calibrations: tuple[UncertaintyModel, ...] | None = None  # --calibration's models, read once; None: bundled
     video: VideoInfo | None = None  # --video: the keypoints are checked against it (footage.video_check)
+    marker_axes: str = "level"  # TRC / C3D axes (formats.markers.MARKER_AXES)
 
 
 @dataclass
@@ -166,6 +168,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     video = check_against_video(kp, st.video, source) if st.video is not None else None
     if video is not None and video.warning():
         err_console.print(f"zedo: warning: {source}: {video.warning()}", markup=False, soft_wrap=True)
+    fmt = output_format(output, st.output_format)
+    if fmt in MARKER_FORMATS:  # a marker file needs frame numbers (or --fps): refused before any lifting
+        marker_frame_numbers(kp, st.fps, fmt)
     try:
         mats, sources = resolve_intrinsics(
             kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
@@ -212,8 +217,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
                   "zedo_version": __version__}  # fmt: skip
-    write_result(output, kp, res, mats, sources, params, input_info, fmt=st.output_format, units=st.units,
-                 frame=st.frame, overwrite=st.overwrite)  # fmt: skip
+    write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units,
+                 frame=st.frame, marker_axes=st.marker_axes, overwrite=st.overwrite)  # fmt: skip
     if st.plot_dir is not None:  # its paths were checked before any work (lift_plan.check_plot_paths)
         written = write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
         if not st.quiet and written:
@@ -285,6 +290,7 @@ def _check_options(st: LiftSettings) -> None:
         raise ConfigError(f"--min-confidence must be in [0, 1], got {st.min_confidence}")
     check_choice("--units", st.units, UNITS)
     check_choice("--frame", st.frame, FRAMES)
+    check_choice("--marker-axes", st.marker_axes, tuple(MARKER_AXES))
     check_choice("--person", st.person, PERSON_MODES)
     check_choice("--temporal", st.temporal, TEMPORAL_MODES)
     check_range("--sigma", st.sigma, 0, MAX_SIGMA_FRAMES, low_open=True, unit=" frames")
@@ -356,10 +362,18 @@ def lift_command(
         Optional[str],
         typer.Option(
             "--output-format",
-            help=f"Output format: {', '.join(OUTPUT_FORMATS)}. Default: from the --out extension, else json.",
+            help=f"Output format: {', '.join(OUTPUT_FORMATS)}. Default: from the --out extension, else json. trc, c3d: marker files for OpenSim / Pose2Sim / C3D tools, one per person (docs/exports.md).",
         ),
     ] = None,
-    units: Annotated[str, typer.Option(help=f"Units of the 3D coordinates: {', '.join(UNITS)}.")] = "m",
+    units: Annotated[
+        str, typer.Option(help=f"Units of the 3D coordinates: {', '.join(UNITS)} (TRC is always m, C3D always mm).")
+    ] = "m",
+    marker_axes: Annotated[
+        str,
+        typer.Option(
+            help=f"Axes of TRC / C3D files (Y up): {', '.join(MARKER_AXES)}. level: X = camera x, Y = -camera y, Z = -camera z; overhead (camera looking down on a lying infant): X = camera x, Y = -camera z, Z = camera y."
+        ),
+    ] = "level",
     frame: Annotated[
         str,
         typer.Option(
@@ -588,7 +602,7 @@ def lift_command(
         video_info, image_size, fps = video_options(video, image_size, fps)
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
-                      plot, seed, device, overwrite, quiet, save_hypotheses)  # fmt: skip
+                      plot, seed, device, overwrite, quiet, save_hypotheses, marker_axes=marker_axes)  # fmt: skip
     st = replace(st, video=video_info)
     _check_options(st)
     _check_engine(engine, keypoints, out, workers)

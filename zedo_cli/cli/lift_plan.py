@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
 from ..formats.openpose import is_openpose_folder, is_zedo_output
-from ..formats.writers import default_output_name, output_format
+from ..formats.writers import check_stdout, default_output_name, output_format
 from ..formats.writers_csv import sidecar_path
 
 STDIN = "-"
@@ -85,6 +85,8 @@ def plan_outputs(
                 name = "stdin"
             default = default_output_name(Path(name.rstrip("/")), fmt or "json")
             outputs.append(str(output_dir / default.name if output_dir is not None else default))
+    for dst in outputs:  # NPZ, TRC and C3D are files only: refused before any work
+        check_stdout(dst, output_format(dst, fmt))
     _check_outputs(inputs, outputs, overwrite)
     _check_inputs_kept(inputs, outputs, fmt)
     return outputs

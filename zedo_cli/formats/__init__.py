@@ -1,5 +1,6 @@
 """Files in and out: the readers of every 2D detector layout (into `data.Keypoints2D`), the
-writers of 3D results (JSON, JSON Lines, CSV, NPZ), their reader (`result_reader`) and the
+writers of 3D results (JSON, JSON Lines, CSV, NPZ; TRC and C3D marker files), their schema
+(`result_schema`) and reader (`result_reader`) and the
 pose plots (`formats.plots`, not imported here so that matplotlib loads only when a plot is asked for).
 
 Builds on `lifting` (the `LiftResult` a writer writes) and `data`.

@@ -32,8 +32,18 @@ import numpy as np
 
 from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
 from ..errors import ConfigError, InputFormatError
+from .result_schema import (
+    SCHEMA,
+    Frame,
+    FrameLine,
+    HeaderLine,
+    Person,
+    ResultHeader,
+    Summary,
+    SummaryLine,
+    validate,
+)
 
-SCHEMA = "zedo.pose3d/1"
 RESULT_FORMATS = ("json", "jsonl", "csv", "npz")
 _SCALE_TO_M = {"m": 1.0, "mm": 1e-3}
 _FRAMES = {"cam": "camera", "root": "root"}
@@ -127,8 +137,9 @@ def _check_schema(doc: dict[str, Any], name: str) -> None:
 
 
 def _read_jsonl(text: str, name: str) -> ResultPoses:
-    header: dict[str, Any] | None = None
-    frames: list[dict[str, Any]] = []
+    """Header line, frame lines, summary line: each validated against the schema as it is read."""
+    reader: _DocumentReader | None = None
+    summary: Summary | None = None
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip():
             continue
@@ -137,48 +148,93 @@ def _read_jsonl(text: str, name: str) -> ResultPoses:
         except json.JSONDecodeError as exc:
             raise InputFormatError(f"{name}: line {number}: not JSON ({exc.msg})") from None
         kind = obj.get("type") if isinstance(obj, dict) else None
-        if header is None:
+        where = f"line {number}"
+        if reader is None:
             if kind != "header":
-                raise InputFormatError(f"{name}: line {number}: not a zedo result (expected a JSON document "
+                raise InputFormatError(f"{name}: {where}: not a zedo result (expected a JSON document "
                                        f"with schema {SCHEMA}, or JSON Lines starting with a header line)")  # fmt: skip
-            header = obj
+            _check_schema(obj, name)
+            reader = _DocumentReader(validate(HeaderLine, obj, name, line=number), name, "jsonl")
+        elif summary is not None:
+            raise InputFormatError(f"{name}: {where}: a line after the summary line")
         elif kind == "frame":
-            frames.append(obj)
-        elif kind != "summary":
-            raise InputFormatError(f"{name}: line {number}: type: expected frame or summary, got {kind!r}")
-    assert header is not None  # the text is not blank
-    return _from_document({**header, "frames": frames}, name, "jsonl")
+            reader.add(validate(FrameLine, obj, name, line=number, joints=reader.joints))
+        elif kind == "summary":
+            summary = validate(SummaryLine, obj, name, line=number)
+        else:
+            raise InputFormatError(f"{name}: {where}: type: expected frame or summary, got {kind!r}")
+    assert reader is not None  # the text is not blank
+    if summary is None:
+        raise InputFormatError(f"{name}: no summary line: the file is incomplete (a run that did not finish?)")
+    return reader.finish(summary)
 
 
-def _points(value: Any, joints: int, where: str) -> np.ndarray:
-    """`(J, 3)` from a list of [x, y, z] or null; all NaN for null."""
-    if value is None:
-        return np.full((joints, 3), np.nan)
-    if not isinstance(value, list) or len(value) != joints:
-        raise InputFormatError(f"{where}: expected a list of {joints} points [x, y, z] or null")
-    out = np.full((joints, 3), np.nan)
-    for j, p in enumerate(value):
-        if p is None:
-            continue
-        if not isinstance(p, list) or len(p) != 3 or not all(isinstance(v, int | float) or v is None for v in p):
-            raise InputFormatError(f"{where}[{j}]: expected [x, y, z] numbers or null")
-        out[j] = [np.nan if v is None else float(v) for v in p]
-    return out
+def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
+    """A JSON document, validated against the schema: the header, then frame by frame, then the summary."""
+    _check_schema(doc, name)
+    header = {k: v for k, v in doc.items() if k not in ("frames", "summary")}
+    reader = _DocumentReader(validate(ResultHeader, header, name), name, fmt)
+    frames = doc.get("frames")
+    if not isinstance(frames, list):
+        raise InputFormatError(f"{name}: frames: expected a list")
+    for f, frame in enumerate(frames):
+        reader.add(validate(Frame, frame, name, path=f"frames[{f}]", joints=reader.joints))
+    if "summary" not in doc:
+        raise InputFormatError(f"{name}: summary: field required")
+    return reader.finish(validate(Summary, doc["summary"], name, path="summary"))
 
 
-def _radii(value: Any, joints: int, where: str) -> np.ndarray:
-    if value is None:
-        return np.full(joints, np.nan)
-    if not isinstance(value, list) or len(value) != joints:
-        raise InputFormatError(f"{where}: expected {joints} radii in metres (or null)")
-    out = np.array([np.nan if v is None else v for v in value], dtype=object)
-    try:
-        radii = out.astype(float)
-    except (TypeError, ValueError):
-        raise InputFormatError(f"{where}: expected numbers or null") from None
-    if (radii[np.isfinite(radii)] < 0).any():
-        raise InputFormatError(f"{where}: a radius is negative")
-    return radii
+def _array(values: list[Any] | None, shape: tuple[int, ...]) -> np.ndarray:
+    """A validated list (of lists) of numbers or null as floats, NaN for null; all NaN for None."""
+    if values is None:
+        return np.full(shape, np.nan)
+    return np.array(values, dtype=float).reshape(shape)  # None -> nan
+
+
+class _DocumentReader:
+    """The persons of validated frames, gathered into a ResultPoses."""
+
+    def __init__(self, header: ResultHeader, name: str, fmt: str) -> None:
+        self.name, self.fmt, self.header = name, fmt, header
+        self.skeleton = _skeleton_of(header.model_dump(include={"skeleton"}), name)
+        if tuple(header.skeleton.joints) != self.skeleton.joints:
+            raise InputFormatError(f"{name}: skeleton.joints: not the joints of {self.skeleton.name} "
+                                   f"({', '.join(self.skeleton.joints)})")  # fmt: skip
+        self.joints = self.skeleton.num_joints
+        self.scale = _SCALE_TO_M[header.units]
+        self.frames = 0
+        self.persons: list[tuple[Frame, int, Person]] = []
+
+    def add(self, frame: Frame) -> None:
+        self.frames += 1
+        self.persons += [(frame, p, person) for p, person in enumerate(frame.persons)]
+
+    def finish(self, summary: Summary) -> ResultPoses:
+        j = self.joints
+        if summary.frames_total != self.frames or summary.instances_total != len(self.persons):
+            raise InputFormatError(
+                f"{self.name}: summary: {summary.frames_total} frames and {summary.instances_total} persons, "
+                f"but the file has {self.frames} and {len(self.persons)}: an incomplete or edited file"
+            )
+        has_radii = any("uncertainty_m" in person.model_fields_set for _, _, person in self.persons)
+        poses = [_array(person.keypoints_3d, (j, 3)) * self.scale for _, _, person in self.persons]
+        radii = [_array(person.uncertainty_m, (j,)) for _, _, person in self.persons] if has_radii else None
+        res = _finish(
+            self.name, self.fmt, self.skeleton, poses, [frame.frame_index for frame, _, _ in self.persons],
+            [p for _, p, _ in self.persons], [frame.image_id for frame, _, _ in self.persons],
+            [frame.file_name for frame, _, _ in self.persons],
+            [person.keypoints_3d is not None for _, _, person in self.persons],
+            [np.array(person.observed, dtype=bool) for _, _, person in self.persons], radii,
+            self.header.params.fps, self.header.coordinate_frame, self.header.units,
+        )  # fmt: skip
+        roots = [_array(person.root_translation, (3,)) * self.scale for _, _, person in self.persons]
+        return replace(
+            res, params=self.header.params.model_dump(),
+            cameras=[None if frame.camera is None else frame.camera.model_dump(exclude_none=True)
+                     for frame, _, _ in self.persons],
+            flags=[list(person.flags) for _, _, person in self.persons],
+            root_translation=np.asarray(roots).reshape(-1, 3),
+        )  # fmt: skip
 
 
 def _skeleton_of(doc: dict[str, Any], name: str) -> Skeleton:
@@ -209,48 +265,6 @@ def _fps(params: Any, name: str) -> float | None:
     if not isinstance(fps, int | float) or not fps > 0:
         raise InputFormatError(f"{name}: params.fps: expected a positive number or null, got {fps!r}")
     return float(fps)
-
-
-def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
-    _check_schema(doc, name)
-    skel = _skeleton_of(doc, name)
-    scale = _SCALE_TO_M[_units(doc.get("units", "m"), name)]
-    coord = doc.get("coordinate_frame", "camera")
-    frames = doc.get("frames")
-    if not isinstance(frames, list):
-        raise InputFormatError(f"{name}: frames: expected a list")
-    j = skel.num_joints
-    poses, frame_index, person, ids, files, lifted, observed, radii = [], [], [], [], [], [], [], []
-    cameras, flags, roots = [], [], []
-    has_radii = False
-    for f, frame in enumerate(frames):
-        where = f"{name}: frames[{f}]"
-        if not isinstance(frame, dict) or not isinstance(frame.get("persons"), list):
-            raise InputFormatError(f"{where}.persons: expected a list")
-        for p, pers in enumerate(frame["persons"]):
-            at = f"{where}.persons[{p}]"
-            if not isinstance(pers, dict) or "keypoints_3d" not in pers:
-                raise InputFormatError(f"{at}.keypoints_3d: missing")
-            pts = _points(pers["keypoints_3d"], j, f"{at}.keypoints_3d") * scale
-            poses.append(pts)
-            frame_index.append(int(frame.get("frame_index", f)))
-            person.append(p)
-            ids.append(frame.get("image_id", f))
-            files.append(frame.get("file_name"))
-            lifted.append(pers["keypoints_3d"] is not None)
-            obs = pers.get("observed")
-            observed.append(np.array(obs, dtype=bool) if isinstance(obs, list) and len(obs) == j else np.ones(j, bool))
-            if "uncertainty_m" in pers:
-                has_radii = True
-            radii.append(_radii(pers.get("uncertainty_m"), j, f"{at}.uncertainty_m"))
-            cameras.append(frame.get("camera") if isinstance(frame.get("camera"), dict) else None)
-            flags.append([str(x) for x in pers.get("flags") or []])
-            roots.append(_points([pers.get("root_translation")], 1, f"{at}.root_translation")[0] * scale)
-    fps = _fps(doc.get("params"), name)
-    res = _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
-                  radii if has_radii else None, fps, str(coord), doc.get("units", "m"))  # fmt: skip
-    return replace(res, cameras=cameras, flags=flags, root_translation=np.asarray(roots).reshape(-1, 3),
-                   params=_params(doc))  # fmt: skip
 
 
 def _finish(

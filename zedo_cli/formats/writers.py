@@ -8,6 +8,11 @@ Formats (`OUTPUT_FORMATS`), chosen by `fmt` or else by the output's extension:
 - `jsonl` (.jsonl, .ndjson): header line, one line per frame, summary line (writers_jsonl).
 - `csv`   (.csv): one row per frame, person and joint, plus a `.meta.json` sidecar (writers_csv).
 - `npz`   (.npz): NumPy arrays, one row per instance (writers_npz). Not on stdout.
+- `trc`   (.trc): OpenSim / Pose2Sim marker files, metres, Y up, one per track (writers_trc). Not on stdout.
+- `c3d`   (.c3d): C3D marker files, millimetres, the TRC's axes, one per track (writers_c3d). Not on stdout.
+
+The marker files (trc, c3d; markers.py) hold the 3D joints only, in their readers' units and axes
+(`units` does not apply; `frame` and `marker_axes` do); the first four hold the whole result.
 
 Every format states units, coordinate frame, axes, the K of every frame and where K came from;
 missing values are null (JSON) or NaN / empty (NPZ / CSV), never 0. Files are written atomically
@@ -25,18 +30,27 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import check_writable
+from .markers import check_marker_axes, marker_tracks
 from .result_json import build_header, build_summary, iter_frames, write_document
+from .writers_c3d import write_c3d
 from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
 from .writers_csv import write_csv
 from .writers_jsonl import write_jsonl
 from .writers_npz import write_npz
+from .writers_trc import write_trc
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
     from ..lifting.solver import LiftResult
 
-OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz")
-_EXTENSIONS = {".json": "json", ".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv", ".npz": "npz"}
-__all__ = ["FRAMES", "OUTPUT_FORMATS", "UNITS", "default_output_name", "output_format", "write_result"]
+OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz", "trc", "c3d")
+MARKER_FORMATS = ("trc", "c3d")  # marker files of biomechanics tools: the 3D joints only, one file per track
+_NOT_ON_STDOUT = ("npz", "trc", "c3d")
+_EXTENSIONS = {".json": "json", ".jsonl": "jsonl", ".ndjson": "jsonl", ".csv": "csv", ".npz": "npz", ".trc": "trc",
+               ".c3d": "c3d"}  # fmt: skip
+__all__ = [
+    "FRAMES", "MARKER_FORMATS", "OUTPUT_FORMATS", "UNITS", "check_stdout", "default_output_name", "output_format",
+    "write_result",
+]  # fmt: skip
 
 
 def output_format(out: str | Path, fmt: str | None = None) -> str:
@@ -55,12 +69,23 @@ def output_format(out: str | Path, fmt: str | None = None) -> str:
         if by_name is None:
             raise ConfigError(
                 f"{out}: cannot tell the output format from the extension {suffix or '(none)'!r}; "
-                f"use .json, .jsonl, .csv or .npz, or name the format ({', '.join(OUTPUT_FORMATS)})"
+                f"use .json, .jsonl, .csv, .npz, .trc or .c3d, or name the format ({', '.join(OUTPUT_FORMATS)})"
             )
         return by_name
     if by_name is not None and by_name != fmt:
         raise ConfigError(f"{out}: the extension {suffix} says {by_name}, but the format asked for is {fmt}")
     return fmt
+
+
+def check_stdout(out: str | Path, fmt: str) -> None:
+    """Refuse a format that cannot go to stdout ("-"): a binary archive, or marker files (one per track)."""
+    if str(out) != "-" or fmt not in _NOT_ON_STDOUT:
+        return
+    if fmt == "npz":
+        raise ConfigError("NPZ is a binary archive and cannot go to stdout; give a .npz file, "
+                          "or use --format json/jsonl/csv for stdout")  # fmt: skip
+    raise ConfigError(f"{fmt.upper()} marker files are written one per person and cannot go to stdout; "
+                      f"give a .{fmt} file with -o, or use json/jsonl/csv for stdout")  # fmt: skip
 
 
 def default_output_name(input_path: str | Path, fmt: str = "json") -> Path:
@@ -98,21 +123,26 @@ def write_result(
     fmt: str | None = None,
     units: str = "m",
     frame: str = "camera",
+    marker_axes: str = "level",
     overwrite: bool = False,
 ) -> list[Path]:
     """Write the result of lifting `kp` (already in the prior's joint set) to `out` ("-" = stdout).
 
     `intrinsics (N, 3, 3)` and `sources (N,)` are the K and its source per instance (as from
     `camera.resolve_intrinsics`); `params` and `input_info` go into the metadata unchanged.
-    Returns the files written (the CSV's sidecar included; empty for stdout). Raises ConfigError
-    for a bad format, units or frame, an existing file without `overwrite`, a missing folder,
-    or NPZ to stdout; all before anything is written.
+    Returns the files written (the CSV's sidecar included, every track's file of TRC / C3D; empty
+    for stdout). Raises ConfigError for a bad format, units, frame or `marker_axes`, an existing
+    file without `overwrite`, a missing folder, NPZ / TRC / C3D to stdout, or (TRC / C3D) frames
+    without frame numbers and without `params["fps"]`; all before anything is written.
     """
     fmt = output_format(out, fmt)
     OutputOptions(units, frame)  # validate before any work
-    if fmt == "npz" and str(out) == "-":
-        raise ConfigError("NPZ is a binary archive and cannot go to stdout; give a .npz file, "
-                          "or use --format json/jsonl/csv for stdout")  # fmt: skip
+    check_marker_axes(marker_axes)
+    check_stdout(out, fmt)
+    if fmt in MARKER_FORMATS:  # every track's file is checked by its writer before any is written
+        tracks = marker_tracks(kp, res, fps=params.get("fps"), frame=frame, axes=marker_axes, fmt=fmt)
+        write = write_trc if fmt == "trc" else write_c3d
+        return write(out, tracks, overwrite=overwrite)
     if str(out) != "-":
         check_writable(Path(out), overwrite)
     header = build_header(kp, intrinsics, sources, params=params, input_info=input_info, units=units, frame=frame)

@@ -83,6 +83,7 @@ class FrameGroups:
     person: np.ndarray  # (N,) int, the position of each instance within its frame
     members: list[list[int]]  # per frame, its instance indices in input order
     number: np.ndarray  # (F,) int, each frame's number: the input's where it has one, else its position
+    numbered: bool = False  # True: `number` is the input's frame numbers (else positions)
 
 
 def group_frames(image_ids: Sequence[int | str], frame_numbers: Sequence[int | None] | None = None) -> FrameGroups:
@@ -106,12 +107,13 @@ def group_frames(image_ids: Sequence[int | str], frame_numbers: Sequence[int | N
         slot[i], person[i] = f, len(members[f])
         members[f].append(i)
     number = np.arange(len(members), dtype=np.int64)
+    numbered = False
     if frame_numbers is not None and len(frame_numbers) == len(image_ids):
         per_frame = [{frame_numbers[i] for i in m} for m in members]
         numbers = [next(iter(n)) for n in per_frame if len(n) == 1]
         if len(numbers) == len(members) and None not in numbers and len(set(numbers)) == len(numbers):
-            number = np.asarray(numbers, dtype=np.int64)
-    return FrameGroups(number[slot], person, members, number)
+            number, numbered = np.asarray(numbers, dtype=np.int64), True
+    return FrameGroups(number[slot], person, members, number, numbered)
 
 
 def _dumps(value: Any, indent: int | None, level: int) -> str:
