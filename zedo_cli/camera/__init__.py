@@ -13,6 +13,8 @@ __getattr__, __dir__, __all__ = lazy_exports(
     __name__,
     globals(),
     {
-        ".model": ["CameraModel", "UNDISTORT_CRITERIA"],
+        ".model": ["CameraModel", "UNDISTORT_CRITERIA", "lens_groups", "undistort_instances"],
+        ".files": ["CameraFile", "read_camera_file"],
+        ".sanity": ["CameraSanity", "check_camera_sanity"],
     },
 )

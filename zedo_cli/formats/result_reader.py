@@ -14,6 +14,12 @@ joint with 90 % probability. JSON / JSONL persons carry it as a list, the CSV as
 `uncertainty_m`, the NPZ as an `(N, J)` array. `ResultPoses.uncertainty_m` is None when the
 file has no such field at all.
 
+Cameras: `ResultPoses.cameras` holds each person's camera (`CameraModel`: K, lens model,
+distortion coefficients, image size where stated) from the frame's `camera` block (JSON / JSONL),
+the `fx_px` ... `camera_model`, `dist` columns (CSV) or the `K`, `camera_model`, `dist`,
+`image_size` arrays (NPZ); None for a person whose file states no camera. Files written before
+`model` and `dist` existed read as pinhole cameras without distortion.
+
 Errors are `InputFormatError`s (exit code 3) naming the file and the field.
 """
 
@@ -30,8 +36,9 @@ from typing import Any
 
 import numpy as np
 
+from ..camera.model import CameraModel
 from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
-from ..errors import ConfigError, InputFormatError
+from ..errors import ConfigError, InputFormatError, IntrinsicsError
 
 SCHEMA = "zedo.pose3d/1"
 RESULT_FORMATS = ("json", "jsonl", "csv", "npz")
@@ -57,6 +64,7 @@ class ResultPoses:
     fps: float | None  # recorded by `zedo lift --fps`
     coordinate_frame: str  # camera | root
     units_in_file: str  # m | mm (poses are converted to metres)
+    cameras: list[CameraModel | None] | None = None  # (N,) each person's camera; None: not stated
 
     def __len__(self) -> int:
         return len(self.poses)
@@ -174,6 +182,18 @@ def _radii(value: Any, joints: int, where: str) -> np.ndarray:
     return radii
 
 
+def _camera(block: Any, where: str) -> CameraModel | None:
+    """A camera block `{"K", "image_size", "source", "model", "dist"}` (None: absent)."""
+    if block is None:
+        return None
+    try:
+        return CameraModel.from_json(block)
+    except KeyError as exc:
+        raise InputFormatError(f"{where}.{exc.args[0]}: missing") from None
+    except (TypeError, ValueError, AttributeError, IntrinsicsError) as exc:
+        raise InputFormatError(f"{where}: not a camera (K, model, dist, image_size): {exc}") from None
+
+
 def _skeleton_of(doc: dict[str, Any], name: str) -> Skeleton:
     skel = doc.get("skeleton")
     if not isinstance(skel, dict) or not isinstance(skel.get("name"), str):
@@ -209,11 +229,14 @@ def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
         raise InputFormatError(f"{name}: frames: expected a list")
     j = skel.num_joints
     poses, frame_index, person, ids, files, lifted, observed, radii = [], [], [], [], [], [], [], []
+    cameras: list[CameraModel | None] = []
     has_radii = False
     for f, frame in enumerate(frames):
         where = f"{name}: frames[{f}]"
         if not isinstance(frame, dict) or not isinstance(frame.get("persons"), list):
             raise InputFormatError(f"{where}.persons: expected a list")
+        camera = _camera(frame.get("camera"), f"{where}.camera")
+        cameras += [camera] * len(frame["persons"])
         for p, pers in enumerate(frame["persons"]):
             at = f"{where}.persons[{p}]"
             if not isinstance(pers, dict) or "keypoints_3d" not in pers:
@@ -232,13 +255,14 @@ def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
             radii.append(_radii(pers.get("uncertainty_m"), j, f"{at}.uncertainty_m"))
     fps = _fps(doc.get("params"), name)
     return _finish(name, fmt, skel, poses, frame_index, person, ids, files, lifted, observed,
-                   radii if has_radii else None, fps, str(coord), doc.get("units", "m"))  # fmt: skip
+                   radii if has_radii else None, fps, str(coord), doc.get("units", "m"), cameras)  # fmt: skip
 
 
 def _finish(
     name: str, fmt: str, skel: Skeleton, poses: list[np.ndarray], frame_index: list[int], person: list[int],
     ids: list[Any], files: list[Any], lifted: list[bool], observed: list[np.ndarray],
     radii: list[np.ndarray] | None, fps: float | None, coord: str, units: str,
+    cameras: list[CameraModel | None] | None = None,
 ) -> ResultPoses:  # fmt: skip
     if not poses:
         raise InputFormatError(f"{name}: no persons in the result")
@@ -248,6 +272,7 @@ def _finish(
         np.asarray(person, dtype=np.int64), list(ids), [None if not f else str(f) for f in files],
         np.asarray(lifted, dtype=bool), np.asarray(observed, dtype=bool).reshape(-1, j),
         None if radii is None else np.asarray(radii, dtype=float).reshape(-1, j), fps, coord, units,
+        cameras if cameras and any(c is not None for c in cameras) else None,
     )  # fmt: skip
 
 
@@ -305,9 +330,11 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         except (TypeError, ValueError):
             raise InputFormatError(f"{where}: frame_index, person and joint_index must be integers") from None
         joint_names.setdefault(j, row["joint"])
-        inst = order.setdefault(key, {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
-                                      "lifted": row["lifted"] == "true",
-                                      "points": {}, "observed": {}, "radii": {}})  # fmt: skip
+        if key not in order:
+            order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
+                          "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
+                          "points": {}, "observed": {}, "radii": {}}  # fmt: skip
+        inst = order[key]
         inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
         inst["observed"][j] = row.get("observed", "true") == "true"
         if "uncertainty_m" in row:
@@ -332,7 +359,18 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
     fps = _fps(meta.get("params"), name) if meta is not None else None
     return _finish(name, "csv", skel, poses, frame_index, person, ids, files, lifted,
                    [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
-                   if "uncertainty_m" in columns else None, fps, coord, units)  # fmt: skip
+                   if "uncertainty_m" in columns else None, fps, coord, units,
+                   [inst["camera"] for inst in order.values()])  # fmt: skip
+
+
+def _csv_camera(row: dict[str, str], where: str) -> CameraModel | None:
+    """The camera of a CSV row: fx_px, fy_px, cx_px, cy_px and, when present, camera_model and dist."""
+    if not all(row.get(c) for c in ("fx_px", "fy_px", "cx_px", "cy_px")):
+        return None
+    fx, fy, cx, cy = (_cell(row[c], f"{where}: {c}") for c in ("fx_px", "fy_px", "cx_px", "cy_px"))
+    dist = [_cell(v, f"{where}: dist") for v in (row.get("dist") or "").split()]
+    k = [[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]]
+    return _camera({"K": k, "model": row.get("camera_model") or "pinhole", "dist": dist}, f"{where}: camera")
 
 
 # --- NPZ ----------------------------------------------------------------------------------------
@@ -368,11 +406,35 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         raise InputFormatError(f"{name}: uncertainty_m: expected shape ({n}, {skel.num_joints})")
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
+    cameras = _npz_cameras(arrays, n, name)
     return ResultPoses(
         name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
         np.asarray(arrays["person"], dtype=np.int64), [i.item() for i in np.asarray(ids)],
         [str(f) or None for f in files], np.asarray(arrays.get("lifted", np.isfinite(poses).all((1, 2))), dtype=bool),
         np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
-        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]),
+        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), cameras,
     )  # fmt: skip
+
+
+def _npz_cameras(arrays: dict[str, np.ndarray], n: int, name: str) -> list[CameraModel | None] | None:
+    """Each row's camera from `K (N, 3, 3)`, `camera_model (N,)`, `dist (N, D)` (NaN-padded) and
+    `image_size (N, 2)`; None when the archive has no K."""
+    if "K" not in arrays:
+        return None
+    k = np.asarray(arrays["K"], dtype=float)
+    models = arrays.get("camera_model", np.array(["pinhole"] * n))
+    dist = np.asarray(arrays.get("dist", np.zeros((n, 0))), dtype=float)
+    sizes = np.asarray(arrays.get("image_size", np.full((n, 2), np.nan)), dtype=float)
+    if k.shape != (n, 3, 3) or len(models) != n or dist.ndim != 2 or len(dist) != n or sizes.shape != (n, 2):
+        raise InputFormatError(f"{name}: K, camera_model, dist, image_size: expected one per row ({n})")
+    out: list[CameraModel | None] = []
+    seen: dict[tuple[bytes, str, bytes, bytes], CameraModel | None] = {}  # a clip has one or a few cameras
+    for i in range(n):
+        key = (k[i].tobytes(), str(models[i]), dist[i].tobytes(), sizes[i].tobytes())
+        if key not in seen:
+            block = {"K": k[i], "model": str(models[i]), "dist": dist[i][np.isfinite(dist[i])].tolist(),
+                     "image_size": sizes[i].tolist() if np.isfinite(sizes[i]).all() else None}  # fmt: skip
+            seen[key] = _camera(block, f"{name}: row {i}: camera")
+        out.append(seen[key])
+    return out
