@@ -2,7 +2,8 @@
 keypoints before lifting and projecting 3D points back into the original (distorted) image.
 The camera work itself is OpenCV's; this package holds the typed models around it.
 
-Builds on `errors` only (numpy and OpenCV).
+Builds on `errors` only (numpy, OpenCV and pydantic): `model` (the camera), `files` (calibration
+files), `sanity` (the checks that a lift's camera fits its input). docs/cameras.md.
 """
 
 from __future__ import annotations
