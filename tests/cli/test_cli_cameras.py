@@ -113,7 +113,7 @@ def test_keypoints_outside_the_image_are_flagged(tiny_prior_path: Path, tmp_path
         del image["width"], image["height"]
     src.write_text(json.dumps(doc))
     out = tmp_path / "out.json"
-    result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--image-size", "64", "48", "--focal", "100",
+    result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "--image-size", "64", "48",
                                           "-o", str(out)))  # fmt: skip
     assert result.exit_code == 0, result.output
     assert "1 instance(s) flagged keypoints_outside_image" in result.output

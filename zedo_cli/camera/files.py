@@ -105,7 +105,8 @@ def read_camera_file(path: str | Path, camera: str | None = None) -> CameraFile:
         raise CameraInputError(f"{name}: not a readable text file ({exc})") from None
     kind, doc = _detect(name, text)
     if kind != "toml" and camera is not None:
-        raise CameraInputError(f"{name}: --camera {camera}: a {kind} calibration file holds one camera; "
+        kind_name = "an OpenCV FileStorage" if kind == "opencv" else "a zedo JSON"
+        raise CameraInputError(f"{name}: --camera {camera}: {kind_name} calibration file holds one camera; "
                                "--camera picks one of the cameras of a Pose2Sim or anipose TOML file")  # fmt: skip
     if kind == "toml":
         return _read_toml(name, text, camera)
