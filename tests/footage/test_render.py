@@ -70,7 +70,7 @@ def colour_near(pixel: np.ndarray, colour: tuple[int, int, int], tol: int = 70) 
 def test_projection_goes_through_the_lens(tmp_path: Path) -> None:
     res = read_result(write_result(tmp_path / "r.zedo.json"))
     persons = people(res)
-    lens = CameraModel.from_json(res.cameras[0])
+    lens = res.cameras[0]
     assert lens.distorted
     np.testing.assert_allclose(persons[0].px, lens.project(res.poses[0]))
     pinhole = CameraModel(lens.fx, lens.fy, lens.cx, lens.cy).project(res.poses[0])

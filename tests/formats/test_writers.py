@@ -92,7 +92,13 @@ def test_json_default_is_metres_camera_frame_and_keeps_its_layout() -> None:
     assert doc["units"] == "m" and doc["coordinate_frame"] == "camera"
     assert [f["image_id"] for f in doc["frames"]] == [10, 11, 12]
     assert [len(f["persons"]) for f in doc["frames"]] == [2, 1, 1]
-    assert doc["frames"][1]["camera"] == {"K": mats[2].tolist(), "image_size": [640.0, 480.0], "source": "file"}
+    assert doc["frames"][1]["camera"] == {
+        "K": mats[2].tolist(),
+        "image_size": [640.0, 480.0],
+        "source": "file",
+        "model": "pinhole",
+        "dist": [],
+    }
     assert doc["frames"][2]["camera"]["image_size"] is None and doc["camera"]["source"] == "mixed"
     person = doc["frames"][0]["persons"][1]
     assert person["keypoints_3d"][0] == [round(v, 6) for v in res.poses_camera[1, 0]]

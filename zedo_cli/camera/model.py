@@ -7,6 +7,7 @@ fisheye (k1, k2, k3, k4).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -106,6 +107,24 @@ class CameraModel:
         return block
 
     @classmethod
+    def from_matrix(
+        cls, k: np.ndarray, dist: tuple[float, ...] = (), model: LensModel = "pinhole",
+        image_size: tuple[int, int] | None = None,
+    ) -> CameraModel:  # fmt: skip
+        """A camera from its 3x3 matrix `[[fx, 0, cx], [0, fy, cy], [0, 0, 1]]` (no skew)."""
+        k = np.asarray(k, dtype=np.float64)
+        if k.shape != (3, 3):
+            raise IntrinsicsError(f"K must be a 3x3 matrix, got shape {k.shape}")
+        if not np.isfinite(k).all():
+            raise IntrinsicsError("K must hold finite numbers")
+        if k[0, 1] != 0 or k[1, 0] != 0 or k[2, 0] != 0 or k[2, 1] != 0 or k[2, 2] != 1:
+            raise IntrinsicsError("K must be [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] (no skew)")
+        if k[0, 0] * k[1, 1] == 0:
+            raise IntrinsicsError(f"K is singular (fx={k[0, 0]:g}, fy={k[1, 1]:g})")
+        return cls(float(k[0, 0]), float(k[1, 1]), float(k[0, 2]), float(k[1, 2]), tuple(map(float, dist)), model,
+                   image_size)  # fmt: skip
+
+    @classmethod
     def from_json(cls, block: dict) -> CameraModel:
         """A result file's camera block: `K`, and `model` / `dist` when the lift had a lens model
         (results without them were lifted through a pinhole camera without distortion)."""
@@ -122,3 +141,26 @@ class CameraModel:
             block.get("model", "pinhole"),
             None if size is None else (int(round(size[0])), int(round(size[1]))),
         )
+
+
+def lens_groups(cameras: Sequence[CameraModel | None] | None) -> dict[CameraModel, list[int]]:
+    """Instance indices per distinct camera with distortion, from one camera (or None: no lens)
+    per instance; empty when no camera has distortion. A clip has one or a few cameras."""
+    groups: dict[CameraModel, list[int]] = {}
+    for i, camera in enumerate(cameras or ()):
+        if camera is not None and camera.distorted:
+            groups.setdefault(camera, []).append(i)
+    return groups
+
+
+def undistort_instances(xy: np.ndarray, cameras: Sequence[CameraModel | None] | None) -> np.ndarray:
+    """Pixels `xy (N, J, 2)` of each instance's distorted image, undistorted through its camera
+    (`cameras`, one per instance, None for none); instances without distortion are left as they
+    are (the same array when no camera has distortion, so that the usual lift pays nothing)."""
+    groups = lens_groups(cameras)
+    if not groups:
+        return xy
+    out = np.array(xy, dtype=np.float64)
+    for camera, idx in groups.items():
+        out[idx] = camera.undistort_pixels(out[idx])
+    return out

@@ -13,6 +13,7 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
+from ..camera.sanity import check_camera_sanity
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
@@ -45,7 +46,9 @@ from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, in
 from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
 
 if TYPE_CHECKING:
-    from ..camera.video import VideoInfo
+    from collections.abc import Sequence
+
+    from ..camera.model import CameraModel
     from ..lifting.solver import LiftProgress, LiftResult
     from ..lifting.uncertainty import UncertaintyModel
     from ..prior.weights import Prior
@@ -58,12 +61,14 @@ def run_lift(
     kp: Keypoints2D, prior: Prior, cfg: LiftConfig, intrinsics: np.ndarray, *, min_confidence: float,
     device: str, quiet: bool, label: str = "lift", temporal: str = "none", sigma: float = DEFAULT_SIGMA_FRAMES,
     tracks: np.ndarray | None = None, frames: np.ndarray | None = None, seed: int = 0,
-    calibrations: tuple[UncertaintyModel, ...] | None = None,
+    calibrations: tuple[UncertaintyModel, ...] | None = None, lenses: Sequence[CameraModel | None] | None = None,
 ) -> LiftResult:  # fmt: skip
     """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`); with the
     calibrated per-joint uncertainty where the prior and settings have one in `calibrations`
-    (None: the bundled ones; frame by frame only)."""
-    from ..lifting.solver import lift
+    (None: the bundled ones; frame by frame only). `lenses (N,)`: each instance's camera with
+    distortion (its 2D is undistorted to lift; reprojection errors are in the original image)."""
+    from ..camera.model import lens_groups, undistort_instances
+    from ..lifting.solver import lift, reprojection_error_px
     from ..lifting.temporal import lift_sequence
     from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations
 
@@ -73,13 +78,16 @@ def run_lift(
         def on_step(p: LiftProgress) -> None:
             bar.update(task, completed=p.done, total=p.total)
 
-        if temporal != "none":
-            res = lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
-                                tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
-                                callback=on_step, seed=seed)  # fmt: skip
+        if temporal != "none":  # the sequence is lifted from the undistorted 2D, its errors measured in the input's
+            res = lift_sequence(undistort_instances(kp.xy, lenses), kp.confidence, intrinsics, prior, cfg,
+                                mode=temporal, sigma=sigma, tracks=tracks, frames=frames,
+                                min_confidence=min_confidence, device=device, callback=on_step, seed=seed)  # fmt: skip
+            if lens_groups(lenses):
+                errors = reprojection_error_px(res.poses_camera, kp.xy, intrinsics, res.observed, lenses)
+                res = replace(res, reprojection_error_px=np.where(res.lifted[:, None], errors, np.nan))
             return replace(res, uncertainty_note=f"not calibrated for --temporal {temporal}")
         res = lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
-                   device=device, callback=on_step, seed=seed)  # fmt: skip
+                   device=device, callback=on_step, seed=seed, cameras=lenses)  # fmt: skip
     models = bundled_calibrations() if calibrations is None else calibrations
     return attach_uncertainty(res, prior.sha256, prior.skeleton.joints, models)
 
@@ -132,8 +140,10 @@ class LiftSettings:
     quiet: bool
     save_hypotheses: bool = False
     calibrations: tuple[UncertaintyModel, ...] | None = None  # --calibration's models, read once; None: bundled
-    video: VideoInfo | None = None  # --video: the keypoints are checked against it (footage.video_check)
-    marker_axes: str = "level"  # TRC / C3D axes (formats.markers.MARKER_AXES)
+    from collections.abc import Sequence
+
+    from ..camera.model import CameraModel
+    from ..camera.video import VideoInfo
 
 
 @dataclass
@@ -161,7 +171,8 @@ def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoint
 
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
     """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
-    from ..lifting.camera import resolve_intrinsics
+    from ..camera.model import undistort_instances
+    from ..lifting.camera import resolve_cameras
     from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
 
     kp, places = read_selected(source, prior, st)
@@ -172,14 +183,16 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     if fmt in MARKER_FORMATS:  # a marker file needs frame numbers (or --fps): refused before any lifting
         marker_frame_numbers(kp, st.fps, fmt)
     try:
-        mats, sources = resolve_intrinsics(
+        cams = resolve_cameras(
             kp.image_sizes, kp.image_ids, kp.file_names, focal=st.focal, principal_point=st.principal_point,
-            intrinsics_file=str(st.intrinsics) if st.intrinsics else None,
+            intrinsics_file=str(st.intrinsics) if st.intrinsics else None, camera=st.camera,
         )  # fmt: skip
     except IntrinsicsError as exc:  # name the input whose camera could not be settled (same type: exit code)
         raise type(exc)(f"{source}: {exc}") from None
+    mats, sources = cams.matrices, cams.sources
+    kp.image_sizes = cams.image_sizes  # the calibration file's image size where the input states none
     obs = observed_mask(kp.xy, kp.confidence, st.min_confidence)
-    status = geometry_status(kp.xy, mats, obs, st.cfg.min_observed)  # cheap: before any lifting
+    status = geometry_status(undistort_instances(kp.xy, cams.lenses), mats, obs, st.cfg.min_observed)  # cheap
     if (status == "too_few_observed_joints").all():
         raise InputFormatError(
             f"{source}: no instance has {st.cfg.min_observed} or more observed {prior.skeleton.name} joints "
@@ -194,7 +207,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
                           f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
-                   frames=_frame_numbers(kp), seed=st.seed, calibrations=st.calibrations)  # fmt: skip
+                   frames=_frame_numbers(kp), seed=st.seed, calibrations=st.calibrations, lenses=cams.lenses)  # fmt: skip
     if not st.save_hypotheses:  # the writers write the hypotheses a result keeps
         res = replace(res, hypotheses=None)
     if not res.lifted.any():  # nothing but flags to write: fail loudly instead
@@ -202,6 +215,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         raise InputFormatError(f"{source}: no instance could be lifted ({_not_lifted_counts(res)}; "
                                f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     params = lift_params(prior, st.cfg, seed=st.seed, device=st.device, min_confidence=st.min_confidence)
+    if st.camera is not None:
+        params["camera"] = st.camera
     params.update(
         person=st.person,
         fps=st.fps,
@@ -218,7 +233,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
                   "zedo_version": __version__}  # fmt: skip
     write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units,
-                 frame=st.frame, marker_axes=st.marker_axes, overwrite=st.overwrite)  # fmt: skip
+                 frame=st.frame, marker_axes=st.marker_axes, overwrite=st.overwrite, lenses=cams.lenses)  # fmt: skip
     if st.plot_dir is not None:  # its paths were checked before any work (lift_plan.check_plot_paths)
         written = write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
         if not st.quiet and written:
@@ -251,6 +266,9 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
     if lifted < len(kp):
         err_console.print(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
                           "(null in the output, flagged not_lifted_<reason>)", markup=False, soft_wrap=True)  # fmt: skip
+    sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
+    for line in sanity.warnings():  # flagged in the output too (camera.sanity)
+        err_console.print(f"zedo: warning: {source}: {line}", markup=False, soft_wrap=True)
 
 
 def _not_lifted_counts(res: LiftResult) -> str:
@@ -295,6 +313,8 @@ def _check_options(st: LiftSettings) -> None:
     check_choice("--temporal", st.temporal, TEMPORAL_MODES)
     check_range("--sigma", st.sigma, 0, MAX_SIGMA_FRAMES, low_open=True, unit=" frames")
     check_range("--fps", st.fps, 0, MAX_FPS, low_open=True)
+    if st.camera is not None and st.intrinsics is None:
+        raise ConfigError("--camera picks a camera of an --intrinsics file: give the file too")
 
 
 ENGINES = ("local", "ray")
@@ -452,8 +472,15 @@ def lift_command(
     intrinsics: Annotated[
         Optional[Path],
         typer.Option(
-            help='K.json: {"K": 3x3} or {"fx","fy","cx","cy"}, and/or per image {"images": {id or file name: ...}}.'
+            help='Calibration file: zedo JSON ({"K": 3x3} or {"fx","fy","cx","cy"}, optional "dist", "model", '
+            '"image_size"; per image {"images": {id or file name: ...}}), OpenCV FileStorage YAML / XML / JSON '
+            "(camera_matrix, distortion_coefficients, image_width, image_height), or Pose2Sim / anipose TOML. "
+            "With lens distortion the 2D is undistorted before lifting (docs/cameras.md)."
         ),
+    ] = None,
+    camera: Annotated[
+        Optional[str],
+        typer.Option(help="The camera to use, by name (or table name), of an --intrinsics TOML file holding several."),
     ] = None,
     min_confidence: Annotated[
         float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")
@@ -602,7 +629,8 @@ def lift_command(
         video_info, image_size, fps = video_options(video, image_size, fps)
     st = LiftSettings(cfg, None if input_format == "auto" else input_format, skeleton, image_size, images, focal,
                       principal_point, intrinsics, min_confidence, person, fps, temporal, sigma, output_format, units, frame,
-                      plot, seed, device, overwrite, quiet, save_hypotheses, marker_axes=marker_axes)  # fmt: skip
+                      plot, seed, device, overwrite, quiet, save_hypotheses, marker_axes=marker_axes,
+                      camera=camera)  # fmt: skip
     st = replace(st, video=video_info)
     _check_options(st)
     _check_engine(engine, keypoints, out, workers)
@@ -617,6 +645,10 @@ def lift_command(
     check_focal(focal)  # usage errors fail before the prior is loaded
     check_principal_point(principal_point)
     check_image_size(image_size)
+    if intrinsics is not None:  # a broken calibration file, or --camera not in it, fails before any work
+        from ..camera.files import read_camera_file
+
+        read_camera_file(str(intrinsics), camera)
     device = check_device(device)  # auto: CUDA when present
     st = replace(st, device=device)
     if plot is not None:

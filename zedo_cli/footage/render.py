@@ -19,7 +19,6 @@ from pathlib import Path
 import numpy as np
 
 from ..camera.calibration import IMAGE_SUFFIXES
-from ..camera.model import CameraModel
 from ..camera.video import QUEUE_DEPTH, VideoWriter, frames_ahead, probe_video
 from ..data.skeleton import center_on_root
 from ..errors import ConfigError, InputFormatError, ZedoError
@@ -70,24 +69,17 @@ def camera_poses(result: ResultPoses) -> np.ndarray:
 def people(result: ResultPoses) -> list[Person]:
     """Every row of the result projected through its frame's camera."""
     if result.cameras is None or result.flags is None:
-        raise InputFormatError(f"{result.source}: a {result.format} result has no per-frame camera; render reads "
-                               "the JSON or JSON Lines result (zedo lift --output-format json / jsonl)")  # fmt: skip
-    cams: dict[str, CameraModel] = {}
+        raise InputFormatError(f"{result.source}: a {result.format} result has no per-frame flags; render "
+                               "reads the JSON or JSON Lines result (zedo lift --output-format json / jsonl)")  # fmt: skip
     poses = camera_poses(result)
     out = []
-    for i, block in enumerate(result.cameras):
-        if block is None:
+    for i, camera in enumerate(result.cameras):
+        if camera is None:
             raise InputFormatError(f"{result.source}: frame {result.frame_index[i]}: camera: missing")
-        key = repr(sorted(block.items()))
-        if key not in cams:
-            try:
-                cams[key] = CameraModel.from_json(block)
-            except (KeyError, TypeError, ValueError, ZedoError) as exc:
-                raise InputFormatError(f"{result.source}: frame {result.frame_index[i]}: camera: {exc}") from None
         lifted = bool(result.lifted[i]) and bool(np.isfinite(poses[i]).any())
         out.append(Person(
             int(result.person[i]),
-            cams[key].project(poses[i]) if lifted else None,
+            camera.project(poses[i]) if lifted else None,
             result.observed[i],
             center_on_root(poses[i], result.skeleton) if lifted else None,
             result.flags[i],
@@ -155,7 +147,8 @@ class Painter:
 def _check_size(result: ResultPoses, width: int, height: int, rows: list[int], where: str) -> None:
     """The result was lifted for images of this size (else its projections land elsewhere)."""
     for r in rows:
-        size = (result.cameras[r] or {}).get("image_size")
+        camera = result.cameras[r] if result.cameras is not None else None
+        size = camera.image_size if camera is not None else None
         if size and (abs(size[0] - width) > 1 or abs(size[1] - height) > 1):
             raise InputFormatError(f"{result.source}: frame {result.frame_index[r]}: lifted for a "
                                    f"{size[0]:g}x{size[1]:g} image, but {where} is {width}x{height}")  # fmt: skip

@@ -15,7 +15,7 @@ text is ever held whole; the bytes are those of ``json.dumps(document, indent=1)
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from datetime import UTC, datetime
 from itertools import chain
 from pathlib import Path
@@ -23,12 +23,24 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..camera.sanity import CameraSanity, check_camera_sanity
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..version import __version__
-from .writers_common import AXES, OutputOptions, frame_origin, group_frames, json_pieces, output_poses, write_text
+from .writers_common import (
+    AXES,
+    OutputOptions,
+    camera_block,
+    frame_origin,
+    group_frames,
+    json_pieces,
+    lens_at,
+    output_poses,
+    write_text,
+)
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..camera.model import CameraModel
     from ..lifting.solver import LiftResult
 
 SCHEMA = "zedo.pose3d/1"
@@ -53,11 +65,14 @@ def _skeleton_doc(skeleton: Skeleton) -> dict[str, Any]:
             "root": " + ".join(skeleton.root) + (" (midpoint)" if len(skeleton.root) > 1 else "")}  # fmt: skip
 
 
-def _person(kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: OutputOptions) -> dict[str, Any]:
+def _person(
+    kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: OutputOptions, sanity: CameraSanity
+) -> dict[str, Any]:
     flags = [] if res.lifted[i] else [f"not_lifted_{res.status[i]}"]  # reasons: lifting.solver.NOT_LIFTED
     missing = [kp.skeleton.joints[j] for j in np.flatnonzero(~res.observed[i])]
     if missing and res.lifted[i]:
         flags.append("joints_filled_by_prior: " + ", ".join(missing))
+    flags += sanity.flags(i)  # implausible_distance, keypoints_outside_image (camera.sanity)
     d = opts.digits
     return {
         "instance_index": i,
@@ -127,25 +142,22 @@ def build_header(
 
 def iter_frames(
     kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
-    frame: str = "camera",
+    frame: str = "camera", lenses: Sequence[CameraModel | None] | None = None,
 ) -> Iterator[dict[str, Any]]:  # fmt: skip
-    """The frames of the document one at a time (a frame = the instances of one image id)."""
+    """The frames of the document one at a time (a frame = the instances of one image id);
+    `lenses (N,)` as in `writers.write_result`."""
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
     groups = group_frames(kp.image_ids, kp.frame_indices)
+    sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
     for f, members in enumerate(groups.members):
         first = members[0]
-        size = kp.image_sizes[first]
         yield {
             "frame_index": int(groups.number[f]),
             "image_id": kp.image_ids[first],
             "file_name": kp.file_names[first],
-            "camera": {
-                "K": intrinsics[first].round(6).tolist(),
-                "image_size": [_num(v, 1) for v in size] if np.isfinite(size).all() else None,
-                "source": sources[first],
-            },
-            "persons": [_person(kp, res, i, poses, opts) for i in members],
+            "camera": camera_block(intrinsics[first], kp.image_sizes[first], sources[first], lens_at(lenses, first)),
+            "persons": [_person(kp, res, i, poses, opts, sanity) for i in members],
         }
 
 
@@ -178,10 +190,11 @@ def build_result_document(
     input_info: dict[str, Any],
     units: str = "m",
     frame: str = "camera",
+    lenses: Sequence[CameraModel | None] | None = None,
 ) -> dict[str, Any]:
     """The JSON-ready result for instances `kp` (already in the prior's joint set)."""
     header = build_header(kp, intrinsics, sources, params=params, input_info=input_info, units=units, frame=frame)
-    frames = list(iter_frames(kp, res, intrinsics, sources, units=units, frame=frame))
+    frames = list(iter_frames(kp, res, intrinsics, sources, units=units, frame=frame, lenses=lenses))
     return {**header, "frames": frames, "summary": build_summary(kp, res)}
 
 

@@ -14,6 +14,12 @@ joint with 90 % probability. JSON / JSONL persons carry it as a list, the CSV as
 `uncertainty_m`, the NPZ as an `(N, J)` array. `ResultPoses.uncertainty_m` is None when the
 file has no such field at all.
 
+Cameras: `ResultPoses.cameras` holds each person's camera (`CameraModel`: K, lens model,
+distortion coefficients, image size where stated) from the frame's `camera` block (JSON / JSONL),
+the `fx_px` ... `camera_model`, `dist` columns (CSV) or the `K`, `camera_model`, `dist`,
+`image_size` arrays (NPZ); None for a person whose file states no camera. Files written before
+`model` and `dist` existed read as pinhole cameras without distortion.
+
 Errors are `InputFormatError`s (exit code 3) naming the file and the field.
 """
 
@@ -30,8 +36,9 @@ from typing import Any
 
 import numpy as np
 
+from ..camera.model import CameraModel
 from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
-from ..errors import ConfigError, InputFormatError
+from ..errors import ConfigError, InputFormatError, IntrinsicsError
 from .result_schema import (
     SCHEMA,
     Frame,
@@ -68,10 +75,10 @@ class ResultPoses:
     coordinate_frame: str  # camera | root
     units_in_file: str  # m | mm (poses are converted to metres)
     params: dict[str, Any] = field(default_factory=dict)  # the lift's `params` (prior, settings, camera), if recorded
-    # JSON / JSON Lines only (None for CSV and NPZ): per row, its frame's camera block (K, image_size,
-    # source, and model / dist when the lift had a lens model), its flags, and its root point in the
-    # camera frame (metres; NaN when not lifted), which puts a root-frame result back in the camera.
-    cameras: list[dict[str, Any] | None] | None = None
+    # flags and root_translation: JSON / JSON Lines only (None for CSV and NPZ): per row, its flags and
+    # its root point in the camera frame (metres; NaN when not lifted), which puts a root-frame result
+    # back in the camera.
+    cameras: list[CameraModel | None] | None = None  # (N,) each person's camera (any format); None: not stated
     flags: list[list[str]] | None = None
     root_translation: np.ndarray | None = None  # (N, 3)
 
@@ -230,11 +237,23 @@ class _DocumentReader:
         roots = [_array(person.root_translation, (3,)) * self.scale for _, _, person in self.persons]
         return replace(
             res, params=self.header.params.model_dump(),
-            cameras=[None if frame.camera is None else frame.camera.model_dump(exclude_none=True)
+            cameras=[_camera(frame.camera.model_dump(exclude_none=True), f"{self.name}: frame {frame.frame_index}")
                      for frame, _, _ in self.persons],
             flags=[list(person.flags) for _, _, person in self.persons],
             root_translation=np.asarray(roots).reshape(-1, 3),
         )  # fmt: skip
+
+
+def _camera(block: Any, where: str) -> CameraModel | None:
+    """A camera block `{"K", "image_size", "source", "model", "dist"}` (None: absent)."""
+    if block is None:
+        return None
+    try:
+        return CameraModel.from_json(block)
+    except KeyError as exc:
+        raise InputFormatError(f"{where}.{exc.args[0]}: missing") from None
+    except (TypeError, ValueError, AttributeError, IntrinsicsError) as exc:
+        raise InputFormatError(f"{where}: not a camera (K, model, dist, image_size): {exc}") from None
 
 
 def _skeleton_of(doc: dict[str, Any], name: str) -> Skeleton:
@@ -271,6 +290,7 @@ def _finish(
     name: str, fmt: str, skel: Skeleton, poses: list[np.ndarray], frame_index: list[int], person: list[int],
     ids: list[Any], files: list[Any], lifted: list[bool], observed: list[np.ndarray],
     radii: list[np.ndarray] | None, fps: float | None, coord: str, units: str,
+    cameras: list[CameraModel | None] | None = None,
 ) -> ResultPoses:  # fmt: skip
     if not poses:
         raise InputFormatError(f"{name}: no persons in the result")
@@ -280,6 +300,7 @@ def _finish(
         np.asarray(person, dtype=np.int64), list(ids), [None if not f else str(f) for f in files],
         np.asarray(lifted, dtype=bool), np.asarray(observed, dtype=bool).reshape(-1, j),
         None if radii is None else np.asarray(radii, dtype=float).reshape(-1, j), fps, coord, units,
+        cameras=cameras if cameras and any(c is not None for c in cameras) else None,
     )  # fmt: skip
 
 
@@ -337,9 +358,11 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         except (TypeError, ValueError):
             raise InputFormatError(f"{where}: frame_index, person and joint_index must be integers") from None
         joint_names.setdefault(j, row["joint"])
-        inst = order.setdefault(key, {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
-                                      "lifted": row["lifted"] == "true",
-                                      "points": {}, "observed": {}, "radii": {}})  # fmt: skip
+        if key not in order:
+            order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
+                          "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
+                          "points": {}, "observed": {}, "radii": {}}  # fmt: skip
+        inst = order[key]
         inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
         inst["observed"][j] = row.get("observed", "true") == "true"
         if "uncertainty_m" in row:
@@ -363,10 +386,20 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         radii.append([inst["radii"].get(j, np.nan) for j in range(skel.num_joints)])
     fps = _fps(meta.get("params"), name) if meta is not None else None
     out = _finish(name, "csv", skel, poses, frame_index, person, ids, files, lifted,
-                  [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
-                  if "uncertainty_m" in columns else None, fps, coord, units)  # fmt: skip
-    out.params = _params(meta)
-    return out
+                   [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
+                   if "uncertainty_m" in columns else None, fps, coord, units,
+                   cameras=[inst["camera"] for inst in order.values()])  # fmt: skip
+    return replace(out, params=_params(meta))
+
+
+def _csv_camera(row: dict[str, str], where: str) -> CameraModel | None:
+    """The camera of a CSV row: fx_px, fy_px, cx_px, cy_px and, when present, camera_model and dist."""
+    if not all(row.get(c) for c in ("fx_px", "fy_px", "cx_px", "cy_px")):
+        return None
+    fx, fy, cx, cy = (_cell(row[c], f"{where}: {c}") for c in ("fx_px", "fy_px", "cx_px", "cy_px"))
+    dist = [_cell(v, f"{where}: dist") for v in (row.get("dist") or "").split()]
+    k = [[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]]
+    return _camera({"K": k, "model": row.get("camera_model") or "pinhole", "dist": dist}, f"{where}: camera")
 
 
 # --- NPZ ----------------------------------------------------------------------------------------
@@ -402,11 +435,35 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         raise InputFormatError(f"{name}: uncertainty_m: expected shape ({n}, {skel.num_joints})")
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
+    cameras = _npz_cameras(arrays, n, name)
     return ResultPoses(  # the lift's params come with the metadata
         name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
         np.asarray(arrays["person"], dtype=np.int64), [i.item() for i in np.asarray(ids)],
         [str(f) or None for f in files], np.asarray(arrays.get("lifted", np.isfinite(poses).all((1, 2))), dtype=bool),
         np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
-        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta),
+        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta), cameras,
     )  # fmt: skip
+
+
+def _npz_cameras(arrays: dict[str, np.ndarray], n: int, name: str) -> list[CameraModel | None] | None:
+    """Each row's camera from `K (N, 3, 3)`, `camera_model (N,)`, `dist (N, D)` (NaN-padded) and
+    `image_size (N, 2)`; None when the archive has no K."""
+    if "K" not in arrays:
+        return None
+    k = np.asarray(arrays["K"], dtype=float)
+    models = arrays.get("camera_model", np.array(["pinhole"] * n))
+    dist = np.asarray(arrays.get("dist", np.zeros((n, 0))), dtype=float)
+    sizes = np.asarray(arrays.get("image_size", np.full((n, 2), np.nan)), dtype=float)
+    if k.shape != (n, 3, 3) or len(models) != n or dist.ndim != 2 or len(dist) != n or sizes.shape != (n, 2):
+        raise InputFormatError(f"{name}: K, camera_model, dist, image_size: expected one per row ({n})")
+    out: list[CameraModel | None] = []
+    seen: dict[tuple[bytes, str, bytes, bytes], CameraModel | None] = {}  # a clip has one or a few cameras
+    for i in range(n):
+        key = (k[i].tobytes(), str(models[i]), dist[i].tobytes(), sizes[i].tobytes())
+        if key not in seen:
+            block = {"K": k[i], "model": str(models[i]), "dist": dist[i][np.isfinite(dist[i])].tolist(),
+                     "image_size": sizes[i].tolist() if np.isfinite(sizes[i]).all() else None}  # fmt: skip
+            seen[key] = _camera(block, f"{name}: row {i}: camera")
+        out.append(seen[key])
+    return out

@@ -21,7 +21,7 @@ and never replace an existing file unless `overwrite=True`.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -33,13 +33,14 @@ from ..files import check_writable
 from .markers import check_marker_axes, marker_tracks
 from .result_json import build_header, build_summary, iter_frames, write_document
 from .writers_c3d import write_c3d
-from .writers_common import FRAMES, UNITS, OutputOptions, group_frames
+from .writers_common import FRAMES, UNITS, OutputOptions, camera_block, group_frames, lens_at
 from .writers_csv import write_csv
 from .writers_jsonl import write_jsonl
 from .writers_npz import write_npz
 from .writers_trc import write_trc
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..camera.model import CameraModel
     from ..lifting.solver import LiftResult
 
 OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz", "trc", "c3d")
@@ -96,18 +97,17 @@ def default_output_name(input_path: str | Path, fmt: str = "json") -> Path:
     return path.with_name(f"{path.stem}.zedo.{fmt}")
 
 
-def _frame_cameras(kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str]) -> Iterator[dict[str, Any]]:
+def _frame_cameras(
+    kp: Keypoints2D, intrinsics: np.ndarray, sources: list[str], lenses: Sequence[CameraModel | None] | None
+) -> Iterator[dict[str, Any]]:
     """Per frame: ids and the K used, for the formats whose rows do not carry a full camera
     (one at a time: the sidecar and the metadata are written as they come)."""
     groups = group_frames(kp.image_ids, kp.frame_indices)
     for f, members in enumerate(groups.members):
         i = members[0]
-        size = kp.image_sizes[i]
         yield {
             "frame_index": int(groups.number[f]), "image_id": kp.image_ids[i], "file_name": kp.file_names[i],
-            "camera": {"K": intrinsics[i].round(6).tolist(),
-                       "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
-                       "source": sources[i]},
+            "camera": camera_block(intrinsics[i], kp.image_sizes[i], sources[i], lens_at(lenses, i)),
         }  # fmt: skip
 
 
@@ -125,11 +125,14 @@ def write_result(
     frame: str = "camera",
     marker_axes: str = "level",
     overwrite: bool = False,
+    lenses: Sequence[CameraModel | None] | None = None,
 ) -> list[Path]:
     """Write the result of lifting `kp` (already in the prior's joint set) to `out` ("-" = stdout).
 
     `intrinsics (N, 3, 3)` and `sources (N,)` are the K and its source per instance (as from
-    `camera.resolve_intrinsics`); `params` and `input_info` go into the metadata unchanged.
+    `camera.resolve_intrinsics`), `lenses (N,)` each one's lens model and distortion
+    coefficients (`ResolvedCameras.lenses`; None: pinhole without distortion); `params` and
+    `input_info` go into the metadata unchanged.
     Returns the files written (the CSV's sidecar included, every track's file of TRC / C3D; empty
     for stdout). Raises ConfigError for a bad format, units, frame or `marker_axes`, an existing
     file without `overwrite`, a missing folder, NPZ / TRC / C3D to stdout, or (TRC / C3D) frames
@@ -148,11 +151,11 @@ def write_result(
     header = build_header(kp, intrinsics, sources, params=params, input_info=input_info, units=units, frame=frame)
     summary = build_summary(kp, res)
     if fmt in ("json", "jsonl"):  # both stream the frames as they are made, never the whole document
-        frames = iter_frames(kp, res, intrinsics, sources, units=units, frame=frame)
+        frames = iter_frames(kp, res, intrinsics, sources, units=units, frame=frame, lenses=lenses)
         write = write_document if fmt == "json" else write_jsonl
         write(out, header, frames, summary, overwrite=overwrite)
         return [] if str(out) == "-" else [Path(out)]
-    metadata = {**header, "frames": _frame_cameras(kp, intrinsics, sources), "summary": summary}
-    if fmt == "csv":
-        return write_csv(out, kp, res, intrinsics, sources, metadata, units=units, frame=frame, overwrite=overwrite)
-    return write_npz(out, kp, res, intrinsics, sources, metadata, units=units, frame=frame, overwrite=overwrite)
+    metadata = {**header, "frames": _frame_cameras(kp, intrinsics, sources, lenses), "summary": summary}
+    write = write_csv if fmt == "csv" else write_npz
+    return write(out, kp, res, intrinsics, sources, metadata, units=units, frame=frame, overwrite=overwrite,
+                 lenses=lenses)  # fmt: skip

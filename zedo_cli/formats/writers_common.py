@@ -28,6 +28,7 @@ from ..errors import ConfigError
 from ..files import atomic_path
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..camera.model import CameraModel
     from ..lifting.solver import LiftResult
 
 UNITS = ("m", "mm")
@@ -174,3 +175,21 @@ def write_text(out: str | Path, pieces: Iterable[str], *, overwrite: bool) -> No
         return
     with atomic_path(out, overwrite=overwrite) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         write_pieces(pieces, fh)
+
+
+def camera_block(k: np.ndarray, size: np.ndarray, source: str, lens: CameraModel | None) -> dict[str, Any]:
+    """A frame's camera as every result states it: K `(3, 3)`, the image size `(2,)` (None when
+    unknown), where K came from, and the lens model with its coefficients in OpenCV's order
+    (`CameraModel.from_json` reads the block back)."""
+    return {
+        "K": k.round(6).tolist(),
+        "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
+        "source": source,
+        "model": "pinhole" if lens is None else lens.model,
+        "dist": [] if lens is None else [float(c) for c in lens.dist],
+    }
+
+
+def lens_at(lenses: Sequence[CameraModel | None] | None, i: int) -> CameraModel | None:
+    """Instance `i`'s lens (None: a pinhole camera without distortion, also when none are given)."""
+    return None if lenses is None else lenses[i]

@@ -7,8 +7,10 @@ defaults. What a row needs to be read correctly travels in the CSV itself:
 - the units and the coordinate frame are in the coordinate column names, `x_cam_m` (camera
   frame, metres), `x_cam_mm`, `x_root_m` or `x_root_mm`, so a script written for one setting
   fails loudly on another instead of misreading numbers;
-- the K of each row's frame (`fx_px`, `fy_px`, `cx_px`, `cy_px`; zedo's K has no skew) and its
-  source (`k_source`: pseudo, cli or file) are columns.
+- the K of each row's frame (`fx_px`, `fy_px`, `cx_px`, `cy_px`; zedo's K has no skew), its
+  source (`k_source`: pseudo, cli or file) and the lens (`camera_model`: pinhole or fisheye,
+  `dist`: the distortion coefficients in OpenCV's order, space-separated, empty for none) are
+  columns.
 
 Everything else (schema, axes, skeleton and bones, input, parameters, summary, and per frame the
 full K and image size) goes to a sidecar JSON file beside it, `<name>.meta.json` for
@@ -26,7 +28,7 @@ import csv
 import io
 import math
 import sys
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from itertools import chain
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
@@ -35,9 +37,18 @@ import numpy as np
 
 from ..data.keypoints import Keypoints2D
 from ..files import atomic_path, check_writable
-from .writers_common import OutputOptions, group_frames, json_pieces, output_poses, write_pieces
+from .writers_common import (
+    OutputOptions,
+    camera_block,
+    group_frames,
+    json_pieces,
+    lens_at,
+    output_poses,
+    write_pieces,
+)
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..camera.model import CameraModel
     from ..lifting.solver import LiftResult
 
 
@@ -53,7 +64,7 @@ def csv_columns(units: str = "m", frame: str = "camera", *, uncertainty: bool = 
     return [
         "frame_index", "image_id", "file_name", "person", "instance_index", "joint", "joint_index",
         *coordinate_columns(units, frame), "observed", "lifted", "status", "confidence", "u_px", "v_px",
-        "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source",
+        "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source", "camera_model", "dist",
         *(["uncertainty_m"] if uncertainty else []),
     ]  # fmt: skip
 
@@ -74,7 +85,7 @@ def _bool(value: bool) -> str:
 
 def csv_rows(
     kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
-    frame: str = "camera",
+    frame: str = "camera", lenses: Sequence[CameraModel | None] | None = None,
 ) -> Iterator[list[Any]]:  # fmt: skip
     """The CSV's rows one at a time: the header row, then frame, person and joint order."""
     opts = OutputOptions(units, frame)
@@ -85,7 +96,9 @@ def csv_rows(
     for members in groups.members:
         for i in members:
             k = intrinsics[i]
-            camera = [_cell(k[0, 0], 6), _cell(k[1, 1], 6), _cell(k[0, 2], 6), _cell(k[1, 2], 6), sources[i]]
+            lens = camera_block(k, kp.image_sizes[i], sources[i], lens_at(lenses, i))
+            camera = [_cell(k[0, 0], 6), _cell(k[1, 1], 6), _cell(k[0, 2], 6), _cell(k[1, 2], 6), sources[i],
+                      lens["model"], " ".join(repr(c) for c in lens["dist"])]  # fmt: skip
             head = [int(groups.frame_index[i]), kp.image_ids[i], kp.file_names[i] or "", int(groups.person[i]), i]
             for j, joint in enumerate(kp.skeleton.joints):
                 conf = kp.confidence[i, j]
@@ -114,11 +127,11 @@ def _write_rows(rows: Iterable[list[Any]], fh: IO[str]) -> None:
 
 def csv_text(
     kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], *, units: str = "m",
-    frame: str = "camera",
+    frame: str = "camera", lenses: Sequence[CameraModel | None] | None = None,
 ) -> str:  # fmt: skip
     """The CSV as one string (the header row, then the rows in frame, person, joint order)."""
     buf = io.StringIO()
-    _write_rows(csv_rows(kp, res, intrinsics, sources, units=units, frame=frame), buf)
+    _write_rows(csv_rows(kp, res, intrinsics, sources, units=units, frame=frame, lenses=lenses), buf)
     return buf.getvalue()
 
 
@@ -142,6 +155,9 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
         "reprojection_error_px": "pixel distance between the 2D input and the projected 3D joint; empty if unobserved",
         "fx_px, fy_px, cx_px, cy_px": "intrinsics K of the row's frame (no skew)",
         "k_source": "where K came from: pseudo (f 2000 px at the image centre), cli or file",
+        "camera_model": "the lens model: pinhole (OpenCV's, with distortion coefficients) or fisheye",
+        "dist": "distortion coefficients in OpenCV's order, space-separated; empty: none (2D undistorted "
+        "before lifting when there are some; reprojection errors are in the original image)",
         "uncertainty_m": "only when calibrated: radius in metres (whatever the units) of the ball around the "
         "root-relative joint that holds the true joint with 90 % probability; empty where not lifted",
     }
@@ -158,11 +174,12 @@ def write_csv(
     units: str = "m",
     frame: str = "camera",
     overwrite: bool = False,
+    lenses: Sequence[CameraModel | None] | None = None,
 ) -> list[Path]:
     """Write the CSV and its sidecar (`metadata` = the JSON header plus summary and per-frame
     cameras; a value may be an iterator, written as a list as it yields) to `out`, or the CSV
     alone to stdout ("-"). Both are written row by row, never held whole. Returns the paths written."""
-    rows = csv_rows(kp, res, intrinsics, sources, units=units, frame=frame)
+    rows = csv_rows(kp, res, intrinsics, sources, units=units, frame=frame, lenses=lenses)
     if str(out) == "-":
         _write_rows(rows, sys.stdout)
         sys.stdout.flush()

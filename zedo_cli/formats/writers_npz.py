@@ -12,6 +12,9 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
     reprojection_error_px  (N, J)    float64  NaN where not observed
     K                      (N, 3, 3) float64  intrinsics of each instance's frame, pixels
     k_source               (N,)      str      pseudo | cli | file
+    camera_model           (N,)      str      pinhole | fisheye (OpenCV's lens models)
+    dist                   (N, D)    float64  distortion coefficients, OpenCV's order; D the most any camera has
+                                              (0: none), NaN past an instance's own
     image_size             (N, 2)    float64  width, height in pixels; NaN where unknown
     frame_index, person    (N,)      int64    frame (the input's frame number, else the output frame) and position in it
     image_ids              (N,)      int64 when every id is an integer, else str
@@ -28,6 +31,7 @@ never written to stdout.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -36,9 +40,10 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError
 from ..files import atomic_path
-from .writers_common import AXES, OutputOptions, group_frames, json_pieces, output_poses
+from .writers_common import AXES, OutputOptions, group_frames, json_pieces, lens_at, output_poses
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
+    from ..camera.model import CameraModel
     from ..lifting.solver import LiftResult
 
 
@@ -48,9 +53,20 @@ def _ids(image_ids: list[int | str]) -> np.ndarray:
     return np.asarray([str(i) for i in image_ids], dtype=np.str_)
 
 
+def _lens_arrays(lenses: Sequence[CameraModel | None] | None, n: int) -> dict[str, np.ndarray]:
+    """`camera_model (N,)` and `dist (N, D)`, NaN-padded to the longest coefficient list."""
+    chosen = [lens_at(lenses, i) for i in range(n)]
+    width = max((len(c.dist) for c in chosen if c is not None), default=0)
+    dist = np.full((n, width), np.nan)
+    for i, c in enumerate(chosen):
+        if c is not None:
+            dist[i, : len(c.dist)] = c.dist
+    return {"camera_model": np.asarray([c.model if c else "pinhole" for c in chosen], dtype=np.str_), "dist": dist}
+
+
 def npz_arrays(
     kp: Keypoints2D, res: LiftResult, intrinsics: np.ndarray, sources: list[str], metadata: dict[str, Any], *,
-    units: str = "m", frame: str = "camera",
+    units: str = "m", frame: str = "camera", lenses: Sequence[CameraModel | None] | None = None,
 ) -> dict[str, np.ndarray]:  # fmt: skip
     """The archive's arrays by name (see the module docstring)."""
     opts = OutputOptions(units, frame)
@@ -66,6 +82,7 @@ def npz_arrays(
         "reprojection_error_px": res.reprojection_error_px.astype(np.float64),
         "K": np.asarray(intrinsics, dtype=np.float64).reshape(-1, 3, 3),
         "k_source": np.asarray(sources, dtype=np.str_),
+        **_lens_arrays(lenses, len(kp)),
         "image_size": kp.image_sizes.astype(np.float64),
         "frame_index": groups.frame_index,
         "person": groups.person,
@@ -103,12 +120,13 @@ def write_npz(
     units: str = "m",
     frame: str = "camera",
     overwrite: bool = False,
+    lenses: Sequence[CameraModel | None] | None = None,
 ) -> list[Path]:
     """Write the compressed archive to `out` atomically. Returns the path written."""
     if str(out) == "-":
         raise ConfigError("NPZ is a binary archive and cannot go to stdout; give a .npz file, "
                           "or use --format json/jsonl/csv for stdout")  # fmt: skip
-    arrays = npz_arrays(kp, res, intrinsics, sources, metadata, units=units, frame=frame)
+    arrays = npz_arrays(kp, res, intrinsics, sources, metadata, units=units, frame=frame, lenses=lenses)
     path = Path(out)
     with atomic_path(path, overwrite=overwrite) as tmp, open(tmp, "wb") as fh:
         np.savez_compressed(fh, **arrays)  # a file object: numpy would append ".npz" to a name

@@ -13,7 +13,14 @@ __getattr__, __dir__, __all__ = lazy_exports(
     __name__,
     globals(),
     {
-        ".camera": ["Intrinsics", "PSEUDO_FOCAL_PX", "project", "resolve_intrinsics"],
+        ".camera": [
+            "Intrinsics",
+            "PSEUDO_FOCAL_PX",
+            "ResolvedCameras",
+            "project",
+            "resolve_cameras",
+            "resolve_intrinsics",
+        ],
         ".people": ["PERSON_MODES", "select_people"],
         ".config": ["DEFAULT_PRESET", "LiftConfig", "PRESETS", "TEMPORAL_MODES", "get_preset"],
         ".solver": ["LiftProgress", "LiftResult", "lift"],

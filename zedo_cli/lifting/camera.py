@@ -11,7 +11,9 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from ..errors import CameraInputError, IntrinsicsError
+from ..camera.files import CameraFile, read_camera_file
+from ..camera.model import CameraModel, lens_groups
+from ..errors import CameraInputError, ConfigError, IntrinsicsError
 
 PSEUDO_FOCAL_PX = 2000.0  # the paper's pseudo focal length when the camera is unknown
 # Pixel quantities (coordinates, image sizes, principal points, focal lengths) are bounded by
@@ -128,49 +130,6 @@ def solve_root_translation(pose: torch.Tensor, rays: torch.Tensor, weights: torc
     return solve_root_translation_ex(pose, rays, weights).translation
 
 
-def _intrinsics_entry(entry: object, where: str) -> Intrinsics:
-    """One intrinsics entry of a K.json file: {"K": 3x3} or {"fx", "fy", "cx", "cy"}."""
-    if not isinstance(entry, dict):
-        raise CameraInputError(f"{where}: expected an object with 'K' or 'fx', 'fy', 'cx', 'cy'")
-    try:
-        if "K" in entry:
-            return Intrinsics.from_matrix(np.asarray(entry["K"], dtype=np.float64), "file")
-        return Intrinsics(*(float(entry[key]) for key in ("fx", "fy", "cx", "cy")), source="file")
-    except KeyError as exc:
-        raise CameraInputError(f"{where}: missing field {exc.args[0]!r}") from None
-    except (TypeError, ValueError) as exc:
-        raise CameraInputError(f"{where}: {exc}") from None
-    except IntrinsicsError as exc:
-        raise CameraInputError(f"{where}: {exc}") from None
-
-
-def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrinsics]]:
-    """A K.json file: a global entry (`{"K": ...}` or `{"fx": ...}`), and/or per-image entries
-    `{"images": {"<image_id or file_name>": entry}}`. Returns (global or None, per image)."""
-    import json
-
-    try:
-        with open(path, encoding="utf-8") as fh:
-            doc = json.load(fh)
-    except FileNotFoundError:
-        raise CameraInputError(f"{path}: intrinsics file not found") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise CameraInputError(f"{path}: not a readable JSON file ({exc})") from None
-    if not isinstance(doc, dict):
-        raise CameraInputError(f"{path}: expected a JSON object")
-    per_image: dict[str, Intrinsics] = {}
-    images = doc.get("images", {})
-    if not isinstance(images, dict):
-        raise CameraInputError(f"{path}: 'images' must map image ids or file names to intrinsics")
-    for key, entry in images.items():
-        per_image[str(key)] = _intrinsics_entry(entry, f"{path}: images[{key!r}]")
-    has_global = "K" in doc or "fx" in doc
-    glob = _intrinsics_entry(doc, path) if has_global else None
-    if glob is None and not per_image:
-        raise CameraInputError(f"{path}: no intrinsics found (expected 'K', 'fx'... or 'images')")
-    return glob, per_image
-
-
 def check_focal(focal: float | None) -> None:
     """A focal length given on the command line: a number of pixels in [MIN_FOCAL_PX, PIXEL_LIMIT]."""
     if focal is not None and not (np.isfinite(focal) and MIN_FOCAL_PX <= focal <= PIXEL_LIMIT):
@@ -194,6 +153,112 @@ def check_image_size(size: tuple[float, float] | None) -> None:
         raise IntrinsicsError(f"--image-size must be W H in (0, {PIXEL_LIMIT:g}] px, got {size[0]:g} {size[1]:g}")
 
 
+@dataclass(frozen=True)
+class ResolvedCameras:
+    """The camera of each of N instances, as `resolve_cameras` settles it."""
+
+    matrices: np.ndarray  # (N, 3, 3) K, pixels
+    sources: list[str]  # (N,) pseudo | cli | file
+    lenses: list[CameraModel | None]  # (N,) the file's camera (model, coefficients); None: pinhole, no distortion
+    image_sizes: np.ndarray  # (N, 2) the input's image sizes, the file's where the input has none (NaN: unknown)
+
+    @property
+    def distorted(self) -> bool:
+        """Whether any instance's camera has lens distortion (then its 2D is undistorted to lift)."""
+        return bool(lens_groups(self.lenses))
+
+
+# The file's field that states the image size, per calibration file format (camera.files).
+_SIZE_FIELDS = {"zedo": "image_size", "opencv": "image_width, image_height", "toml": "size"}
+
+
+def _file_intrinsics(camera: CameraModel, path: str) -> Intrinsics:
+    """The bounds every K is held to, for a file's camera; the error names the file."""
+    try:
+        return Intrinsics(camera.fx, camera.fy, camera.cx, camera.cy, "file")
+    except IntrinsicsError as exc:
+        raise CameraInputError(f"{path}: {exc}") from None
+
+
+def _check_size(camera: CameraModel, size: np.ndarray, calib: CameraFile, i: int, image_id: int | str) -> None:
+    """A file's camera stated for one image size cannot lift an image of another."""
+    if camera.image_size is None or not np.isfinite(size).all():
+        return
+    if np.abs(np.asarray(camera.image_size, dtype=np.float64) - size).max() > 0.5:
+        w, h = camera.image_size
+        raise CameraInputError(
+            f"{calib.path}: {_SIZE_FIELDS[calib.format]}: the camera was calibrated for {w} x {h} px images, but "
+            f"instance {i} (image_id {image_id!r}) is {size[0]:g} x {size[1]:g} px (rescale the calibration, "
+            "or check --image-size)"
+        )
+
+
+def resolve_cameras(
+    image_sizes: np.ndarray,
+    image_ids: list[int | str],
+    file_names: list[str | None],
+    *,
+    focal: float | None = None,
+    principal_point: tuple[float, float] | None = None,
+    intrinsics_file: str | None = None,
+    camera: str | None = None,
+) -> ResolvedCameras:
+    """The camera of each instance: K, its source and the lens of a calibration file.
+
+    Precedence: a calibration file's entry for the image (zedo JSON `images`, by image id, then
+    file name), the file's camera, then `focal` / `principal_point` from the command line, else
+    the pseudo intrinsics (f = 2000 px at the image centre). A centre needs the image size: an
+    instance without one and without a principal point is an error. `intrinsics_file` is any
+    format of `camera.files` (zedo JSON, OpenCV FileStorage, Pose2Sim / anipose TOML); `camera`
+    picks one camera of a file of several. A file's image size must match the input's.
+    """
+    check_focal(focal)
+    check_principal_point(principal_point)
+    if camera is not None and intrinsics_file is None:
+        raise ConfigError("--camera picks a camera of an --intrinsics file: give the file too")
+    calib = read_camera_file(intrinsics_file, camera) if intrinsics_file else None
+    known: dict[CameraModel, Intrinsics] = {}  # each distinct camera checked once
+    mats, sources, lenses = np.empty((len(image_ids), 3, 3)), [], []
+    sizes = np.array(image_sizes, dtype=np.float64).reshape(-1, 2)
+    for i, (size, image_id, name) in enumerate(zip(image_sizes, image_ids, file_names, strict=True)):
+        lens = None
+        if calib is not None:
+            lens = calib.images.get(str(image_id)) or (calib.images.get(name) if name else None) or calib.camera
+        if lens is not None:
+            assert calib is not None
+            _check_size(lens, sizes[i], calib, i, image_id)
+            if lens.image_size is not None and not np.isfinite(sizes[i]).all():
+                sizes[i] = lens.image_size
+            entry = known.get(lens) or known.setdefault(lens, _file_intrinsics(lens, calib.path))
+        else:
+            entry = _command_line_intrinsics(i, size, image_id, focal, principal_point)
+        mats[i] = entry.matrix()
+        sources.append(entry.source)
+        lenses.append(lens)
+    return ResolvedCameras(mats, sources, lenses, sizes)
+
+
+def _command_line_intrinsics(
+    i: int, size: np.ndarray, image_id: int | str, focal: float | None, principal_point: tuple[float, float] | None
+) -> Intrinsics:
+    """--focal / --principal-point, else the pseudo intrinsics, for instance `i` of image size `size`."""
+    if principal_point is not None:
+        cx, cy = principal_point
+    elif np.isfinite(size).all() and (size > 0).all():
+        if (size > PIXEL_LIMIT).any():
+            raise CameraInputError(f"instance {i} (image_id {image_id!r}): image size {size[0]:g} x "
+                                   f"{size[1]:g} px is out of range (0, {PIXEL_LIMIT:g}]")  # fmt: skip
+        cx, cy = size[0] / 2.0, size[1] / 2.0
+    else:
+        raise CameraInputError(
+            f"instance {i} (image_id {image_id!r}) has no image size: pass --image-size W H, "
+            "--principal-point CX CY or --intrinsics K.json"
+        )
+    f = PSEUDO_FOCAL_PX if focal is None else focal
+    source = "pseudo" if focal is None and principal_point is None else "cli"
+    return Intrinsics(f, f, float(cx), float(cy), source)
+
+
 def resolve_intrinsics(
     image_sizes: np.ndarray,
     image_ids: list[int | str],
@@ -203,35 +268,12 @@ def resolve_intrinsics(
     principal_point: tuple[float, float] | None = None,
     intrinsics_file: str | None = None,
 ) -> tuple[np.ndarray, list[str]]:
-    """Intrinsics `(N, 3, 3)` and their source per instance.
-
-    Precedence: a K.json entry for the image (by image id, then file name), the file's global
-    entry, then `focal` / `principal_point` from the command line, else the pseudo intrinsics
-    (f = 2000 px at the image centre). A centre needs the image size: an instance without
-    one and without a principal point is an error.
-    """
-    check_focal(focal)
-    check_principal_point(principal_point)
-    glob, per_image = read_intrinsics_file(intrinsics_file) if intrinsics_file else (None, {})
-    mats, sources = [], []
-    for i, (size, image_id, name) in enumerate(zip(image_sizes, image_ids, file_names, strict=True)):
-        entry = per_image.get(str(image_id)) or (per_image.get(name) if name else None) or glob
-        if entry is None:
-            if principal_point is not None:
-                cx, cy = principal_point
-            elif np.isfinite(size).all() and (size > 0).all():
-                if (size > PIXEL_LIMIT).any():
-                    raise CameraInputError(f"instance {i} (image_id {image_id!r}): image size {size[0]:g} x "
-                                           f"{size[1]:g} px is out of range (0, {PIXEL_LIMIT:g}]")  # fmt: skip
-                cx, cy = size[0] / 2.0, size[1] / 2.0
-            else:
-                raise CameraInputError(
-                    f"instance {i} (image_id {image_id!r}) has no image size: pass --image-size W H, "
-                    "--principal-point CX CY or --intrinsics K.json"
-                )
-            f = PSEUDO_FOCAL_PX if focal is None else focal
-            source = "pseudo" if focal is None and principal_point is None else "cli"
-            entry = Intrinsics(f, f, float(cx), float(cy), source)
-        mats.append(entry.matrix())
-        sources.append(entry.source)
-    return np.array(mats).reshape(-1, 3, 3), sources
+    """Intrinsics `(N, 3, 3)` and their source per instance, as `resolve_cameras` settles them,
+    for a pinhole camera without distortion: a calibration file with lens distortion is refused
+    here (use `resolve_cameras` and pass its `lenses` to `lift(..., cameras=...)`)."""
+    cams = resolve_cameras(image_sizes, image_ids, file_names, focal=focal, principal_point=principal_point,
+                           intrinsics_file=intrinsics_file)  # fmt: skip
+    if cams.distorted:
+        raise IntrinsicsError(f"{intrinsics_file}: the camera has lens distortion, which resolve_intrinsics would "
+                              "ignore: use resolve_cameras and lift(..., cameras=resolved.lenses)")  # fmt: skip
+    return cams.matrices, cams.sources

@@ -46,13 +46,14 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
 
 import numpy as np
 import torch
 
+from ..camera.model import CameraModel, lens_groups, undistort_instances
 from ..data.skeleton import twin_limbs
 from ..errors import ConfigError
 from ..prior.sampling import diffusion_scale, probability_flow_step
@@ -343,8 +344,15 @@ def lift(
     start_poses: np.ndarray | None = None,
     start_translation: np.ndarray | None = None,
     seed: int = 0,
+    cameras: Sequence[CameraModel | None] | None = None,
 ) -> LiftResult:
     """Lift pixels `xy (N, J, 2)` with confidences `(N, J)` and intrinsics `(N, 3, 3)` to 3D.
+
+    Lens distortion (optional): `cameras`, one `CameraModel` per instance (None: no lens; as
+    `camera.resolve_cameras` gives them). Pixels of a camera with distortion are undistorted
+    (OpenCV) and lifted through the pinhole camera of the same K; their reprojection errors are
+    measured in the original, distorted image (the lifted joints projected through the lens).
+    Without distortion nothing changes and nothing is spent.
 
     The joints must be in the prior's joint set. Missing joints (NaN, confidence 0 or below
     `min_confidence`) are not used as constraints; the prior fills them.
@@ -364,6 +372,7 @@ def lift(
         raise ConfigError(f"keypoints have {joints} joints, the prior's skeleton {prior.skeleton.num_joints}")
     obs = observed_mask(xy, confidence, min_confidence)
     pull = ray_pull(confidence, obs, config, prior.skeleton.joints)
+    seen, xy = xy, undistort_instances(xy, cameras)  # the input's pixels, and where a pinhole camera sees them
     status = geometry_status(xy, intrinsics, obs, config.min_observed)
     todo_all = status == LIFTED
     warm = _warm_mask(start_poses, start_translation, n, joints) & todo_all
@@ -411,8 +420,8 @@ def lift(
     cam, singular, flipped = cam[:, 0], singular[:, 0], flipped[:, 0]
     if aggregate is not None:
         cam = np.where(np.isfinite(aggregate).all(axis=(1, 2))[:, None, None], aggregate, cam)
-    reproj = reprojection_error_px(cam, xy, intrinsics, obs)
-    status = _result_status(status, cam, singular, flipped, xy, obs, reproj, bone_ratio(cam, prior))
+    reproj = reprojection_error_px(cam, seen, intrinsics, obs, cameras)
+    status = _result_status(status, cam, singular, flipped, seen, obs, reproj, bone_ratio(cam, prior))
     lifted = status == LIFTED
     cam[~lifted], reproj[~lifted] = np.nan, np.nan
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
@@ -537,7 +546,14 @@ def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joint
     return np.isfinite(poses).all(axis=(1, 2)) & np.isfinite(trans).all(axis=1)
 
 
-def reprojection_error_px(cam: np.ndarray, xy: np.ndarray, k: np.ndarray, obs: np.ndarray) -> np.ndarray:
+def reprojection_error_px(
+    cam: np.ndarray, xy: np.ndarray, k: np.ndarray, obs: np.ndarray, cameras: Sequence[CameraModel | None] | None = None
+) -> np.ndarray:
+    """Pixel distances `(N, J)` between the 2D `xy` and the points `cam (N, J, 3)` projected
+    through K `(N, 3, 3)`, or through the lens of an instance's camera with distortion
+    (`cameras`, as in `lift`); NaN where not observed."""
     uv = project(torch.as_tensor(cam), torch.as_tensor(k, dtype=torch.float64)).numpy()
+    for camera, idx in lens_groups(cameras).items():
+        uv[idx] = camera.project(cam[idx])
     err = np.linalg.norm(uv - xy, axis=-1)
     return np.where(obs, err, np.nan)
