@@ -1,7 +1,7 @@
 """`zedo render`: a result's lifted skeletons drawn over the footage they were lifted from.
 
 Each person's `keypoints_3d` (camera frame, metres) is projected through its frame's camera
-(`CameraModel.from_json` of the result's camera block, lens distortion included) into the
+(the result's `CameraModel` of each person, lens distortion included) into the
 original image, so the overlay shows how well the 3D pose explains the footage. Video frames
 are matched to the result by `frame_index`; images of a folder by `file_name`, else by
 `image_id` (the image's stem, as text or as a number). Frames the result does not mention pass
@@ -69,8 +69,8 @@ def camera_poses(result: ResultPoses) -> np.ndarray:
 def people(result: ResultPoses) -> list[Person]:
     """Every row of the result projected through its frame's camera."""
     if result.cameras is None or result.flags is None:
-        raise InputFormatError(f"{result.source}: a {result.format} result has no per-frame flags; render "
-                               "reads the JSON or JSON Lines result (zedo lift --output-format json / jsonl)")  # fmt: skip
+        raise InputFormatError(f"{result.source}: a {result.format} result has no per-frame flags; render reads "
+                               "the JSON or JSON Lines result (zedo lift --output-format json / jsonl)")  # fmt: skip
     poses = camera_poses(result)
     out = []
     for i, camera in enumerate(result.cameras):
