@@ -55,6 +55,13 @@ class ConfigError(ZedoError):
     exit_code = 2
 
 
+class OutputError(ZedoError):
+    """An output could not be written: a full disk, a read-only or vanished folder, a path the
+    system refuses (e.g. under /proc). Whatever was being written is removed."""
+
+    exit_code = 5
+
+
 class DataError(ZedoError):
     """A data set folder or 3D pose file is missing or inconsistent."""
 

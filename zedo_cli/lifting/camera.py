@@ -134,14 +134,28 @@ def _intrinsics_entry(entry: object, where: str) -> Intrinsics:
         raise CameraInputError(f"{where}: expected an object with 'K' or 'fx', 'fy', 'cx', 'cy'")
     try:
         if "K" in entry:
-            return Intrinsics.from_matrix(np.asarray(entry["K"], dtype=np.float64), "file")
-        return Intrinsics(*(float(entry[key]) for key in ("fx", "fy", "cx", "cy")), source="file")
+            rows = entry["K"]
+            if not isinstance(rows, list) or any(_holds_boolean(row) for row in rows):
+                raise ValueError("K: expected a 3x3 list of numbers")
+            return Intrinsics.from_matrix(np.asarray(rows, dtype=np.float64), "file")
+        values = [entry[key] for key in ("fx", "fy", "cx", "cy")]
+        for key, value in zip(("fx", "fy", "cx", "cy"), values, strict=True):
+            if isinstance(value, bool) or not isinstance(value, int | float):  # true is not 1 px
+                got = "a boolean" if isinstance(value, bool) else type(value).__name__
+                raise ValueError(f"{key}: expected a number, got {got}")
+        return Intrinsics(*(float(v) for v in values), source="file")
     except KeyError as exc:
         raise CameraInputError(f"{where}: missing field {exc.args[0]!r}") from None
+    except OverflowError:  # an integer of hundreds of digits
+        raise CameraInputError(f"{where}: number too large") from None
     except (TypeError, ValueError) as exc:
         raise CameraInputError(f"{where}: {exc}") from None
     except IntrinsicsError as exc:
         raise CameraInputError(f"{where}: {exc}") from None
+
+
+def _holds_boolean(row: object) -> bool:
+    return isinstance(row, bool) or (isinstance(row, list) and any(isinstance(v, bool) for v in row))
 
 
 def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrinsics]]:
@@ -154,7 +168,7 @@ def read_intrinsics_file(path: str) -> tuple[Intrinsics | None, dict[str, Intrin
             doc = json.load(fh)
     except FileNotFoundError:
         raise CameraInputError(f"{path}: intrinsics file not found") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:  # ValueError: JSON, digit limit
         raise CameraInputError(f"{path}: not a readable JSON file ({exc})") from None
     if not isinstance(doc, dict):
         raise CameraInputError(f"{path}: expected a JSON object")
@@ -213,6 +227,11 @@ def resolve_intrinsics(
     check_focal(focal)
     check_principal_point(principal_point)
     glob, per_image = read_intrinsics_file(intrinsics_file) if intrinsics_file else (None, {})
+    pairs = list(zip(image_ids, file_names, strict=True))
+    if per_image and pairs and not any(str(i) in per_image or (n and n in per_image) for i, n in pairs):
+        raise CameraInputError(f"{intrinsics_file}: images: no key matches an input image's id or file name "
+                               f"(keys {', '.join(list(per_image)[:3])}; first image id {pairs[0][0]!r}, "
+                               f"file name {pairs[0][1]!r})")  # fmt: skip
     mats, sources = [], []
     for i, (size, image_id, name) in enumerate(zip(image_sizes, image_ids, file_names, strict=True)):
         entry = per_image.get(str(image_id)) or (per_image.get(name) if name else None) or glob
