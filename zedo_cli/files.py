@@ -21,17 +21,24 @@ _NOT_A_FILE = {stat.S_ISDIR: "a folder", stat.S_ISCHR: "a character device", sta
                stat.S_ISFIFO: "a FIFO (named pipe)", stat.S_ISSOCK: "a socket"}  # fmt: skip
 
 
-def check_writable(path: Path, overwrite: bool) -> None:
-    """Refuse to replace an existing file unless `overwrite`, and anything that is not a
-    regular file (a folder, /dev/null) even then; fail early on a missing folder."""
+def check_output_kind(path: Path) -> bool:
+    """Refuse an output path that exists and is not a regular file (a folder, /dev/null): a
+    result is never written into a device or over a folder, not even with --overwrite. Returns
+    whether a file exists there."""
     try:
         mode = os.stat(path).st_mode
     except OSError:
-        mode = None
-    if mode is not None and not stat.S_ISREG(mode):
+        return False
+    if not stat.S_ISREG(mode):
         what = next((name for test, name in _NOT_A_FILE.items() if test(mode)), "not a regular file")
         raise ConfigError(f"{path}: is {what}; an output must be a file name (use - for stdout where it is offered)")
-    if (mode is not None or path.is_symlink()) and not overwrite:
+    return True
+
+
+def check_writable(path: Path, overwrite: bool) -> None:
+    """Refuse to replace an existing file unless `overwrite`, and anything that is not a
+    regular file (a folder, /dev/null) even then; fail early on a missing folder."""
+    if (check_output_kind(path) or path.is_symlink()) and not overwrite:
         raise ConfigError(f"{path}: already exists; pass --overwrite (overwrite=True) to replace it")
     if not path.parent.is_dir():
         raise ConfigError(f"{path.parent}: output folder does not exist")
@@ -73,6 +80,14 @@ def replace_into(tmp: Path, path: Path, overwrite: bool) -> None:
         os.replace(tmp, path)
     except OSError as exc:
         raise output_failure(path, exc) from None
+
+
+def check_can_create(path: Path) -> None:
+    """Create and remove a temporary file beside `path`: a folder the system will not write
+    (read-only, under /proc) is an `OutputError` before any work, not after it."""
+    fd, tmp = open_temporary(path)
+    os.close(fd)
+    tmp.unlink()
 
 
 @contextmanager
