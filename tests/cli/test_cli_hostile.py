@@ -128,10 +128,10 @@ def test_batch_summary_names_each_failure_once_with_its_full_path(tiny_prior_pat
     deep = tmp_path / ("a_rather_long_folder_name_" * 4)
     deep.mkdir()
     good, bad = write_coco(deep / "good.json", n=1), deep / "bad.json"
-    bad.write_text('{"people": "' + "x" * 300 + '"}')
+    bad.write_text('{"' + "x" * 300 + '": 1}')  # the message names the key: a long message
     result = runner.invoke(app, [a for a in lift_args(tiny_prior_path, str(good), str(bad)) if a != "-q"])
     assert result.exit_code == 4, result.output
-    assert result.output.count("x" * 100) == 1  # the error once, not again in the table
+    assert result.output.count("x" * 300) == 1  # the error once, not again in the table
     table = result.output[result.output.index("zedo lift: 2 inputs, 1 failed") :]
     assert "failed, exit code 3" in table and "…" not in table
     assert str(bad) in "".join(line.strip("│ ").split("│")[0].strip() for line in table.splitlines())

@@ -227,7 +227,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     if not st.quiet:
         err_console.print(one_line(f"lifting {plural(len(kp), 'instance')} from {source} ({kp.format}) with "
                           f"{prior.label}, preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}"),
-                          markup=False)  # fmt: skip
+                          markup=False, soft_wrap=True)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
                    frames=_frame_numbers(kp), seed=st.seed, calibrations=st.calibrations)  # fmt: skip
@@ -260,7 +260,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
             png.unlink(missing_ok=True)
         raise
     if not st.quiet and plots:
-        err_console.print(one_line(f"plots: {', '.join(str(p) for p in plots)}"), markup=False)
+        err_console.print(one_line(f"plots: {', '.join(str(p) for p in plots)}"), markup=False, soft_wrap=True)
     lifted = int(res.lifted.sum())
     _report_file(source, output, kp, res, lifted, st.quiet)
     return FileOutcome(source, output, len(kp), lifted, res.seconds)
@@ -285,7 +285,8 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
         err_console.print(one_line(f"lifted {lifted}/{plural(len(kp), 'instance')} in {res.seconds:.2f} s of lifting "
                                    f"({rate:.1f} poses/s), mean reprojection error {reproj:.2f} px"
-                                   + ("" if output == STDIN else f"; wrote {output}")), markup=False)  # fmt: skip
+                                   + ("" if output == STDIN else f"; wrote {output}")),
+                          markup=False, soft_wrap=True)  # fmt: skip
     if lifted < len(kp):
         err_console.print(one_line(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
                                    "(null in the output, flagged not_lifted_<reason>)"),
@@ -379,7 +380,7 @@ def _lift_on_ray(
             rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
             err_console.print(one_line(f"lifted {o.lifted}/{plural(o.instances, 'instance')} from {o.source} in "
                                        f"{o.seconds:.2f} s of lifting ({rate:.1f} poses/s); wrote {o.output}"),
-                              markup=False)  # fmt: skip
+                              markup=False, soft_wrap=True)  # fmt: skip
     return outcomes
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 from ..errors import ConfigError, InputFormatError
 from ..files import check_can_create, check_output_kind
 from ..formats.openpose import is_openpose_folder, is_zedo_output
-from ..formats.sniff import check_input_file
+from ..formats.source import check_input_file
 from ..formats.writers import default_output_name, output_format
 from ..formats.writers_csv import sidecar_path
 

@@ -4,8 +4,6 @@ a NumPy file given to `zedo lift` is told what zedo reads, instead of a JSON par
 
 from __future__ import annotations
 
-import os
-
 from .validate import error
 
 WHAT_ZEDO_READS = (
@@ -61,18 +59,3 @@ def check_kind(name: str, head: bytes) -> None:
     what = file_kind(head)
     if what is not None:
         raise not_keypoints(name, what)
-
-
-def check_input_file(name: str) -> None:
-    """An input file, checked before any work: a regular file that can be read, within the size
-    limit (`source.open_regular`), and not an image, video, table or array."""
-    from .source import open_regular
-
-    fd = open_regular(name)
-    try:
-        head = os.read(fd, HEAD_BYTES)
-    except OSError as exc:
-        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
-    finally:
-        os.close(fd)
-    check_kind(name, head)

@@ -56,6 +56,19 @@ def open_regular(name: str) -> int:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
 
 
+def check_input_file(name: str) -> None:
+    """An input file, checked before any work: a regular file that can be read, within the size
+    limit (`open_regular`), and not an image, video, table or array (`sniff.check_kind`)."""
+    fd = open_regular(name)
+    try:
+        head = os.read(fd, HEAD_BYTES)
+    except OSError as exc:
+        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+    finally:
+        os.close(fd)
+    check_kind(name, head)
+
+
 _CHUNK_BYTES = 1 << 20
 
 
