@@ -55,6 +55,13 @@ class ConfigError(ZedoError):
     exit_code = 2
 
 
+class OutputError(ZedoError):
+    """An output could not be written: a full disk, a read-only or vanished folder, a path the
+    system refuses (e.g. under /proc). Whatever was being written is removed."""
+
+    exit_code = 5
+
+
 class DataError(ZedoError):
     """A data set folder or 3D pose file is missing or inconsistent."""
 
@@ -65,4 +72,4 @@ class CalibrationError(ZedoError):
     """`zedo calibrate` refuses a camera it cannot trust: the board found in no view or in too
     few, an RMS reprojection error above the bound, or OpenCV's fit failing."""
 
-    exit_code = 5
+    exit_code = 6

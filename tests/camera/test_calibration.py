@@ -1,5 +1,5 @@
 """`zedo calibrate`: a KNOWN lens rendered onto checkerboard views is recovered; untrustworthy
-calibrations are refused with one line and exit code 5, and nothing is written; the file is
+calibrations are refused with one line and exit code 6, and nothing is written; the file is
 OpenCV FileStorage that OpenCV reads back."""
 
 from __future__ import annotations
@@ -86,7 +86,7 @@ def test_refusals(small_views: list[np.ndarray]) -> None:
     with pytest.raises(CalibrationError, match="found in none of the 4 views"):
         calibrate(blank, CalibrationSettings(BOARD))
     assert find_corners(np.full((360, 640), 128, np.uint8), BOARD) is None
-    assert CalibrationError("x").exit_code == 5
+    assert CalibrationError("x").exit_code == 6
     with pytest.raises(ConfigError, match="COLSxROWS"):
         Board.parse("9 by 6", 0.03)
     with pytest.raises(ConfigError, match="square"):
@@ -116,9 +116,9 @@ def test_cli_refusals_write_nothing(small_views: list[np.ndarray], tmp_path: Pat
         return ["calibrate", *inputs, "--board", board, "--square", "0.03", "-o", str(out), "-q"]
 
     strict = runner.invoke(app, [*args(*names), "--max-rms", "0.001"])
-    assert strict.exit_code == 5 and strict.stderr.count("\n") == 1 and "--max-rms" in strict.stderr
+    assert strict.exit_code == 6 and strict.stderr.count("\n") == 1 and "--max-rms" in strict.stderr
     wrong_board = runner.invoke(app, args(*names[:2], board="8x5"))  # a failing search is slow
-    assert wrong_board.exit_code == 5 and "found in none" in wrong_board.stderr
+    assert wrong_board.exit_code == 6 and "found in none" in wrong_board.stderr
     (tmp_path / "broken.mp4").write_bytes(b"not a video")
     video = runner.invoke(app, args(str(tmp_path / "broken.mp4")))
     assert video.exit_code == 3 and "broken.mp4: cannot open as a video" in video.stderr

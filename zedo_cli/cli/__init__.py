@@ -21,7 +21,8 @@ app = typer.Typer(
         "Lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i).\n\n"
         "Exit codes: 0 success, 1 runtime failure, 2 usage error (bad option or value), "
         "3 unreadable or invalid input file, 4 some inputs of a batch failed (the others were written), "
-        "5 zedo calibrate refused an untrustworthy camera, "
+        "5 an output could not be written (full disk, read-only folder), "
+        "6 zedo calibrate refused an untrustworthy camera, "
         "130 interrupted, 141 stdout closed by its reader."
     ),
     no_args_is_help=True,

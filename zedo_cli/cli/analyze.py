@@ -28,10 +28,20 @@ from ..files import check_writable
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
-from .common import EXIT_PARTIAL, EXIT_RUNTIME, err_console, error_boundary, print_json_report, progress_bar
+from .common import (
+    EXIT_PARTIAL,
+    EXIT_RUNTIME,
+    err_console,
+    error_boundary,
+    one_line,
+    print_json_report,
+    progress_bar,
+)
 from .lift_plan import STDIN, expand_inputs
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
     from ..lifting.solver import LiftProgress
 
@@ -103,9 +113,18 @@ def plan_outputs(
     return plans
 
 
+def poses_counted(frames: np.ndarray, persons: np.ndarray) -> str:
+    """Honest counts of analysed poses: "1 pose", "809 poses (809 frames, 1 person)", "12 poses
+    (6 frames, 2 people)" (persons are tracks: places in their frame)."""
+    n, f, p = len(frames), len(set(frames.tolist())), len(set(persons.tolist()))
+    poses = f"{n} pose" if n == 1 else f"{n} poses"
+    return poses if n == 1 else f"{poses} ({f} frame{'' if f == 1 else 's'}, {p} {'person' if p == 1 else 'people'})"
+
+
 def _summary_table(a: Analysis) -> Table:
     res = a.result
-    table = Table(title=f"{res.source}: {len(a.index)} persons, symmetric at <= {a.settings.threshold_deg:g} deg")
+    table = Table(title=f"{res.source}: {poses_counted(res.frame_index[a.index], res.person[a.index])}, "
+                  f"symmetric at <= {a.settings.threshold_deg:g} deg")  # fmt: skip
     for col in ("pair", "mean deg", "median deg", "symmetric", "asymmetric", "uncertain"):
         table.add_column(col, justify="left" if col == "pair" else "right")
     stats = summary(a)
@@ -245,7 +264,7 @@ def analyze_command(
         try:
             analyze_file(source, plan, settings, overwrite=overwrite, quiet=quiet)
         except ZedoError as exc:
-            err_console.print(f"zedo: error: {exc}", markup=False, soft_wrap=True)
+            err_console.print(f"zedo: error: {one_line(str(exc))}", markup=False, soft_wrap=True)
             codes.append(exc.exit_code)
     if codes:  # 4 when some inputs were analysed, else the failures' common code (1 when they differ)
         raise typer.Exit(

@@ -71,7 +71,7 @@ def calibrate_command(
     many positions and tilts, the image corners included.
 
     The RMS and per-view reprojection errors are reported, and the views where no board was
-    found. Refused (exit code 5, nothing written): the board in no view or in fewer than
+    found. Refused (exit code 6, nothing written): the board in no view or in fewer than
     --min-views, or an RMS above --max-rms. A video that cannot be opened: exit code 3.
 
     The output is OpenCV FileStorage (camera_matrix, distortion_coefficients, image_width,

@@ -17,6 +17,7 @@ from ..camera.sanity import check_camera_sanity
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
+from ..files import check_can_create, output_failure
 from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.markers import MARKER_AXES, marker_frame_numbers
@@ -43,7 +44,15 @@ from .checks import (
     check_steps,
 )
 from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, internal_error, one_line, progress_bar
-from .lift_plan import STDIN, check_plot_paths, expand_inputs, plan_outputs, plot_prefix
+from .lift_plan import (
+    STDIN,
+    check_inputs,
+    check_output_options,
+    check_plot_paths,
+    expand_inputs,
+    plan_outputs,
+    plot_prefix,
+)
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -158,27 +167,64 @@ class FileOutcome:
     error: ZedoError | None = None
 
 
-def read_selected(source: str, prior: Prior, st: LiftSettings) -> tuple[Keypoints2D, np.ndarray]:
-    """The input's instances chosen by --person, in the prior's joint set, and each one's
-    place in its frame (the track label of the temporal mode)."""
+def read_input(source: str, st: LiftSettings) -> Keypoints2D:
+    """Every instance of one input, as read (before --person and the prior's joint set)."""
     kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images,
                         skeleton=st.skeleton)  # fmt: skip
     if len(kp) == 0:
         raise InputFormatError(f"{source}: no keypoint instances in the input")
+    return kp
+
+
+def read_selected(
+    source: str, prior: Prior, st: LiftSettings, kp: Keypoints2D | None = None
+) -> tuple[Keypoints2D, np.ndarray, dict[str, Any]]:
+    """The input's instances (`kp`: already read) chosen by --person, in the prior's joint set,
+    each one's place in its frame (the track label of the temporal mode), and what the choice
+    kept and left out (`person_counts`)."""
+    kp = read_input(source, st) if kp is None else kp
     chosen = select_people(kp, st.person)
-    return kp.subset(chosen.index).to_skeleton(prior.skeleton), chosen.person
+    counts = person_counts(kp, chosen.index, st.person)
+    return kp.subset(chosen.index).to_skeleton(prior.skeleton), chosen.person, counts
 
 
-def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileOutcome:
-    """Read, lift and write one input; errors are raised (the batch loop isolates them)."""
+def person_counts(kp: Keypoints2D, kept: np.ndarray, mode: str) -> dict[str, Any]:
+    """What --person did, for the output's params and stderr: instances read and kept, and
+    how many were left out in how many frames."""
+    from ..lifting.people import group_by_frame
+
+    groups = group_by_frame(kp)
+    return {"mode": mode, "frames": len(groups), "instances_read": len(kp), "instances_kept": len(kept),
+            "left_out": len(kp) - len(kept), "frames_with_several": sum(len(g) > 1 for g in groups)}  # fmt: skip
+
+
+def plural(count: int, word: str, many: str | None = None) -> str:
+    """ "1 instance", "2 instances" (`many` for an irregular plural: "1 person", "3 people")."""
+    return f"{count} {word if count == 1 else many or word + 's'}"
+
+
+def _report_left_out(source: str, counts: dict[str, Any]) -> None:
+    """A warning when --person left people out: the output holds fewer people than the input."""
+    if counts["left_out"]:
+        err_console.print(one_line(
+            f"zedo: warning: {source}: --person {counts['mode']} kept one person per frame: "
+            f"{plural(counts['instances_kept'], 'instance')} of {counts['instances_read']}; "
+            f"{plural(counts['left_out'], 'instance')} left out in {plural(counts['frames_with_several'], 'frame')} "
+            "with several people (--person all lifts every one)"), markup=False, soft_wrap=True)  # fmt: skip
+
+
+def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keypoints2D | None = None) -> FileOutcome:
+    """Read (unless `kp` is the input, read already), lift and write one input; errors are
+    raised (the batch loop isolates them)."""
     from ..camera.model import undistort_instances
     from ..lifting.camera import resolve_cameras
     from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
 
-    kp, places = read_selected(source, prior, st)
+    kp, places, counts = read_selected(source, prior, st, kp)
+    _report_left_out(source, counts)
     video = check_against_video(kp, st.video, source) if st.video is not None else None
     if video is not None and video.warning():
-        err_console.print(f"zedo: warning: {source}: {video.warning()}", markup=False, soft_wrap=True)
+        err_console.print(one_line(f"zedo: warning: {source}: {video.warning()}"), markup=False, soft_wrap=True)
     fmt = output_format(output, st.output_format)
     if fmt in MARKER_FORMATS:  # a marker file needs frame numbers (or --fps): refused before any lifting
         marker_frame_numbers(kp, st.fps, fmt)
@@ -203,8 +249,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         raise InputFormatError(f"{source}: no instance can be lifted ({_reason_counts(status)}; "
                                f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
     if not st.quiet:
-        err_console.print(f"lifting {len(kp)} instances from {source} ({kp.format}) with {prior.label}, "
-                          f"preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}", markup=False)  # fmt: skip
+        err_console.print(one_line(f"lifting {plural(len(kp), 'instance')} from {source} ({kp.format}) with "
+                          f"{prior.label}, preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}"),
+                          markup=False, soft_wrap=True)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
                    temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
                    frames=_frame_numbers(kp), seed=st.seed, calibrations=st.calibrations, lenses=cams.lenses)  # fmt: skip
@@ -219,6 +266,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
         params["camera"] = st.camera
     params.update(
         person=st.person,
+        person_selection=counts,
         fps=st.fps,
         temporal={"mode": st.temporal, "sigma_frames": st.sigma},
         camera=sorted(
@@ -232,12 +280,18 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings) -> FileO
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
                   "zedo_version": __version__}  # fmt: skip
-    write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units,
-                 frame=st.frame, marker_axes=st.marker_axes, overwrite=st.overwrite, lenses=cams.lenses)  # fmt: skip
-    if st.plot_dir is not None:  # its paths were checked before any work (lift_plan.check_plot_paths)
-        written = write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
-        if not st.quiet and written:
-            err_console.print(f"plots: {', '.join(str(p) for p in written)}", markup=False)
+    # Plots first: a plot that cannot be written is an error, and no result is left without its plots
+    # (nor plots without their result: they are removed when the result cannot be written).
+    plots = [] if st.plot_dir is None else write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
+    try:
+        write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units, frame=st.frame,
+                     marker_axes=st.marker_axes, overwrite=st.overwrite, lenses=cams.lenses)  # fmt: skip
+    except BaseException:
+        for png in plots:
+            png.unlink(missing_ok=True)
+        raise
+    if not st.quiet and plots:
+        err_console.print(one_line(f"plots: {', '.join(str(p) for p in plots)}"), markup=False, soft_wrap=True)
     lifted = int(res.lifted.sum())
     _report_file(source, output, kp, res, lifted, st.quiet)
     return FileOutcome(source, output, len(kp), lifted, res.seconds)
@@ -260,15 +314,17 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
     if not quiet:
         rate = lifted / res.seconds if res.seconds > 0 else float("nan")
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
-        err_console.print(f"lifted {lifted}/{len(kp)} instances in {res.seconds:.2f} s of lifting ({rate:.1f} poses/s), "
-                          f"mean reprojection error {reproj:.2f} px"
-                          + ("" if output == STDIN else f"; wrote {output}"), markup=False)  # fmt: skip
+        err_console.print(one_line(f"lifted {lifted}/{plural(len(kp), 'instance')} in {res.seconds:.2f} s of lifting "
+                                   f"({rate:.1f} poses/s), mean reprojection error {reproj:.2f} px"
+                                   + ("" if output == STDIN else f"; wrote {output}")),
+                          markup=False, soft_wrap=True)  # fmt: skip
     if lifted < len(kp):
-        err_console.print(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
-                          "(null in the output, flagged not_lifted_<reason>)", markup=False, soft_wrap=True)  # fmt: skip
+        err_console.print(one_line(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
+                                   "(null in the output, flagged not_lifted_<reason>)"),
+                          markup=False, soft_wrap=True)  # fmt: skip
     sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
     for line in sanity.warnings():  # flagged in the output too (camera.sanity)
-        err_console.print(f"zedo: warning: {source}: {line}", markup=False, soft_wrap=True)
+        err_console.print(one_line(f"zedo: warning: {source}: {line}"), markup=False, soft_wrap=True)
 
 
 def _not_lifted_counts(res: LiftResult) -> str:
@@ -281,11 +337,19 @@ def _reason_counts(status: np.ndarray) -> str:
 
 
 def _summary_table(outcomes: list[FileOutcome]) -> Table:
-    table = Table(title=f"zedo lift: {len(outcomes)} inputs")
+    """One row per input with its full path (folded, never cut short); a failure's message was
+    printed once, as its `zedo: error:` line, and its row says only that it failed."""
+    failed = sum(o.error is not None for o in outcomes)
+    title = f"zedo lift: {plural(len(outcomes), 'input')}" + (f", {failed} failed" if failed else "")
+    table = Table(title=title)
     for col in ("input", "instances", "lifted", "s", "output / error"):
-        table.add_column(col, justify="right" if col in ("instances", "lifted", "s") else "left")
+        numeric = col in ("instances", "lifted", "s")
+        table.add_column(col, justify="right" if numeric else "left", overflow="fold", no_wrap=numeric)
     for o in outcomes:  # Text: names and messages are shown as they are, never read as rich markup
-        result = Text(one_line(str(o.error)), style="red") if o.error else Text(one_line(o.output))
+        if o.error is not None:
+            result = Text(f"failed, exit code {o.error.exit_code} (its error is above)", style="red")
+        else:
+            result = Text(one_line(o.output))
         table.add_row(Text(one_line(o.source)), str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
     return table
 
@@ -351,8 +415,9 @@ def _lift_on_ray(
             err_console.print(f"zedo: error: {one_line(str(o.error))}", markup=False, soft_wrap=True)
         elif not st.quiet:
             rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
-            err_console.print(f"lifted {o.lifted}/{o.instances} instances from {o.source} in {o.seconds:.2f} s of "
-                              f"lifting ({rate:.1f} poses/s); wrote {o.output}", markup=False)  # fmt: skip
+            err_console.print(one_line(f"lifted {o.lifted}/{plural(o.instances, 'instance')} from {o.source} in "
+                                       f"{o.seconds:.2f} s of lifting ({rate:.1f} poses/s); wrote {o.output}"),
+                              markup=False, soft_wrap=True)  # fmt: skip
     return outcomes
 
 
@@ -634,15 +699,12 @@ def lift_command(
     st = replace(st, video=video_info)
     _check_options(st)
     _check_engine(engine, keypoints, out, workers)
-    sources = expand_inputs(keypoints)
-    if video is not None and len(sources) > 1:
-        raise ConfigError(f"--video goes with one keypoint input, not {len(sources)}")
-    outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
+    check_output_options(out, output_dir, output_format)
     # torch loads here: help and the errors above answer at once
     from ..lifting.camera import check_focal, check_image_size, check_principal_point
     from ..prior.weights import load_prior, resolve_prior_path
 
-    check_focal(focal)  # usage errors fail before the prior is loaded
+    check_focal(focal)  # usage errors fail before the inputs are looked at
     check_principal_point(principal_point)
     check_image_size(image_size)
     if intrinsics is not None:  # a broken calibration file, or --camera not in it, fails before any work
@@ -651,21 +713,32 @@ def lift_command(
         read_camera_file(str(intrinsics), camera)
     device = check_device(device)  # auto: CUDA when present
     st = replace(st, device=device)
+    # Then the inputs (readable, of a known kind), then the outputs, then the prior (seconds).
+    sources = expand_inputs(keypoints)
+    if video is not None and len(sources) > 1:
+        raise ConfigError(f"--video goes with one keypoint input, not {len(sources)}")
+    check_inputs(sources + [str(p) for p in (images,) if p is not None])
+    first = read_input(sources[0], st) if len(sources) == 1 and engine == "local" else None
+    outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
     if plot is not None:
         check_plot_paths(sources, outputs, plot, overwrite)
-        plot.mkdir(parents=True, exist_ok=True)
-    prior = load_prior(resolve_prior_path(prior_spec), device=device)
+        try:
+            plot.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise output_failure(plot, exc) from None
+        check_can_create(plot / "plot.png")  # a read-only folder fails here, before any work
     if calibration is not None:  # read once for every input; a broken file fails before any work
         from ..lifting.uncertainty import read_calibrations
 
         st = replace(st, calibrations=tuple(read_calibrations(calibration)))
+    prior = load_prior(resolve_prior_path(prior_spec), device=device)
     if not quiet:
         err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
                           markup=False)  # fmt: skip
     if engine == "ray":
         outcomes = _lift_on_ray(sources, outputs, prior, st, ray_address, workers)
-    elif len(sources) == 1:  # one input: its error is the command's error
-        lift_file(sources[0], outputs[0], prior, st)
+    elif first is not None:  # one input, read above: its error is the command's error
+        lift_file(sources[0], outputs[0], prior, st, first)
         return
     else:
         outcomes = []

@@ -9,7 +9,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
+from ..files import check_can_create, check_output_kind
 from ..formats.openpose import is_openpose_folder, is_zedo_output
+from ..formats.source import check_input_file
 from ..formats.writers import check_stdout, default_output_name, output_format
 from ..formats.writers_csv import sidecar_path
 
@@ -59,6 +61,24 @@ def expand_inputs(
     if out.count(STDIN) > 1:
         raise ConfigError("stdin (-) can be read only once")
     return list(dict.fromkeys(out))
+
+
+def check_inputs(inputs: list[str]) -> None:
+    """Every input file readable and not an image, a video, a table or an array, before any work
+    (a folder's frames and stdin are checked as they are read)."""
+    for name in inputs:
+        if name != STDIN and not Path(name).is_dir():
+            check_input_file(name)
+
+
+def check_output_options(out: str | None, output_dir: Path | None, fmt: str | None) -> None:
+    """The usage errors of -o / --output-dir / --output-format, before the inputs are looked at."""
+    if out is not None and output_dir is not None:
+        raise ConfigError("give --out or --output-dir, not both")
+    if out is not None:
+        if out != STDIN:
+            check_output_kind(Path(out))  # -o /dev/null, -o some_folder/: said as such
+        output_format(out, fmt)  # a contradicting or missing extension fails here
 
 
 def plan_outputs(
@@ -158,7 +178,7 @@ def check_plot_paths(inputs: list[str], outputs: list[str], plot_dir: Path, over
             owner[key] = src
             if any(_same_file(png, f) for f in files):
                 raise ConfigError(f"{png}: is an input of this run; plots never overwrite an input")
-            if png.exists() and not overwrite:
+            if check_output_kind(png) and not overwrite:
                 existing.append(str(png))
     if existing:
         more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
@@ -177,8 +197,10 @@ def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> No
         seen[key] = src
         if not Path(dst).parent.is_dir():
             raise ConfigError(f"{Path(dst).parent}: output folder does not exist")
-        if Path(dst).exists() and not overwrite:
+        if check_output_kind(Path(dst)) and not overwrite:
             existing.append(dst)
+    for dst in {str(Path(d).parent): d for d in reversed(outputs) if d != STDIN}.values():
+        check_can_create(Path(dst))  # a read-only folder fails here (naming its first output), before any work
     if existing:
         more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
         raise ConfigError(f"{', '.join(existing[:3])}{more}: already exist(s); pass --overwrite to replace")

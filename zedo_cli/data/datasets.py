@@ -46,10 +46,25 @@ def _require(path: Path) -> Path:
     return path
 
 
+def load_npy(path: Path, kinds: str) -> np.ndarray:
+    """A .npy array of a data set, its dtype of one of numpy's `kinds` ("f": numbers, "U": text);
+    a truncated file, an object (pickled) array or another dtype is a DataError naming the file."""
+    try:
+        array = np.load(_require(path), allow_pickle=False)
+    except (OSError, ValueError, EOFError) as exc:  # truncated, pickled objects, not an .npy at all
+        raise DataError(f"{path}: not a readable .npy array ({' '.join(str(exc).split())})") from None
+    if not isinstance(array, np.ndarray) or array.dtype.kind not in kinds:
+        found = array.dtype if isinstance(array, np.ndarray) else type(array).__name__
+        raise DataError(f"{path}: expected an array of {'numbers' if 'f' in kinds else 'text'}, got {found}")
+    return array
+
+
 def syrip_rows_by_name(syrip_dir: Path) -> dict[str, int]:
     """SyRIP image name (`train00001.jpg`, `test0.jpg`) -> row of the 3D pose arrays."""
-    row_names = np.load(_require(syrip_dir / SYRIP_ROW_NAMES))
-    name_map = np.load(_require(syrip_dir / SYRIP_NAME_MAP))
+    row_names = load_npy(syrip_dir / SYRIP_ROW_NAMES, "US")
+    name_map = load_npy(syrip_dir / SYRIP_NAME_MAP, "US")
+    if name_map.ndim != 2 or name_map.shape[1] != 2:
+        raise DataError(f"{syrip_dir / SYRIP_NAME_MAP}: expected (N, 2) image name pairs, got shape {name_map.shape}")
     row_of = {str(n).split("/")[-1]: i for i, n in enumerate(row_names)}
     rows = {}
     for image_name, syrip_name in name_map:
@@ -65,7 +80,7 @@ def syrip_test_names(syrip_dir: Path) -> list[str]:
     try:
         data = json.loads(path.read_text())
         return [str(img["file_name"]) for img in data["images"]]
-    except (json.JSONDecodeError, KeyError, TypeError) as exc:
+    except (ValueError, RecursionError, KeyError, TypeError) as exc:  # ValueError: JSON, digit limit, UTF-8
         raise DataError(f"{path}: not a COCO annotation file with images[].file_name") from exc
 
 
@@ -80,7 +95,9 @@ def load_syrip_3d(syrip_dir: str | Path, split: str = "train") -> PoseSet:
         raise DataError(f"unknown SyRIP split {split!r}; choose one of {', '.join(SYRIP_SPLITS)}")
     if not syrip_dir.is_dir():
         raise DataError(f"{syrip_dir}: SyRIP data folder not found")
-    raw = np.load(_require(syrip_dir / SYRIP_POSES)).astype(np.float64)
+    raw = load_npy(syrip_dir / SYRIP_POSES, "fiu").astype(np.float64)
+    if raw.ndim != 3 or raw.shape[1:] != (get_skeleton("lsp14").num_joints, 3):
+        raise DataError(f"{syrip_dir / SYRIP_POSES}: expected (N, 14, 3) LSP-14 poses, got shape {raw.shape}")
     rows = syrip_rows_by_name(syrip_dir)
     test = syrip_test_names(syrip_dir)
     missing = [n for n in test if n not in rows]
@@ -172,5 +189,5 @@ def syrip_original_names(real700_path: str | Path) -> dict[str, str]:
     try:
         images = json.loads(path.read_text())["images"]
         return {str(img["id"]): str(img["original_file_name"]) for img in images}
-    except (json.JSONDecodeError, KeyError, TypeError) as exc:
+    except (ValueError, RecursionError, KeyError, TypeError) as exc:  # ValueError: JSON, digit limit, UTF-8
         raise DataError(f"{path}: expected images[] with id and original_file_name ({exc})") from None

@@ -51,6 +51,16 @@ def align_to_truth(pred: PredictedPoses, truth: PoseSet, protocol: str) -> tuple
     p_idx, t_idx = zip(*common, strict=True)
     p, p_conf = _all_observed(pred.poses[list(p_idx)], pred.skeleton, dst)
     t, t_conf = _all_observed(truth.poses[list(t_idx)], truth.skeleton, dst)
-    if not (p_conf.all() and t_conf.all()):
-        raise ConfigError(f"protocol {protocol} needs joints that {pred.skeleton.name} or {truth.skeleton.name} lack")
+    for conf, where, names in ((t_conf, truth.source, [truth.names[t] for t in t_idx]),
+                               (p_conf, "the result", [pred.keys[i] for i in p_idx])):  # fmt: skip
+        absent = ~conf.astype(bool)
+        if absent.all(0).any():  # in no pose: the joint set lacks it
+            raise ConfigError(f"protocol {protocol} needs joint {dst.joints[int(np.argmax(absent.all(0)))]}, which "
+                              f"{where}'s joint set ({(truth if where == truth.source else pred).skeleton.name}) "
+                              "lacks")  # fmt: skip
+        if absent.any():  # a null joint: say which, in which pose of which file
+            row, joint = (int(k[0]) for k in np.nonzero(absent))
+            raise InputFormatError(f"{where}: pose {names[row]}: joint {dst.joints[joint]} is null or missing "
+                                   f"(protocol {protocol} needs every {dst.name} joint; "
+                                   f"{int(absent.any(1).sum())} of {len(conf)} poses lack one)")  # fmt: skip
     return center_on_root(p, dst), center_on_root(t, dst), dst

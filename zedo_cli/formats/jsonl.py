@@ -9,7 +9,8 @@ Each non-blank line is one JSON object::
   one point per joint in the zedo 2D syntax (``[x, y]`` = confidence 1, ``[x, y, c]`` with c in
   [0, 1], ``null`` or c == 0 = missing); ``score`` (optional) is the detection score.
 - ``image_id`` (optional, default: the frame), ``file_name`` (optional),
-  ``image_size`` (optional ``[W, H]`` pixels).
+  ``image_size`` (optional ``[W, H]`` pixels; a line without one has the size of the latest line
+  that gave one: a stream states its video's size once, on its first line).
 - ``skeleton`` (optional): a zedo skeleton name, given on the first line (later lines may repeat
   it); without it the joint count decides (17 coco17, 18 coco18, 25 body25, 26 halpe26).
 
@@ -55,10 +56,16 @@ def _line_key(obj: dict[str, Any], key: str, path: str, line: str) -> Any:
 
 
 def _frame_rows(
-    obj: Any, line: str, skeleton: Skeleton | None, path: str, rows: RowBuffer, forced: Skeleton | None = None
-) -> Skeleton | None:
-    """Append the rows of one line (`line` = "line 3") to `rows`; `skeleton` is the one fixed by
-    earlier lines, and the one returned the one fixed after this line."""
+    obj: Any,
+    line: str,
+    skeleton: Skeleton | None,
+    path: str,
+    rows: RowBuffer,
+    forced: Skeleton | None = None,
+    size: tuple[float, float] = NAN_SIZE,
+) -> tuple[Skeleton | None, tuple[float, float]]:
+    """Append the rows of one line (`line` = "line 3") to `rows`; `skeleton` and `size` are the
+    ones fixed by earlier lines, and those returned the ones fixed after this line."""
     obj = as_dict(obj, path, line)
     frame = frame_number(_line_key(obj, "frame", path, line), path, f"{line}: frame")
     key = image_id(obj["image_id"], path, f"{line}: image_id") if obj.get("image_id") is not None else frame
@@ -69,7 +76,8 @@ def _frame_rows(
         if forced is not None and named != forced:
             raise error(path, f"{line}: skeleton", f"the file says {named.name}, but --skeleton says {forced.name}")
         skeleton = named
-    size = size_pair(obj["image_size"], path, f"{line}: image_size") if obj.get("image_size") is not None else NAN_SIZE
+    if obj.get("image_size") is not None:
+        size = size_pair(obj["image_size"], path, f"{line}: image_size")
     file_name = obj.get("file_name")
     if file_name is not None and not isinstance(file_name, str):
         raise error(path, f"{line}: file_name", f"expected a string, got {kind(file_name)}")
@@ -83,7 +91,7 @@ def _frame_rows(
         parsed = [zedo_point(p, path, f"{where}.keypoints[{j}]") for j, p in enumerate(points)]
         xy, conf = joints(parsed, skeleton, path, f"{where}.keypoints")
         rows.append(Row(key, xy, conf, file_name, size, optional_score(person, path, where), frame))
-    return skeleton
+    return skeleton, size
 
 
 def _read_records(records: Iterable[tuple[int, Any]], path: str, forced: Skeleton | None = None) -> Keypoints2D:
@@ -92,8 +100,9 @@ def _read_records(records: Iterable[tuple[int, Any]], path: str, forced: Skeleto
     named = False
     rows = RowBuffer()
     count = 0
+    size = NAN_SIZE
     for number, obj in records:
-        skeleton = _frame_rows(obj, f"line {number}", skeleton, path, rows, forced)
+        skeleton, size = _frame_rows(obj, f"line {number}", skeleton, path, rows, forced, size)
         named = named or (isinstance(obj, dict) and obj.get("skeleton") is not None)
         count += 1
     if skeleton is None:

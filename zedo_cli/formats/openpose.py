@@ -93,19 +93,27 @@ def is_zedo_output(path: Path) -> bool:
 
 def is_openpose_folder(directory: Path) -> bool:
     """Whether `directory` is one OpenPose sequence (`zedo lift DIR` reads it as one input):
-    it holds ``*_keypoints.json`` files, or its ``*.json`` files (zedo's outputs aside) all
-    carry a frame number after the same name (Pose2Sim's ``cam01.0030.json``) and the first is
-    an OpenPose frame (an object with ``people``)."""
-    if any(p.is_file() for p in directory.glob(f"*{_SUFFIX}.json")):
-        return True
+    every ``*.json`` file in it (zedo's outputs aside, and no ``*.jsonl``) is a frame file, either
+    all named ``*_keypoints.json`` or all carrying a frame number after the same name (Pose2Sim's
+    ``cam01.0030.json``), and the first and last are OpenPose frames (objects with ``people``).
+    Any other folder is read file by file: a COCO file named ``*_keypoints.json`` beside other
+    files is not taken for a frame."""
     files = sorted((p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)),
                    key=lambda p: natural_key(p.name))  # fmt: skip
     if not files or any(directory.glob("*.jsonl")) or any(directory.glob("*.ndjson")):
         return False
-    if any(trailing_number(p.stem) is None for p in files) or len({_video_name(p.stem) for p in files}) != 1:
+    named = sum(p.name.endswith(f"{_SUFFIX}.json") for p in files)
+    if named and named != len(files):
         return False
+    if not named and (any(trailing_number(p.stem) is None for p in files) or
+                      len({_video_name(p.stem) for p in files}) != 1):  # fmt: skip
+        return False
+    return all(_is_frame(p) for p in (files[0], files[-1]))
+
+
+def _is_frame(path: Path) -> bool:
     try:
-        first = load_json(str(files[0]))
+        first = load_json(str(path))
     except InputFormatError:
         return False
     return isinstance(first, dict) and "people" in first

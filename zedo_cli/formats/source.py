@@ -14,6 +14,7 @@ import sys
 from typing import Any
 
 from .jsondoc import InvalidDocument, scan_document
+from .sniff import HEAD_BYTES, check_kind
 from .validate import error
 
 STDIN = "-"
@@ -29,7 +30,7 @@ def _too_large(size: int) -> str:
     return f"larger than the input limit of {MAX_INPUT_BYTES / 2**20:.4g} MiB ({size / 2**20:.4g} MiB or more)"
 
 
-def _open_regular(name: str) -> int:
+def open_regular(name: str) -> int:
     """Open `name` for reading after checking it is a regular file within `MAX_INPUT_BYTES`;
     nothing is read from a FIFO, a device (``/dev/zero``) or a socket, and a symlink loop or a
     broken link is named as such. Returns the file descriptor."""
@@ -53,6 +54,19 @@ def _open_regular(name: str) -> int:
         return os.open(name, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except OSError as exc:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+
+
+def check_input_file(name: str) -> None:
+    """An input file, checked before any work: a regular file that can be read, within the size
+    limit (`open_regular`), and not an image, video, table or array (`sniff.check_kind`)."""
+    fd = open_regular(name)
+    try:
+        head = os.read(fd, HEAD_BYTES)
+    except OSError as exc:
+        raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+    finally:
+        os.close(fd)
+    check_kind(name, head)
 
 
 _CHUNK_BYTES = 1 << 20
@@ -79,10 +93,11 @@ def read_text(name: str) -> str:
         if name == STDIN:
             raw = _read_bounded(sys.stdin.buffer, name)
         else:
-            with os.fdopen(_open_regular(name), "rb") as handle:
+            with os.fdopen(open_regular(name), "rb") as handle:
                 raw = _read_bounded(handle, name)
     except OSError as exc:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
+    check_kind(name, bytes(raw[:HEAD_BYTES]))  # an image or a video: say what zedo reads, not "not UTF-8"
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

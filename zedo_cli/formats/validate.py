@@ -435,16 +435,21 @@ def _body25_or_25b(xy: np.ndarray, conf: np.ndarray, path: str, reason: str) -> 
     return SKELETONS[variant], f"{reason}; joint geometry says {variant} ({detail})"
 
 
-_DIGITS = re.compile(r"(\d+)")
-_TRAILING_NUMBER = re.compile(r"(\d+)\D*$")
+_DIGITS = re.compile(r"([0-9]+)")  # ASCII digits: "²" or "٣" are text, never int()'s to read
+_TRAILING_NUMBER = re.compile(r"([0-9]+)[^0-9]*$")
+MAX_FRAME_DIGITS = 18  # a frame number fits numpy's int64 (ids of 1e30 or 5000 digits are not frames)
 
 
-def natural_key(text: str) -> tuple[tuple[int, int | str], ...]:
-    """Sort key that orders "f2" before "f10" (digit runs compare as numbers)."""
-    return tuple((0, int(part)) if part.isdigit() else (1, part) for part in _DIGITS.split(text) if part)
+def natural_key(text: str) -> tuple[tuple[int, int | str, str], ...]:
+    """Sort key that orders "f2" before "f10" (digit runs compare as numbers, of any length)."""
+    return tuple((0, len(part.lstrip("0")), part.lstrip("0")) if part.isascii() and part.isdigit() else (1, 0, part)
+                 for part in _DIGITS.split(text) if part)  # fmt: skip
 
 
 def trailing_number(text: str) -> int | None:
-    """The last run of digits in `text` ("clip_000000000012" -> 12, "12.jpg" -> 12), or None."""
+    """The last run of digits in `text` ("clip_000000000012" -> 12, "12.jpg" -> 12), or None
+    (also for a run too long to be a frame number)."""
     match = _TRAILING_NUMBER.search(text)
-    return int(match.group(1)) if match else None
+    if not match or len(match.group(1).lstrip("0")) > MAX_FRAME_DIGITS:
+        return None
+    return int(match.group(1))

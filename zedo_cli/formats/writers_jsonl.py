@@ -23,7 +23,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
-from ..files import check_writable, open_temporary
+from ..files import check_writable, open_temporary, output_failure, replace_into
 
 
 def _line(obj: dict[str, Any]) -> str:
@@ -53,7 +53,12 @@ class JsonlWriter:
         self.frames_written = 0
 
     def _write(self, obj: dict[str, Any]) -> None:
-        self._fh.write(_line(obj))
+        try:
+            self._fh.write(_line(obj))
+        except OSError as exc:  # a full disk: an OutputError (the caller's `with` discards the file)
+            if self._stdout or self._path is None:
+                raise
+            raise output_failure(self._path, exc) from None
         if self._stdout:
             self._fh.flush()  # a consumer downstream sees each frame as soon as it is lifted
 
@@ -79,10 +84,12 @@ class JsonlWriter:
         self._write({"type": "summary", **(summary if summary is not None else {"frames_total": self.frames_written})})
         self._state = "closed"
         if self._tmp is not None and self._path is not None:
-            self._fh.close()
             try:
-                check_writable(self._path, self._overwrite)  # a file that appeared meanwhile is kept
-                os.replace(self._tmp, self._path)
+                try:
+                    self._fh.close()  # flushes: a full disk shows here
+                except OSError as exc:
+                    raise output_failure(self._path, exc) from None
+                replace_into(self._tmp, self._path, self._overwrite)  # a file that appeared meanwhile is kept
             finally:
                 self._tmp.unlink(missing_ok=True)
         else:
@@ -92,7 +99,10 @@ class JsonlWriter:
         """Discard a file being written (stdout lines already written stay written)."""
         self._state = "closed"
         if self._tmp is not None:
-            self._fh.close()
+            try:
+                self._fh.close()
+            except OSError:  # a full disk again: the file is discarded all the same
+                pass
             self._tmp.unlink(missing_ok=True)
 
     def __enter__(self) -> JsonlWriter:

@@ -22,8 +22,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -38,6 +36,7 @@ from torch import nn
 
 from ..data.skeleton import Skeleton, get_skeleton
 from ..errors import ConfigError, WeightsError
+from ..files import atomic_path
 from ..version import __version__
 from .control import ControlledScoreNet
 from .ensemble import EnsembleScoreNet
@@ -166,15 +165,8 @@ def network_metadata(
 def write_safetensors_atomic(path: str | Path, tensors: dict[str, torch.Tensor], metadata: dict[str, str]) -> str:
     """Write a safetensors file atomically (temporary file then rename); return its sha256."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".safetensors", dir=path.parent or ".")
-    os.close(fd)
-    try:
-        save_file(tensors, tmp, metadata=metadata)
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600; a weights file is meant to be shared
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    with atomic_path(path, overwrite=True) as tmp:  # the commands check --overwrite before training
+        save_file(tensors, str(tmp), metadata=metadata)
     return file_sha256(path)
 
 
@@ -222,8 +214,11 @@ def json_field(meta: dict[str, str], key: str, path: Path) -> Any:
         raise WeightsError(f"{path}: metadata field {key!r} is missing")
     try:
         return json.loads(meta[key])
-    except json.JSONDecodeError:
+    except (ValueError, RecursionError):  # JSONDecodeError; integers past Python's digit limit; deep nesting
         raise WeightsError(f"{path}: metadata field {key!r} is not valid JSON") from None
+
+
+MAX_CONFIG_INT = 2**31 - 1  # sizes and step counts of a network's config; larger is a broken or hostile file
 
 
 def _config_object(meta: dict[str, str], key: str, path: Path) -> dict[str, Any]:
@@ -234,6 +229,9 @@ def _config_object(meta: dict[str, str], key: str, path: Path) -> dict[str, Any]
     for name, number in value.items():
         if isinstance(number, float) and not math.isfinite(number):
             raise WeightsError(f"{path}: metadata {key}.{name} is {number}, not a finite number")
+        if isinstance(number, int) and not isinstance(number, bool) and abs(number) > MAX_CONFIG_INT:
+            raise WeightsError(f"{path}: metadata {key}.{name} is an integer of {len(str(abs(number)))} digits, "
+                               f"beyond {MAX_CONFIG_INT}")  # fmt: skip
     return value
 
 
@@ -244,12 +242,14 @@ def _check_sde(sde_cfg: dict[str, Any], path: Path) -> None:
     if not numbers or not 0 <= beta_min < beta_max <= MAX_BETA:  # type: ignore[operator]
         raise WeightsError(f"{path}: metadata sde_config needs 0 <= beta_min < beta_max <= {MAX_BETA:g}, "
                            f"got beta_min {beta_min!r}, beta_max {beta_max!r}")  # fmt: skip
-    if not isinstance(scales, int) or isinstance(scales, bool) or scales < 1:
-        raise WeightsError(f"{path}: metadata sde_config.num_scales must be a positive integer, got {scales!r}")
+    if not isinstance(scales, int) or isinstance(scales, bool) or not 1 <= scales <= MAX_SCALES:
+        raise WeightsError(f"{path}: metadata sde_config.num_scales must be an integer from 1 to {MAX_SCALES}, "
+                           f"got {scales!r}")  # fmt: skip
 
 
 # exp(-B(1)) underflows to 0 in float32 beyond B ~ 100; the paper's beta_max is 20.
 MAX_BETA = 100.0
+MAX_SCALES = 100_000  # the SDE's discretisation: 100x the paper's 1000
 
 
 def read_network_configs(meta: dict[str, str], path: Path) -> tuple[Skeleton, PriorConfig, SubVPSDE]:
@@ -365,7 +365,7 @@ def _member_count(meta: dict[str, str], path: Path) -> int:
     text = meta.get("members")
     if text is None:
         raise WeightsError(f"{path}: metadata field 'members' is missing (an ensemble prior names its member count)")
-    if not text.isdigit() or not 2 <= int(text) <= MAX_MEMBERS:
+    if not (text.isascii() and text.isdigit() and len(text) < 6) or not 2 <= int(text) <= MAX_MEMBERS:
         raise WeightsError(f"{path}: metadata 'members' must be an integer from 2 to {MAX_MEMBERS}, got {text!r}")
     return int(text)
 
