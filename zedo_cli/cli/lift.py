@@ -58,6 +58,7 @@ if TYPE_CHECKING:
     from collections.abc import Sequence
 
     from ..camera.model import CameraModel
+    from ..camera.video import VideoInfo
     from ..lifting.solver import LiftProgress, LiftResult
     from ..lifting.uncertainty import UncertaintyModel
     from ..prior.weights import Prior
@@ -149,10 +150,9 @@ class LiftSettings:
     quiet: bool
     save_hypotheses: bool = False
     calibrations: tuple[UncertaintyModel, ...] | None = None  # --calibration's models, read once; None: bundled
-    from collections.abc import Sequence
-
-    from ..camera.model import CameraModel
-    from ..camera.video import VideoInfo
+    video: VideoInfo | None = None  # --video: the keypoints are checked against it (footage.video_check)
+    marker_axes: str = "level"  # TRC / C3D axes (formats.markers.MARKER_AXES)
+    camera: str | None = None  # --camera: the camera of a calibration file of several
 
 
 @dataclass
