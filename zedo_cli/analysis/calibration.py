@@ -29,7 +29,6 @@ The bundled file is `zedo_cli/weights/measures.json`.
 from __future__ import annotations
 
 import functools
-import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
@@ -41,6 +40,7 @@ import numpy as np
 from ..data.skeleton import Skeleton
 from ..errors import WeightsError
 from ..lifting.config import settings_match
+from ..versioned_json import read_items, write_items
 
 FORMAT = "zedo.measures"
 FORMAT_VERSION = 1
@@ -215,19 +215,16 @@ def bundled_calibrations() -> tuple[MeasureCalibration, ...]:
 
 
 def read_calibrations(path: str | Path) -> list[MeasureCalibration]:
-    path = Path(path)
+    """The calibrations of a measure-calibration file (format `zedo.measures`, version 1)."""
+    items = read_items(path, FORMAT, FORMAT_VERSION, "calibrations", "measure calibration")
     try:
-        doc = json.loads(path.read_text())
-        if not isinstance(doc, dict) or doc.get("format") != FORMAT or doc.get("format_version") != FORMAT_VERSION:
-            raise WeightsError(f"{path}: not a {FORMAT} version {FORMAT_VERSION} file")
-        return [MeasureCalibration.from_dict(d) for d in doc["calibrations"]]
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        return [MeasureCalibration.from_dict(d) for d in items]
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
         raise WeightsError(f"{path}: unreadable measure calibration ({exc})") from None
 
 
 def write_calibrations(path: str | Path, calibrations: Sequence[MeasureCalibration]) -> None:
-    doc = {"format": FORMAT, "format_version": FORMAT_VERSION, "calibrations": [c.to_dict() for c in calibrations]}
-    Path(path).write_text(json.dumps(doc, indent=1) + "\n")
+    write_items(path, FORMAT, FORMAT_VERSION, "calibrations", [c.to_dict() for c in calibrations])
 
 
 def measure_joints(skeleton: Skeleton, measures: MeasureFunction, names: Sequence[str]) -> dict[str, np.ndarray]:

@@ -19,7 +19,6 @@ rather than a number that was never checked.
 from __future__ import annotations
 
 import functools
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from importlib import resources
@@ -29,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import WeightsError
+from ..versioned_json import read_items, write_items
 from .config import LiftConfig, calibration_settings, settings_match
 from .solver import LiftResult
 
@@ -113,19 +113,15 @@ def bundled_calibrations() -> tuple[UncertaintyModel, ...]:
 
 def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
     """The models of a calibration file (format `zedo.uncertainty`, version 1)."""
-    path = Path(path)
+    items = read_items(path, FORMAT, FORMAT_VERSION, "models", "uncertainty calibration")
     try:
-        doc = json.loads(path.read_text())
-        if not isinstance(doc, dict) or doc.get("format") != FORMAT or doc.get("format_version") != FORMAT_VERSION:
-            raise WeightsError(f"{path}: not a {FORMAT} version {FORMAT_VERSION} file")
-        return [UncertaintyModel.from_dict(d) for d in doc["models"]]
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        return [UncertaintyModel.from_dict(d) for d in items]
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
         raise WeightsError(f"{path}: unreadable uncertainty calibration ({exc})") from None
 
 
 def write_calibrations(path: str | Path, models: list[UncertaintyModel]) -> None:
-    doc = {"format": FORMAT, "format_version": FORMAT_VERSION, "models": [m.to_dict() for m in models]}
-    Path(path).write_text(json.dumps(doc, indent=1) + "\n")
+    write_items(path, FORMAT, FORMAT_VERSION, "models", [m.to_dict() for m in models])
 
 
 def find_model(
