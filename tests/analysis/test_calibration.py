@@ -36,7 +36,7 @@ SHA = "ab" * 32
 JOINTS = ("right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle", "left_shoulder",
           "left_elbow", "left_wrist", "right_shoulder", "right_elbow", "right_wrist")  # fmt: skip
 PARAMS = {"prior": {"sha256": SHA}, "config": LiftConfig().to_dict(), "temporal": {"mode": "none"},
-          "camera": ["pseudo"]}  # fmt: skip
+          "camera_sources": ["pseudo"]}  # fmt: skip
 
 
 def heteroscedastic(n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -93,7 +93,7 @@ def test_a_calibration_holds_only_for_its_prior_settings_mode_and_camera(tmp_pat
         "prior": {**PARAMS, "prior": {"sha256": "cd" * 32}},
         "temporal mode smooth": {**PARAMS, "temporal": {"mode": "smooth"}},
         "lifting settings": {**PARAMS, "config": {**PARAMS["config"], "steps": 7}},
-        "camera": {**PARAMS, "camera": ["cli"]},
+        "camera": {**PARAMS, "camera_sources": ["cli"]},
     }
     for why, params in cases.items():
         found, reason = find_calibration([cal], params, JOINTS)

@@ -162,7 +162,7 @@ class MeasureCalibration:
         config = params.get("config")
         if not isinstance(config, dict) or not settings_match(self.settings, _settings_of(config)):
             return "no measure calibration for these lifting settings (calibrated: the default preset)"
-        cams = params.get("camera")
+        cams = params.get("camera_sources")
         if not isinstance(cams, list) or not cams or not set(cams) <= set(self.cameras):
             return f"no measure calibration for this camera (calibrated: {', '.join(self.cameras)})"
         return None

@@ -20,9 +20,9 @@ import json
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, PositiveFloat, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, PositiveFloat, Strict, ValidationError, model_validator
 
 from ..errors import CameraInputError, IntrinsicsError
 from .model import CameraModel
@@ -32,6 +32,9 @@ NOT_CAMERAS = frozenset({"metadata", "capture_volume", "charuco", "checkerboard"
 _OPENCV_SUFFIXES = (".yml", ".yaml", ".xml")
 
 
+Number = Annotated[float, Strict()]  # an int or a float; never a boolean (true is not 1 px)
+
+
 class _Model(BaseModel):
     model_config = ConfigDict(allow_inf_nan=False, extra="ignore", frozen=True)
 
@@ -39,12 +42,12 @@ class _Model(BaseModel):
 class ZedoEntry(_Model):
     """One camera of zedo's JSON: K, or fx fy cx cy; the lens and image size optional."""
 
-    K: list[list[float]] | None = None
-    fx: float | None = None
-    fy: float | None = None
-    cx: float | None = None
-    cy: float | None = None
-    dist: list[float] = []
+    K: list[list[Number]] | None = None
+    fx: Number | None = None
+    fy: Number | None = None
+    cx: Number | None = None
+    cy: Number | None = None
+    dist: list[Number] = []
     model: Literal["pinhole", "fisheye"] = "pinhole"
     image_size: tuple[PositiveFloat, PositiveFloat] | None = None
 
@@ -56,7 +59,7 @@ class ZedoEntry(_Model):
                     raise ValueError(f"missing field {key!r} (give 'K' or 'fx', 'fy', 'cx', 'cy')")
         return self
 
-    def matrix(self) -> list[list[float]]:
+    def matrix(self) -> list[list[Number]]:
         if self.K is not None:
             return self.K
         return [[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]]  # type: ignore[list-item]
@@ -65,8 +68,8 @@ class ZedoEntry(_Model):
 class OpenCVCalibration(_Model):
     """The nodes of an OpenCV FileStorage calibration (OpenCV's calibration sample writes them)."""
 
-    camera_matrix: list[list[float]]
-    distortion_coefficients: list[float] = []
+    camera_matrix: list[list[Number]]
+    distortion_coefficients: list[Number] = []
     image_width: PositiveFloat | None = None
     image_height: PositiveFloat | None = None
     model: Literal["pinhole", "fisheye"] = "pinhole"
@@ -77,8 +80,8 @@ class TomlCamera(_Model):
 
     name: str | None = None
     size: tuple[PositiveFloat, PositiveFloat] | None = None
-    matrix: list[list[float]]
-    distortions: list[float] = []
+    matrix: list[list[Number]]
+    distortions: list[Number] = []
     fisheye: bool = False
 
 
@@ -126,7 +129,7 @@ def _detect(name: str, text: str) -> tuple[str, Any]:
     if suffix == ".json" or head.startswith(("{", "[")):
         try:
             doc = json.loads(text)
-        except json.JSONDecodeError as exc:
+        except (ValueError, RecursionError) as exc:  # ValueError: bad JSON, or an integer of thousands of digits
             raise CameraInputError(f"{name}: not a readable JSON file ({exc})") from None
         return ("opencv" if isinstance(doc, dict) and "camera_matrix" in doc else "zedo"), doc
     return "toml", None  # neither JSON nor FileStorage: a calibration TOML, or an error naming it

@@ -269,9 +269,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
         person_selection=counts,
         fps=st.fps,
         temporal={"mode": st.temporal, "sigma_frames": st.sigma},
-        camera=sorted(
-            set(sources)
-        ),  # where the intrinsics came from (pseudo, cli, file): measure calibrations match it
+        camera_sources=sorted(set(sources)),  # pseudo, cli or file: what measure calibrations are matched with
         uncertainty=uncertainty_params(res),
         save_hypotheses=st.save_hypotheses,
     )

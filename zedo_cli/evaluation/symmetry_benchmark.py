@@ -103,7 +103,7 @@ def calibrated_scores(
     errors and calls, the intervals' coverage, and the decisive share and agreement at each level.
     Unchanged (with raw_mean_angle_error_deg set) when no measure calibration holds."""
     params = {"prior": {"sha256": prior_sha256}, "config": config.to_dict(), "temporal": {"mode": "none"},
-              "camera": ["pseudo"]}  # fmt: skip
+              "camera_sources": ["pseudo"]}  # fmt: skip
     calibration, why = find_calibration(bundled_calibrations(), params, skeleton.joints)
     score.raw_mean_angle_error_deg = score.mean_angle_error_deg
     if calibration is None:

@@ -217,6 +217,17 @@ def resolve_cameras(
     if camera is not None and intrinsics_file is None:
         raise ConfigError("--camera picks a camera of an --intrinsics file: give the file too")
     calib = read_camera_file(intrinsics_file, camera) if intrinsics_file else None
+    pairs = list(zip(image_ids, file_names, strict=True))
+    if (
+        calib is not None
+        and calib.images
+        and pairs
+        and calib.camera is None
+        and not any(str(i) in calib.images or (n and n in calib.images) for i, n in pairs)
+    ):  # a per-image file meant for other images: never fall back to the pseudo camera silently
+        raise CameraInputError(f"{calib.path}: images: no key matches an input image's id or file name "
+                               f"(keys {', '.join(list(calib.images)[:3])}; first image id {pairs[0][0]!r}, "
+                               f"file name {pairs[0][1]!r})")  # fmt: skip
     known: dict[CameraModel, Intrinsics] = {}  # each distinct camera checked once
     mats, sources, lenses = np.empty((len(image_ids), 3, 3)), [], []
     sizes = np.array(image_sizes, dtype=np.float64).reshape(-1, 2)
