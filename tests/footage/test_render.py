@@ -59,6 +59,8 @@ def write_result(path: Path, flagged: int = 3) -> Path:
         person["observed"][8] = False  # left_wrist
         person["flags"] = ["joints_filled_by_prior: left_wrist"] if frame["frame_index"] == flagged else []
     doc["frames"] = [f for f in doc["frames"] if f["frame_index"] != EMPTY]
+    kept = len(doc["frames"])  # the summary counts what the file holds (the reader checks it)
+    doc["summary"].update(frames_total=kept, instances_total=kept, instances_lifted=kept)
     path.write_text(json.dumps(doc))
     return path
 
@@ -124,6 +126,7 @@ def test_render_side_view_and_images(tmp_path: Path) -> None:
         cv2.imwrite(str(folder / f"f{i}.png"), background(i))
     doc = json.loads(write_result(tmp_path / "r.zedo.json").read_text())
     doc["frames"] = doc["frames"][:2]  # f0.png and f1.png
+    doc["summary"].update(frames_total=2, instances_total=2, instances_lifted=2)
     (tmp_path / "r.zedo.json").write_text(json.dumps(doc))
     out = tmp_path / "rendered"
     cli = runner.invoke(app, ["render", str(tmp_path / "r.zedo.json"), "--images", str(folder), "-o", str(out),
