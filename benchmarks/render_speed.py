@@ -47,20 +47,31 @@ def write_clip(path: Path, frames: int, width: int, height: int, fps: float) -> 
 
 
 def result_document(frames: int, width: int, height: int, fps: float) -> dict:
+    """A zedo.pose3d/1 document written by zedo's own writer: a pose moving through a wide lens."""
+    from zedo_cli.camera.model import CameraModel
+    from zedo_cli.data.keypoints import Keypoints2D
+    from zedo_cli.data.skeleton import root_point
+    from zedo_cli.formats.result_json import build_result_document
+    from zedo_cli.lifting.config import LiftConfig
+    from zedo_cli.lifting.solver import LiftResult
+
     skeleton = get_skeleton("syrip12")
     base = np.array([POSE[j] for j in skeleton.joints])
     f = 0.8 * width
-    camera = {"K": [[f, 0, width / 2], [0, f, height / 2], [0, 0, 1]], "image_size": [width, height],
-              "source": "file", "model": "pinhole", "dist": [-0.3, 0.1, 0.0, 0.0, 0.0]}  # fmt: skip
-    out = []
-    for i in range(frames):
-        pose = base + [0.15 * np.sin(i / 40), 0.05 * np.cos(i / 30), 1.0]
-        observed = [True] * len(base)
-        observed[i % len(base)] = False  # one hollow joint per frame
-        person = {"keypoints_3d": pose.tolist(), "observed": observed, "flags": [] if i % 10 else ["poor_fit"]}
-        out.append({"frame_index": i, "image_id": i, "file_name": None, "camera": camera, "persons": [person]})
-    return {"schema": "zedo.pose3d/1", "skeleton": {"name": skeleton.name}, "units": "m",
-            "coordinate_frame": "camera", "params": {"fps": fps}, "frames": out}  # fmt: skip
+    lens = CameraModel(f, f, width / 2, height / 2, (-0.3, 0.1, 0.0, 0.0, 0.0), image_size=(width, height))
+    poses = np.array([base + [0.15 * np.sin(i / 40), 0.05 * np.cos(i / 30), 1.0] for i in range(frames)])
+    observed = np.ones(poses.shape[:2], bool)
+    observed[np.arange(frames), np.arange(frames) % len(base)] = False  # one hollow joint per frame
+    kp = Keypoints2D(lens.project(poses), observed.astype(float), skeleton, list(range(frames)), [None] * frames,
+                     np.array([[width, height]] * frames, float), [None] * frames, "bench", "zedo-2d")  # fmt: skip
+    root = root_point(poses, skeleton)
+    res = LiftResult(poses, poses - root[:, None], root, np.zeros(observed.shape), observed, np.ones(frames, bool),
+                     LiftConfig(), 0.0)  # fmt: skip
+    doc = build_result_document(kp, res, np.stack([lens.matrix()] * frames), ["file"] * frames,
+                                params={"fps": fps}, input_info={"path": "bench"}, lenses=[lens] * frames)  # fmt: skip
+    for i in range(0, frames, 10):
+        doc["frames"][i]["persons"][0]["flags"].append("poor_fit")
+    return doc
 
 
 def copy_only(src: Path, dst: Path, width: int, height: int, fps: float) -> None:
