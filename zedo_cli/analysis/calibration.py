@@ -39,7 +39,7 @@ import numpy as np
 
 from ..data.skeleton import Skeleton
 from ..errors import WeightsError
-from ..lifting.config import settings_match
+from ..lifting.config import calibration_settings, settings_match
 from ..versioned_json import read_items, write_items
 
 FORMAT = "zedo.measures"
@@ -160,7 +160,7 @@ class MeasureCalibration:
         if temporal.get("mode", "none") != self.temporal_mode:
             return f"no measure calibration for temporal mode {temporal.get('mode', 'none')}"
         config = params.get("config")
-        if not isinstance(config, dict) or not settings_match(self.settings, _settings_of(config)):
+        if not isinstance(config, dict) or not settings_match(self.settings, calibration_settings(config)):
             return "no measure calibration for these lifting settings (calibrated: the default preset)"
         cams = params.get("camera_sources")
         if not isinstance(cams, list) or not cams or not set(cams) <= set(self.cameras):
@@ -179,12 +179,6 @@ class MeasureCalibration:
                    dict(d.get("provenance", {})))  # fmt: skip
 
 
-def _settings_of(config: dict[str, Any]) -> dict[str, Any]:
-    from ..lifting.config import CALIBRATION_IRRELEVANT
-
-    return {k: v for k, v in config.items() if k not in CALIBRATION_IRRELEVANT}
-
-
 def find_calibration(
     calibrations: Sequence[MeasureCalibration], params: dict[str, Any], joints: tuple[str, ...]
 ) -> tuple[MeasureCalibration | None, str]:
@@ -201,7 +195,7 @@ def find_calibration(
         return None, "no measure calibration installed"
     # the most specific reason: one of a calibration that got furthest
     order = ("camera", "settings", "temporal", "prior")
-    return None, min(reasons, key=lambda r: next(i for i, w in enumerate(order) if w in r or w == "prior"))
+    return None, min(reasons, key=lambda r: order.index(next((w for w in order if w in r), "prior")))
 
 
 def bundled_path() -> Path:

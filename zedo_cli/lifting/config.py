@@ -143,9 +143,11 @@ class LiftConfig:
 CALIBRATION_IRRELEVANT = ("preset", "chunk_size", "bf16")
 
 
-def calibration_settings(cfg: LiftConfig) -> dict[str, Any]:
-    """The settings a calibration must match: `cfg` without what does not change the poses."""
-    return {k: v for k, v in cfg.to_dict().items() if k not in CALIBRATION_IRRELEVANT}
+def calibration_settings(cfg: LiftConfig | dict[str, Any]) -> dict[str, Any]:
+    """The settings a calibration must match: `cfg` (or a result's recorded `LiftConfig.to_dict()`)
+    without what does not change the poses."""
+    settings = cfg if isinstance(cfg, dict) else cfg.to_dict()
+    return {k: v for k, v in settings.items() if k not in CALIBRATION_IRRELEVANT}
 
 
 def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
