@@ -14,6 +14,11 @@ def one_line(text: str) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+def plural(count: int, word: str, many: str | None = None) -> str:
+    """ "1 instance", "2 instances" (`many` for an irregular plural: "1 person", "3 people")."""
+    return f"{count} {word if count == 1 else many or word + 's'}"
+
+
 class ZedoError(Exception):
     """Base class of every error zedo reports to a user. Its message is kept on one line
     (`one_line`): file names and values with newlines or escape sequences are shown escaped."""

@@ -37,11 +37,30 @@ def check_output_kind(path: Path) -> bool:
 
 def check_writable(path: Path, overwrite: bool) -> None:
     """Refuse to replace an existing file unless `overwrite`, and anything that is not a
-    regular file (a folder, /dev/null) even then; fail early on a missing folder."""
+    regular file (a folder, /dev/null) even then; a missing folder is fine (it is made when
+    the file is written) unless a file stands where a folder of it would be."""
     if (check_output_kind(path) or path.is_symlink()) and not overwrite:
-        raise ConfigError(f"{path}: already exists; pass --overwrite (overwrite=True) to replace it")
-    if not path.parent.is_dir():
-        raise ConfigError(f"{path.parent}: output folder does not exist")
+        raise ConfigError(f"{path}: already exists; pass --overwrite to replace it")
+    check_output_folder(path.parent)
+
+
+def check_output_folder(folder: Path) -> None:
+    """An output folder exists, or can be made: its nearest existing ancestor is a folder."""
+    for ancestor in (folder, *folder.parents):
+        if ancestor.exists():
+            if not ancestor.is_dir():
+                raise ConfigError(f"{ancestor}: is not a folder, so {folder} cannot be an output folder")
+            return
+
+
+def make_output_folder(folder: Path) -> None:
+    """Make an output folder and its parents (as every zedo command does for -o and
+    --output-dir); a folder the system will not make is an `OutputError`."""
+    check_output_folder(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_failure(folder, exc) from None
 
 
 def output_failure(path: str | Path, exc: OSError) -> OutputError:
@@ -58,7 +77,9 @@ def _umask() -> int:
 
 
 def open_temporary(path: Path) -> tuple[int, Path]:
-    """A temporary file (descriptor, path) beside `path`, so that os.replace is atomic."""
+    """A temporary file (descriptor, path) beside `path`, so that os.replace is atomic (its
+    folder made first if missing)."""
+    make_output_folder(path.parent)
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:

@@ -60,15 +60,18 @@ def test_stdin_in_jsonl_and_csv_output_choices(tiny_prior_path: Path, tmp_path: 
     src = write_coco(tmp_path / "kp.json", n=2)
     lifted = runner.invoke(app, lift_args(tiny_prior_path, str(src), "-o", "-", "--output-format", "jsonl"))
     assert lifted.exit_code == 0
-    result = runner.invoke(app, ["analyze", "-", "--json", "-", "-q"], input=lifted.stdout)
+    result = runner.invoke(app, ["analyze", "-", "--json", "-q"], input=lifted.stdout)
     assert result.exit_code == 0, result.output
     assert json.loads(result.stdout)["input"]["format"] == "jsonl"
-    out = tmp_path / "out"
-    out.mkdir()
-    result = runner.invoke(
-        app, ["analyze", str(kick), "--csv", str(out / "k.csv"), "--json", str(out / "k.json"), "-q"]
-    )
-    assert result.exit_code == 0 and (out / "k.csv").is_file() and (out / "k.json").is_file()
+    out = tmp_path / "out" / "nested"  # -o makes its folder, as every command does
+    for name in ("k.csv", "k.json"):
+        result = runner.invoke(app, ["analyze", str(kick), "-o", str(out / name), "-q"])
+        assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in out.iterdir()) == ["k.csv", "k.json"]
+    assert json.loads((out / "k.json").read_text())["input"]["path"] == str(kick)
+    assert (out / "k.csv").read_text().startswith("frame_index,")
+    result = runner.invoke(app, ["analyze", str(kick), "--csv", str(out / "old.csv"), "-q"])  # the older spelling
+    assert result.exit_code == 0 and (out / "old.csv").read_text() == (out / "k.csv").read_text()
 
 
 def test_summary_report_and_overwrite(kick: Path, tmp_path: Path) -> None:
@@ -132,12 +135,13 @@ def test_one_bad_input_of_several_exits_4(kick: Path, tmp_path: Path) -> None:
 
 
 def test_usage_errors_exit_2(kick: Path, tmp_path: Path) -> None:
-    for args in (["--symmetry-threshold", "-5"], ["--fps", "0"], ["--csv", "-", "--json", "-"],
-                 ["--output-dir", str(tmp_path / "nope")]):  # fmt: skip
+    (tmp_path / "plain").write_text("x")
+    for args in (["--symmetry-threshold", "-5"], ["--fps", "0"], ["-o", "-", "--json"], ["-o", "x.txt"],
+                 ["--output-dir", str(tmp_path / "plain")], ["-o", "a.csv", "--csv", "b.csv"]):  # fmt: skip
         result = runner.invoke(app, ["analyze", str(kick), *args])
         assert result.exit_code == 2, (args, result.output)
     two = write_document(tmp_path / "two.zedo.json", result_document(kicking_poses(3)))
-    result = runner.invoke(app, ["analyze", str(kick), str(two), "--csv", "x.csv"])
+    result = runner.invoke(app, ["analyze", str(kick), str(two), "-o", "x.csv"])
     assert result.exit_code == 2 and "--output-dir" in result.stderr
 
 

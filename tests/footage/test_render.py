@@ -97,7 +97,7 @@ def test_render_video(tmp_path: Path) -> None:
     out = tmp_path / "out.mp4"
     cli = runner.invoke(app, ["render", str(result), "--video", str(clip), "-o", str(out)])
     assert cli.exit_code == 0, cli.output
-    assert "rendered 12 frames (11 with persons, 11 skeletons)" in " ".join(cli.stderr.split())
+    assert "rendered 12 frames (11 with people, 11 skeletons)" in " ".join(cli.stderr.split())
     rendered, source = read_clip(out), read_clip(clip)
     assert len(rendered) == N and rendered[0].shape == (H, W, 3)
     res = read_result(result)

@@ -143,7 +143,7 @@ def _set(doc: dict, path: str, value: object) -> dict:
         ("frames[1].frame_index", "1", r"frames\[1\].frame_index: input should be a valid integer"),
         ("frames[1].persons[0].flags", ..., r"frames\[1\].persons\[0\].flags: field required"),
         ("frames[1].persons[0].colour", "red", r"frames\[1\].persons\[0\].colour: extra inputs are not permitted"),
-        ("summary.frames_total", 7, "summary: 7 frames and 4 persons, but the file has 4 and 4"),
+        ("summary.frames_total", 7, "summary: 7 frames and 4 people, but the file has 4 and 4"),
         ("summary", ..., "summary: field required"),
     ],
 )

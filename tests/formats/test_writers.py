@@ -213,10 +213,13 @@ def test_failed_write_leaves_nothing_behind(tmp_path: Path) -> None:
     assert list(tmp_path.iterdir()) == []
 
 
-def test_missing_folder_is_a_config_error(tmp_path: Path) -> None:
+def test_a_missing_folder_is_made_and_a_file_in_its_place_is_a_config_error(tmp_path: Path) -> None:
     kp, res, mats, sources = make_case()
-    with pytest.raises(ConfigError, match="folder does not exist"):
-        write_result(tmp_path / "nope" / "r.json", kp, res, mats, sources, PARAMS, INPUT_INFO)
+    write_result(tmp_path / "new" / "deeper" / "r.json", kp, res, mats, sources, PARAMS, INPUT_INFO)
+    assert (tmp_path / "new" / "deeper" / "r.json").is_file()
+    (tmp_path / "plain").write_text("x")
+    with pytest.raises(ConfigError, match="is not a folder"):
+        write_result(tmp_path / "plain" / "sub" / "r.json", kp, res, mats, sources, PARAMS, INPUT_INFO)
 
 
 @pytest.mark.parametrize("fmt", ["json", "jsonl", "csv"])

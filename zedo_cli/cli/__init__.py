@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import typer
 
+from ..version import __version__
 from .adapt import adapt_command
 from .analyze import analyze_command, benchmark_symmetry_command
 from .augment import augment_command, fit_augmenter_command
 from .calibrate import calibrate_command
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
+from .help import ZedoCommand
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
 from .render import render_command
@@ -31,24 +35,35 @@ app = typer.Typer(
 )
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        typer.echo(f"zedo {__version__}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option("--version", is_eager=True, callback=_print_version, help="Print zedo's version and exit."),
+    ] = False,
+) -> None:
     """Lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i)."""
 
 
-app.command("lift", no_args_is_help=True)(lift_command)
-app.command("fit-prior", no_args_is_help=True)(fit_prior_command)
-app.command("adapt", no_args_is_help=True)(adapt_command)
-app.command("fit-augmenter", no_args_is_help=True)(fit_augmenter_command)
-app.command("augment", no_args_is_help=True)(augment_command)
-app.command("evaluate", no_args_is_help=True)(evaluate_command)
-app.command("benchmark", no_args_is_help=True)(benchmark_command)
-app.command("benchmark-minirgbd", no_args_is_help=True)(benchmark_minirgbd_command)
-app.command("analyze", no_args_is_help=True)(analyze_command)
-app.command("benchmark-symmetry", no_args_is_help=True)(benchmark_symmetry_command)
-app.command("calibrate", no_args_is_help=True)(calibrate_command)
-app.command("render", no_args_is_help=True)(render_command)
-app.command("schema", no_args_is_help=True)(schema_command)
+app.command("lift", no_args_is_help=True, cls=ZedoCommand)(lift_command)
+app.command("fit-prior", no_args_is_help=True, cls=ZedoCommand)(fit_prior_command)
+app.command("adapt", no_args_is_help=True, cls=ZedoCommand)(adapt_command)
+app.command("fit-augmenter", no_args_is_help=True, cls=ZedoCommand)(fit_augmenter_command)
+app.command("augment", no_args_is_help=True, cls=ZedoCommand)(augment_command)
+app.command("evaluate", no_args_is_help=True, cls=ZedoCommand)(evaluate_command)
+app.command("benchmark", no_args_is_help=True, cls=ZedoCommand)(benchmark_command)
+app.command("benchmark-minirgbd", no_args_is_help=True, cls=ZedoCommand)(benchmark_minirgbd_command)
+app.command("analyze", no_args_is_help=True, cls=ZedoCommand)(analyze_command)
+app.command("benchmark-symmetry", no_args_is_help=True, cls=ZedoCommand)(benchmark_symmetry_command)
+app.command("calibrate", no_args_is_help=True, cls=ZedoCommand)(calibrate_command)
+app.command("render", no_args_is_help=True, cls=ZedoCommand)(render_command)
+app.command("schema", no_args_is_help=True, cls=ZedoCommand)(schema_command)
 
 
 def main() -> None:

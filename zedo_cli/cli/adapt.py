@@ -12,7 +12,7 @@ from ..data.datasets import load_npz_poses, npz_license
 from ..files import check_writable
 from ..prior.schedules import ADAPT_TRAINING, STRATEGIES, default_training
 from .checks import DEVICE_HELP, check_choice, check_device, check_seed, check_syrip_split
-from .common import check_weights_output, epoch_progress, err_console, error_boundary
+from .common import check_weights_output, epoch_progress, err_console, error_boundary, output_option
 from .fit import load_training_poses
 
 
@@ -33,9 +33,9 @@ def adapt_command(
             help="control (frozen base + trainable branch), finetune (all weights from the base) or scratch (fresh net of the base's size)."
         ),
     ] = "control",
-    out: Annotated[
-        Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors); `zedo lift --prior` loads it.")
-    ] = Path("adapted.safetensors"),
+    out: Annotated[Path, output_option("Weights file to write (.safetensors); `zedo lift --prior` loads it.")] = Path(
+        "adapted.safetensors"
+    ),
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Adapt on the SyRIP data folder instead of POSES.")] = None,
     split: Annotated[str, typer.Option(help="SyRIP side: train (600 poses), test or all.")] = "train",
     skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it.")] = None,
@@ -72,7 +72,7 @@ def adapt_command(
         typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in)."),
     ] = None,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Adapt a pose prior to a small infant 3D data set; write a prior `zedo lift` loads.
@@ -84,11 +84,11 @@ def adapt_command(
 
     Examples:
 
-      zedo adapt --syrip-dir ../shared/data/syrip --strategy control --limit 100 --seed 1 --out ca100.safetensors
+      zedo adapt --syrip-dir ../shared/data/syrip --strategy control --limit 100 --seed 1 -o ca100.safetensors
 
-      zedo adapt my_infants.npz --strategy finetune --epochs 1000 --out ft.safetensors
+      zedo adapt my_infants.npz --strategy finetune --epochs 1000 -o ft.safetensors
 
-      zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune --out ft_aug.safetensors
+      zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune -o ft_aug.safetensors
 
       zedo lift keypoints.json --prior ca100.safetensors
     """

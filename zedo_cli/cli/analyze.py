@@ -24,18 +24,22 @@ from ..analysis.joint_angles import ANGLE_NAMES
 from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
-from ..files import check_writable
+from ..files import check_output_folder, check_writable, make_output_folder
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
 from .common import (
     EXIT_PARTIAL,
     EXIT_RUNTIME,
+    REPORT_OUTPUT_HELP,
+    check_report_output,
     err_console,
     error_boundary,
     one_line,
-    print_json_report,
+    output_option,
+    print_table,
     progress_bar,
+    report_figures,
 )
 from .lift_plan import STDIN, expand_inputs
 
@@ -73,24 +77,38 @@ def output_stem(source: str) -> str:
     return name.split(".zedo.")[0] if ".zedo." in name else Path(source).stem
 
 
+ANALYSIS_FORMATS = {".csv": "csv", ".json": "json"}
+
+
 def plan_outputs(
-    sources: list[str], csv_out: str | None, json_out: str | None, output_dir: Path | None, report: Path | None,
+    sources: list[str], output: str | None, output_dir: Path | None, report: Path | None, as_json: bool,
     overwrite: bool,
 ) -> list[dict[str, str | None]]:  # fmt: skip
-    """Per input: its csv, json and report paths (None = not written), checked before any work."""
-    if (csv_out or json_out) and len(sources) > 1:
-        raise ConfigError("--csv / --json name one output; for several inputs use --output-dir (or none: beside each)")
-    if (csv_out or json_out) and output_dir is not None:
-        raise ConfigError("give --csv / --json or --output-dir, not both")
-    if csv_out == STDIN and json_out == STDIN:
-        raise ConfigError("only one of --csv and --json can be - (stdout)")
-    if output_dir is not None and not output_dir.is_dir():
-        raise ConfigError(f"{output_dir}: output folder does not exist")
+    """Per input: its csv, json and report paths (None = not written, - = stdout), checked
+    before any work. -o's format is its extension's (- : the CSV on stdout); --json puts the
+    JSON on stdout."""
+    if output is not None and len(sources) > 1:
+        raise ConfigError("-o/--output names one output; for several inputs use --output-dir (or none: beside each)")
+    if output is not None and output_dir is not None:
+        raise ConfigError("give -o/--output or --output-dir, not both")
+    if as_json and (output is not None or output_dir is not None):
+        raise ConfigError("--json prints the JSON on stdout: give it without -o/--output and --output-dir")
+    if as_json and len(sources) > 1:
+        raise ConfigError(f"--json prints one input's JSON on stdout, not {len(sources)}: use --output-dir")
+    fmt = None
+    if output is not None and output != STDIN:
+        fmt = ANALYSIS_FORMATS.get(Path(output).suffix.lower())
+        if fmt is None:
+            raise ConfigError(f"{output}: -o/--output writes .csv or .json (or - for the CSV on stdout)")
+    if output_dir is not None:
+        check_output_folder(output_dir)
     plans: list[dict[str, str | None]] = []
     for source in sources:
         stem = output_stem(source)
-        if csv_out or json_out:
-            plan = {"csv": csv_out, "json": json_out}
+        if as_json:
+            plan = {"csv": None, "json": STDIN}
+        elif output is not None:
+            plan = {"csv": output if fmt != "json" else None, "json": output if fmt == "json" else None}
         elif source == STDIN and output_dir is None:
             plan = {"csv": STDIN, "json": None}  # a pipeline: the tidy CSV to stdout
         else:
@@ -150,7 +168,7 @@ def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSet
 
         write_report(a, plan["report"], overwrite=overwrite)
     if not quiet:
-        err_console.print(_summary_table(a))
+        print_table(_summary_table(a))
         for note in a.notes:
             err_console.print(f"note: {note}", markup=False, soft_wrap=True)
         written = [p for p in plan.values() if p and p != STDIN]
@@ -169,15 +187,21 @@ def analyze_command(
             show_default=False,
         ),
     ],
-    csv_out: Annotated[
-        Optional[str], typer.Option("--csv", help="The tidy CSV to this file (one input), or - for stdout.")
+    output: Annotated[
+        Optional[str],
+        output_option(
+            "The tidy CSV (.csv) or the JSON (.json) of one input; - : the CSV on stdout. Default: "
+            "<stem>.analysis.csv and .json beside the input."
+        ),  # fmt: skip
     ] = None,
-    json_out: Annotated[
-        Optional[str], typer.Option("--json", help="The JSON (rows + settings) to this file (one input), or -.")
-    ] = None,
+    csv_out: Annotated[Optional[str], typer.Option("--csv", hidden=True, help="Older spelling of -o x.csv.")] = None,
     output_dir: Annotated[
-        Optional[Path], typer.Option(help="Write <stem>.analysis.csv and .json of every input into this folder.")
+        Optional[Path],
+        typer.Option(help="Write <stem>.analysis.csv and .json of every input into this folder (made if missing)."),
     ] = None,
+    as_json: Annotated[
+        bool, typer.Option("--json", help="Print the JSON (rows, settings, summary) on stdout instead.")
+    ] = False,
     report: Annotated[
         Optional[Path],
         typer.Option(help="Also write a self-contained HTML report per input, <stem>.report.html, into this folder."),
@@ -246,16 +270,23 @@ def analyze_command(
       zedo analyze test100.zedo.json      # test100.analysis.csv + .json
 
       zedo lift kp.json -o - -q | zedo analyze -      # CSV on stdout
+      zedo analyze clip.zedo.json --json | jq .summary
 
       zedo analyze clip.zedo.csv --fps 30 --report report/
 
       zedo analyze results/ --output-dir analysis/ --symmetry-threshold 30
     """
     settings = AnalysisSettings(symmetry_threshold, fps, level, call_level, max_angular_velocity)
+    if csv_out is not None:  # --csv PATH, the older spelling of -o PATH.csv
+        if output is not None:
+            raise ConfigError("give -o/--output (the older --csv is the same option), not both")
+        if csv_out != STDIN and Path(csv_out).suffix.lower() != ".csv":
+            raise ConfigError(f"--csv {csv_out}: a .csv file name, or -")
+        output = csv_out
     sources = expand_results(results)
-    plans = plan_outputs(sources, csv_out, json_out, output_dir, report, overwrite)
+    plans = plan_outputs(sources, output, output_dir, report, as_json, overwrite)
     if report is not None:
-        report.mkdir(parents=True, exist_ok=True)
+        make_output_folder(report)
     if len(sources) == 1:
         analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet)
         return
@@ -339,6 +370,8 @@ def benchmark_symmetry_command(
     ] = True,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the figures as JSON on stdout.")] = False,
+    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """How accurate zedo analyze's measures are, on SyRIP Test100.
@@ -360,6 +393,7 @@ def benchmark_symmetry_command(
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
     AnalysisSettings(symmetry_threshold)  # validates the threshold
+    check_report_output(output, overwrite)
     cfg = get_preset(preset)
     from ..evaluation.symmetry_benchmark import run_symmetry_benchmark  # torch from here on
     from ..prior.weights import load_prior, resolve_prior_path
@@ -374,13 +408,12 @@ def benchmark_symmetry_command(
 
         bench = run_symmetry_benchmark(syrip_dir, prior, cfg, inputs=chosen, threshold=symmetry_threshold,
                                        reference=reference, device=device, callback=on_step)  # fmt: skip
-    if as_json:
-        doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": preset, **asdict(bench)}
-        print_json_report(doc)
+    doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": preset, **asdict(bench)}
+    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
         return
     console = Console()
     for table in _benchmark_tables(bench):
-        console.print(table)
+        print_table(table, console)
     console.print("err: mean |symmetry-angle error| (deg) of zedo analyze's values (calibrated estimates where a "
                   "measure calibration holds; raw err: of the lifted pose's measures); kappa: Cohen's kappa of the "
                   "symmetric / asymmetric calls at the threshold against the truth's; HW-HuP: the image model the "

@@ -24,7 +24,7 @@ from .checks import (
     check_steps,
     check_syrip_split,
 )
-from .common import check_weights_output, epoch_progress, err_console, error_boundary, step_progress
+from .common import check_weights_output, epoch_progress, err_console, error_boundary, output_option, step_progress
 
 ORIENT_MODES = ("keep", "infant")
 BONE_MODES = ("keep", "infant")
@@ -69,7 +69,7 @@ def fit_augmenter_command(
     init: Annotated[
         str, typer.Option(help="Start from this plain prior (bundled name or file), or 'none' for fresh weights.")
     ] = "adult12-rotscale",
-    out: Annotated[Path, typer.Option("--out", "-o", help="Augmenter weights file to write (.safetensors).")] = Path(
+    out: Annotated[Path, output_option("Augmenter weights file to write (.safetensors).")] = Path(
         "augmenter.safetensors"
     ),
     epochs: Annotated[
@@ -90,7 +90,7 @@ def fit_augmenter_command(
         typer.Option("--license", help="Terms of the infant data (SyRIP's are filled in); the adult terms are added."),
     ] = None,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Train the domain-conditioned network of `zedo augment` on adult and infant 3D poses.
@@ -101,9 +101,9 @@ def fit_augmenter_command(
 
     Examples:
 
-      zedo fit-augmenter --adult-dir ../shared/data/adult --syrip-dir ../shared/data/syrip --out augmenter.safetensors
+      zedo fit-augmenter --adult-dir ../shared/data/adult --syrip-dir ../shared/data/syrip -o augmenter.safetensors
 
-      zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 --out aug.npz
+      zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 -o aug.npz
     """
     from ..augment.augmenter import save_augmenter, train_augmenter  # torch from here on
     from ..data.adult import ADULT_LICENSE
@@ -163,10 +163,8 @@ def augment_command(
     ] = 600,
     out: Annotated[
         Path,
-        typer.Option(
-            "--out",
-            "-o",
-            help="npz file to write: 'poses' (count, J, 3) metres, 'joint_names', 'names', 'source_poses'.",
+        output_option(
+            "npz file to write: 'poses' (count, J, 3) metres, 'joint_names', 'names', 'source_poses'.",
         ),
     ] = Path("augmented.npz"),
     strength: Annotated[
@@ -208,7 +206,7 @@ def augment_command(
     seed: Annotated[
         int, typer.Option(help="Seed of the pose draw, noise, sizes, bone proportions and orientations.")
     ] = 0,
-    overwrite: Annotated[bool, typer.Option(help="Replace OUT and the PNGs if they exist.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output and the PNGs if they exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Convert adult 3D poses into infant-like ones with a domain-conditioned diffusion model.
@@ -220,9 +218,9 @@ def augment_command(
 
     Examples:
 
-      zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 --orient infant --syrip-dir ../shared/data/syrip --out aug.npz --plot aug_plots
+      zedo augment --adult-dir ../shared/data/adult --model augmenter.safetensors --count 600 --orient infant --syrip-dir ../shared/data/syrip -o aug.npz --plot aug_plots
 
-      zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune --out ft_aug.safetensors
+      zedo adapt --syrip-dir ../shared/data/syrip --add-poses aug.npz --strategy finetune -o ft_aug.safetensors
     """
     from ..augment.augmenter import load_augmenter  # torch from here on
     from ..augment.conversion import (

@@ -18,7 +18,7 @@ from ..camera.calibration import (
 )
 from ..camera.calibration_writer import storage_format, write_calibration
 from ..files import check_writable
-from .common import err_console, error_boundary, step_progress
+from .common import err_console, error_boundary, output_option, step_progress
 
 
 def _report(cal: Calibration, output: str) -> None:
@@ -51,16 +51,14 @@ def calibrate_command(
         ),  # fmt: skip
     ],
     square: Annotated[float, typer.Option(help="Side of one square in metres (e.g. 0.025).", show_default=False)],
-    out: Annotated[
-        str, typer.Option("--out", "-o", help="The camera file: .yml / .yaml / .json / .xml (OpenCV FileStorage).")
-    ],
+    out: Annotated[str, output_option("The camera file: .yml / .yaml / .json / .xml (OpenCV FileStorage).")],
     fisheye: Annotated[bool, typer.Option(help="Fit OpenCV's fisheye model (k1..k4) instead of the pinhole.")] = False,
     frames: Annotated[int, typer.Option(help="Frames sampled evenly from each video.")] = DEFAULT_VIDEO_FRAMES,
     min_views: Annotated[int, typer.Option(help="Refuse with fewer views where the board was found.")] = MIN_VIEWS,
     max_rms: Annotated[float, typer.Option(help="Refuse an RMS reprojection error above this, px.")] = MAX_RMS_PX,
     k3: Annotated[bool, typer.Option(help="Pinhole: fit k3 as well (needs many views spread to the corners).")] = False,
     tangential: Annotated[bool, typer.Option(help="Pinhole: fit the tangential p1, p2 as well.")] = False,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output file if it exists.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or report on stderr.")] = False,
 ) -> None:
     """Calibrate a camera from views of a printed checkerboard.

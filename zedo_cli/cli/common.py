@@ -10,6 +10,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 import typer
@@ -22,15 +23,45 @@ from rich.progress import (
     TimeElapsedColumn,
     TimeRemainingColumn,
 )
+from rich.table import Table
+from rich.text import Text
 
-from ..errors import ZedoError, one_line
+from ..errors import ConfigError, ZedoError, one_line
+from ..files import check_writable, write_text_atomic
 from .checks import check_choice
 
 if TYPE_CHECKING:
     from ..prior.training import TrainProgress
 
-# Data goes to stdout; progress, logs and errors to stderr.
+# Data goes to stdout; progress, logs and errors to stderr. Off a terminal (a log file, a pipe)
+# lines are never wrapped at 80 columns nor padded, and tables are printed as plain lines.
 err_console = Console(stderr=True, highlight=False)
+err_console.soft_wrap = not err_console.is_terminal
+
+
+def print_table(table: Table, console: Console | None = None) -> None:
+    """A rich table on a terminal; elsewhere plain lines: the title, the header, one line per
+    row, columns aligned with two spaces, nothing cut, wrapped or padded at the end."""
+    console = console or err_console
+    if console.is_terminal:
+        console.print(table)
+        return
+    rows = [[_plain(c.header) for c in table.columns]]
+    rows += [list(cells) for cells in zip(*([_plain(cell) for cell in c.cells] for c in table.columns), strict=True)]
+    widths = [max(len(row[i]) for row in rows) for i in range(len(table.columns))]
+    lines = [_plain(table.title)] if table.title else []
+    for row in rows:
+        lines.append("  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip())
+    for line in lines:
+        console.print(line, markup=False, highlight=False, soft_wrap=True)
+
+
+def _plain(cell: object) -> str:
+    """A table cell's text without its markup or styles, on one line."""
+    if isinstance(cell, Text):
+        return one_line(cell.plain)
+    return one_line(Text.from_markup(str(cell)).plain) if cell is not None else ""
+
 
 EXIT_OK = 0
 EXIT_RUNTIME = 1
@@ -46,6 +77,12 @@ COMMAND_START = time.perf_counter()
 
 P = ParamSpec("P")
 R = TypeVar("R")
+
+
+def output_option(help: str, panel: str | None = None) -> Any:
+    """`-o/--output` of every command that writes a file (`--out`, its older spelling, is still
+    read; --help shows only -o/--output)."""
+    return typer.Option("--output", "-o", "--out", metavar="PATH", help=help, rich_help_panel=panel)
 
 
 def internal_error(source: str, exc: Exception) -> ZedoError:
@@ -104,6 +141,34 @@ def print_json_report(doc: dict[str, Any]) -> None:
     """A command's `--json` report on stdout: strict JSON, unknown figures (NaN: e.g. a preset
     that lifted no pose) as null."""
     sys.stdout.write(json.dumps(finite_or_null(doc), indent=1, allow_nan=False) + "\n")
+
+
+STDOUT = "-"
+REPORT_OUTPUT_HELP = "Also write the figures as JSON to this .json file (- : on stdout, as --json)."
+
+
+def check_report_output(output: str | None, overwrite: bool) -> None:
+    """-o/--output of a command that reports figures (evaluate, the benchmarks): a .json file
+    name, or - for stdout; checked before any work."""
+    if output is None or output == STDOUT:
+        return
+    if Path(output).suffix.lower() != ".json":
+        raise ConfigError(f"{output}: -o/--output writes the figures as JSON: give a .json file name (or - for stdout)")
+    check_writable(Path(output), overwrite)
+
+
+def report_figures(doc: dict[str, Any], output: str | None, as_json: bool, *, overwrite: bool, quiet: bool) -> bool:
+    """A command's figures as JSON: into -o's file, and on stdout with --json (or -o -).
+    Returns whether stdout carried them (the human tables are then left out)."""
+    if output is not None and output != STDOUT:
+        text = json.dumps(finite_or_null(doc), indent=1, allow_nan=False) + "\n"
+        write_text_atomic(output, text, overwrite=overwrite)
+        if not quiet:
+            err_console.print(f"wrote {output}", markup=False, soft_wrap=True)
+    if as_json or output == STDOUT:
+        print_json_report(doc)
+        return True
+    return False
 
 
 def silence_stdout() -> None:

@@ -15,7 +15,16 @@ from ..errors import ConfigError
 from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
 from ..lifting.config import MAX_HYPOTHESES, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device, check_range, check_syrip_split
-from .common import err_console, error_boundary, print_json_report, progress_bar
+from .common import (
+    REPORT_OUTPUT_HELP,
+    check_report_output,
+    err_console,
+    error_boundary,
+    output_option,
+    print_table,
+    progress_bar,
+    report_figures,
+)
 
 if TYPE_CHECKING:
     from ..evaluation.syrip_benchmark import Score, Throughput
@@ -39,6 +48,9 @@ def evaluate_command(
         str, typer.Option(help=f"Joint set scored, both sides centred on its root: {', '.join(PROTOCOLS)}.")
     ] = "syrip12",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
+    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No note on stderr.")] = False,
 ) -> None:
     """Score lifted poses against 3D ground truth: MPJPE and PA-MPJPE in mm.
 
@@ -51,6 +63,7 @@ def evaluate_command(
     if (syrip_dir is None) == (gt is None):
         raise ConfigError("give the ground truth as either --syrip-dir or --gt")
     check_syrip_split(split)
+    check_report_output(output, overwrite)
     truth = load_syrip_3d(syrip_dir, split) if syrip_dir is not None else load_npz_poses(gt)  # type: ignore[arg-type]
     from ..evaluation.syrip_benchmark import score_poses  # heavy imports only once the options are read
 
@@ -62,8 +75,7 @@ def evaluate_command(
            "ground_truth_without_prediction": missing,
            "mpjpe_mm": round(mpjpe, 2), "pa_mpjpe_mm": round(pa, 2),
            "per_joint_mpjpe_mm": {k: round(v, 2) for k, v in per_joint.items()}}  # fmt: skip
-    if as_json:
-        print_json_report(doc)
+    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
         return
     unscored = f" ({missing} ground-truth poses have no lifted prediction)" if missing else ""
     table = Table(title=f"{result} vs {truth.source}, protocol {protocol}, {len(p)} poses{unscored}")
@@ -73,7 +85,7 @@ def evaluate_command(
         table.add_row(joint, f"{err:.1f}")
     table.add_row("[b]mean[/b]", f"[b]{mpjpe:.1f}[/b]")
     table.add_row("PA-MPJPE", f"{pa:.1f}")
-    Console().print(table)
+    print_table(table, Console())
 
 
 def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
@@ -137,6 +149,8 @@ def benchmark_command(
     ] = None,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
+    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Run the paper's SyRIP Test100 benchmark for one or more presets, side by side.
@@ -156,6 +170,7 @@ def benchmark_command(
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
     check_range("--hypotheses", hypotheses, 1, MAX_HYPOTHESES)
+    check_report_output(output, overwrite)
     configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
     if hypotheses is not None:
         configs = {name: replace(cfg, hypotheses=hypotheses) for name, cfg in configs.items()}
@@ -181,20 +196,19 @@ def benchmark_command(
         rows += [(f"{Path(prior.path).name} / {name}", s) for s in scores]
     base = next(iter(configs))
     deltas = _accuracy_deltas(rows, base)
-    if as_json:
-        doc = {
-            "prior": prior.path, "prior_sha256": prior.sha256, "device": device,
-            "accuracy": [{"preset": label.split(" / ")[-1], **vars(s)} for label, s in rows],
-            "throughput": {n: {**vars(r), f"ratio_to_{base}": r.poses_per_second / rates[base].poses_per_second}
-                           for n, r in rates.items()},
-            f"mpjpe_minus_{base}_mm": deltas,
-        }  # fmt: skip
-        print_json_report(doc)
+    doc = {
+        "prior": prior.path, "prior_sha256": prior.sha256, "device": device,
+        "accuracy": [{"preset": label.split(" / ")[-1], **vars(s)} for label, s in rows],
+        "throughput": {n: {**vars(r), f"ratio_to_{base}": r.poses_per_second / rates[base].poses_per_second}
+                       for n, r in rates.items()},
+        f"mpjpe_minus_{base}_mm": deltas,
+    }  # fmt: skip
+    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
         return
     console = Console()
-    console.print(_benchmark_table(rows))
+    print_table(_benchmark_table(rows), console)
     if rates:
-        console.print(_throughput_table(rates, device))
+        print_table(_throughput_table(rates, device), console)
     for name, d in deltas.items():
         ratio = f"{rates[name].poses_per_second / rates[base].poses_per_second:.1f}x the poses/s, " if rates else ""
         console.print(f"{name} vs {base}: {ratio}MPJPE " + ", ".join(f"{v:+.1f} mm ({k})" for k, v in d.items()),

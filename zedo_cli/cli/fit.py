@@ -12,7 +12,7 @@ from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
 from .checks import DEVICE_HELP, check_device, check_seed, check_syrip_split
-from .common import epoch_progress, err_console, error_boundary
+from .common import epoch_progress, err_console, error_boundary, output_option
 
 
 def load_training_poses(
@@ -43,9 +43,7 @@ def fit_prior_command(
     poses: Annotated[
         Optional[Path], typer.Argument(help="3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")
     ] = None,
-    out: Annotated[Path, typer.Option("--out", "-o", help="Weights file to write (.safetensors).")] = Path(
-        "prior.safetensors"
-    ),
+    out: Annotated[Path, output_option("Weights file to write (.safetensors).")] = Path("prior.safetensors"),
     syrip_dir: Annotated[Optional[Path], typer.Option(help="Train on the SyRIP data folder instead of POSES.")] = None,
     split: Annotated[
         str,
@@ -97,20 +95,20 @@ def fit_prior_command(
     ema_out: Annotated[
         Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")
     ] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace OUT if it exists.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Train a score-matching diffusion prior over 3D poses and write it as a weights file.
 
     Examples:
 
-      zedo fit-prior --syrip-dir ../shared/data/syrip --split train --recipe weights_spec/syrip12-scratch.toml --out my.safetensors
+      zedo fit-prior --syrip-dir ../shared/data/syrip --split train --recipe weights_spec/syrip12-scratch.toml -o my.safetensors
 
-      zedo fit-prior --adult-dir ../shared/data/adult --recipe weights_spec/adult12-rotscale.toml --out adult.safetensors
+      zedo fit-prior --adult-dir ../shared/data/adult --recipe weights_spec/adult12-rotscale.toml -o adult.safetensors
 
-      zedo fit-prior poses.npz --skeleton h36m17 --epochs 2000 --out adult.safetensors
+      zedo fit-prior poses.npz --skeleton h36m17 --epochs 2000 -o adult.safetensors
 
-      zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
+      zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train -o mini.safetensors
     """
     check_syrip_split(split)  # option errors before any data is read
     check_seed(seed)

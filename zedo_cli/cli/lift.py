@@ -16,7 +16,7 @@ from rich.text import Text
 from ..camera.sanity import check_camera_sanity
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import SKELETONS, get_skeleton
-from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError
+from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError, plural
 from ..files import check_can_create, output_failure
 from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
@@ -43,7 +43,16 @@ from .checks import (
     check_seed,
     check_steps,
 )
-from .common import COMMAND_START, EXIT_PARTIAL, err_console, error_boundary, internal_error, one_line, progress_bar
+from .common import (
+    COMMAND_START,
+    EXIT_PARTIAL,
+    err_console,
+    error_boundary,
+    internal_error,
+    one_line,
+    print_table,
+    progress_bar,
+)
 from .lift_plan import (
     STDIN,
     check_inputs,
@@ -83,7 +92,7 @@ def run_lift(
     from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations
 
     with progress_bar(quiet) as bar:
-        task = bar.add_task(label, total=1, status=f"{len(kp)} poses")
+        task = bar.add_task(label, total=1, status=plural(len(kp), "pose"))
 
         def on_step(p: LiftProgress) -> None:
             bar.update(task, completed=p.done, total=p.total)
@@ -196,11 +205,6 @@ def person_counts(kp: Keypoints2D, kept: np.ndarray, mode: str) -> dict[str, Any
     groups = group_by_frame(kp)
     return {"mode": mode, "frames": len(groups), "instances_read": len(kp), "instances_kept": len(kept),
             "left_out": len(kp) - len(kept), "frames_with_several": sum(len(g) > 1 for g in groups)}  # fmt: skip
-
-
-def plural(count: int, word: str, many: str | None = None) -> str:
-    """ "1 instance", "2 instances" (`many` for an irregular plural: "1 person", "3 people")."""
-    return f"{count} {word if count == 1 else many or word + 's'}"
 
 
 def _report_left_out(source: str, counts: dict[str, Any]) -> None:
@@ -381,6 +385,14 @@ def _check_options(st: LiftSettings) -> None:
 
 ENGINES = ("local", "ray")
 
+# The panels of `zedo lift --help`, shown in this order (cli/help.py).
+PANEL_INPUT = "Input"
+PANEL_CAMERA = "Camera"
+PANEL_LIFTING = "Lifting"
+PANEL_EXPERT = "Lifting, expert (other values: no calibrated uncertainty)"
+PANEL_OUTPUT = "Output"
+PANEL_PERFORMANCE = "Performance"
+
 
 def _check_engine(engine: str, inputs: list[str], out: Optional[str], workers: Optional[int]) -> None:
     check_choice("--engine", engine, ENGINES)
@@ -426,249 +438,271 @@ def lift_command(
         typer.Argument(
             help="2D keypoint files, folders or glob patterns; - reads stdin. Formats: "
             + ", ".join(f for f in INPUT_FORMATS if f != "auto")
-            + " (detected).",
+            + " (detected; docs/inputs.md).",
             show_default=False,
+            metavar="KEYPOINTS",
+            rich_help_panel=PANEL_INPUT,
         ),
     ],
-    out: Annotated[
+    input_format: Annotated[
+        str, typer.Option("--format", help="Input layout, when detection is not wanted.", rich_help_panel=PANEL_INPUT)
+    ] = "auto",
+    skeleton: Annotated[
         Optional[str],
         typer.Option(
-            "--out",
-            "-o",
-            help="Output file (one input only), or - for stdout. Default: <input stem>.zedo.json beside the input (stdout for stdin).",
+            help=f"Joint set of an input without joint names: {', '.join(SKELETONS)}.", rich_help_panel=PANEL_INPUT
         ),
     ] = None,
-    output_dir: Annotated[
-        Optional[Path], typer.Option(help="Write every output into this folder as <input stem>.zedo.<format>.")
-    ] = None,
-    output_format: Annotated[
-        Optional[str],
-        typer.Option(
-            "--output-format",
-            help=f"Output format: {', '.join(OUTPUT_FORMATS)}. Default: from the --out extension, else json. trc, c3d: marker files for OpenSim / Pose2Sim / C3D tools, one per person (docs/exports.md).",
-        ),
-    ] = None,
-    units: Annotated[
-        str, typer.Option(help=f"Units of the 3D coordinates: {', '.join(UNITS)} (TRC is always m, C3D always mm).")
-    ] = "m",
-    marker_axes: Annotated[
-        str,
-        typer.Option(
-            help=f"Axes of TRC / C3D files (Y up): {', '.join(MARKER_AXES)}. level: X = camera x, Y = -camera y, Z = -camera z; overhead (camera looking down on a lying infant): X = camera x, Y = -camera z, Z = camera y."
-        ),
-    ] = "level",
-    frame: Annotated[
-        str,
-        typer.Option(
-            help=f"Coordinate frame: {', '.join(FRAMES)} (camera: x right, y down, z forward from the camera; root: the same axes, root joint at the origin)."
-        ),
-    ] = "camera",
     person: Annotated[
         str,
         typer.Option(
-            help=f"Whom to lift when a frame holds several people: {', '.join(PERSON_MODES)}. auto: the most complete person, then the same person frame after frame."
+            help=f"Whom to lift in a frame of several people: {', '.join(PERSON_MODES)} (auto: the most complete, "
+            "then the same person frame after frame).",
+            rich_help_panel=PANEL_INPUT,
         ),
     ] = "auto",
-    fps: Annotated[
-        Optional[float], typer.Option(help="Frame rate of a video input, recorded in the output. Default: --video's.")
+    min_confidence: Annotated[
+        float,
+        typer.Option(
+            help="Joints below this confidence are missing (the prior fills them).", rich_help_panel=PANEL_INPUT
+        ),
+    ] = 0.0,
+    image_size: Annotated[
+        Optional[tuple[float, float]],
+        typer.Option(
+            help="Image size in pixels, for inputs without one (COCO results, OpenPose).",
+            metavar="W H",
+            rich_help_panel=PANEL_INPUT,
+        ),
+    ] = None,
+    images: Annotated[
+        Optional[Path],
+        typer.Option(help="COCO annotations giving a COCO results input its image sizes.", rich_help_panel=PANEL_INPUT),
     ] = None,
     video: Annotated[
         Optional[Path],
         typer.Option(
-            help="The video the keypoints came from (one input): image size and fps from it; more keypoint frames "
-            "than it has is an error, keypoints far outside its frame are listed (docs/footage.md)."
+            help="The video the keypoints came from: its image size and fps; keypoint frames beyond it are an error "
+            "(docs/footage.md).",
+            rich_help_panel=PANEL_INPUT,
         ),
     ] = None,
-    temporal: Annotated[
-        str,
+    fps: Annotated[
+        Optional[float],
         typer.Option(
-            help=f"Sequences (instances in frame order): {', '.join(TEMPORAL_MODES)}. smooth: lift each frame, then a Gaussian filter over time (cuts jitter ~90 %, MPJPE ~4 mm on test clips; joints leave their rays by a few px); two-pass: smooth, then 3 prior steps back onto the (smoothed) rays."
-        ),
-    ] = "none",
-    sigma: Annotated[
-        float, typer.Option(help="Width of the temporal Gaussian in frames (--temporal smooth / two-pass).")
-    ] = DEFAULT_SIGMA_FRAMES,
-    plot: Annotated[
-        Optional[Path],
-        typer.Option(
-            "--plot", help="Also write PNGs of the first, median and worst-reprojection 3D poses into this folder."
-        ),
-    ] = None,
-    prior_spec: Annotated[
-        Optional[str],
-        typer.Option("--prior", help="A bundled prior's name or a weights file. Default: the bundled syrip12-scratch."),
-    ] = None,
-    preset: Annotated[
-        str,
-        typer.Option(
-            help=f"Lifting preset: {', '.join(PRESETS)}. fast: 20 prior steps with plausible bone lengths, about 40x faithful's poses/s and more accurate; faithful: the paper's 1000 steps; fast-bf16: fast with the network in bfloat16 (quicker only on CPUs with AVX512-BF16/AMX, and GPUs)."
-        ),
-    ] = DEFAULT_PRESET,
-    steps: Annotated[
-        Optional[int],
-        typer.Option(
-            help="Override the preset's prior iterations (fast: 20 of size 0.03; fewer keep the size at "
-            "most 0.03; faithful: 1000 of 1/1000). Another count has no calibrated uncertainty."
-        ),
-    ] = None,
-    input_format: Annotated[str, typer.Option("--format", help=f"Input layout: {', '.join(INPUT_FORMATS)}.")] = "auto",
-    skeleton: Annotated[
-        Optional[str],
-        typer.Option(
-            help=f"Joint set of the input when its joint names are unknown or absent: {', '.join(SKELETONS)} "
-            "(e.g. body25b for OpenPose BODY_25B). Names in the file must agree with it."
-        ),
-    ] = None,
-    image_size: Annotated[
-        Optional[tuple[float, float]],
-        typer.Option(help="W H in pixels for inputs that lack image sizes (COCO results, OpenPose)."),
-    ] = None,
-    images: Annotated[
-        Optional[Path], typer.Option(help="COCO annotation file giving image sizes and names for a COCO results input.")
+            help="Frame rate of a video input, recorded in the output. Default: --video's.", rich_help_panel=PANEL_INPUT
+        ),  # fmt: skip
     ] = None,
     focal: Annotated[
-        Optional[float], typer.Option(help="Focal length in pixels (fx = fy). Default: the pseudo 2000 px.")
+        Optional[float],
+        typer.Option(help="Focal length in pixels. Default: the paper's pseudo 2000 px.", rich_help_panel=PANEL_CAMERA),
     ] = None,
     principal_point: Annotated[
-        Optional[tuple[float, float]], typer.Option(help="CX CY in pixels. Default: the image centre.")
+        Optional[tuple[float, float]],
+        typer.Option(
+            help="Principal point in pixels. Default: the image centre.", metavar="CX CY", rich_help_panel=PANEL_CAMERA
+        ),  # fmt: skip
     ] = None,
     intrinsics: Annotated[
         Optional[Path],
         typer.Option(
-            help='Calibration file: zedo JSON ({"K": 3x3} or {"fx","fy","cx","cy"}, optional "dist", "model", '
-            '"image_size"; per image {"images": {id or file name: ...}}), OpenCV FileStorage YAML / XML / JSON '
-            "(camera_matrix, distortion_coefficients, image_width, image_height), or Pose2Sim / anipose TOML. "
-            "With lens distortion the 2D is undistorted before lifting (docs/cameras.md)."
+            help="Calibration file, lens distortion included: zedo JSON, OpenCV FileStorage (YAML, XML, JSON), "
+            "Pose2Sim / anipose TOML (docs/cameras.md).",
+            rich_help_panel=PANEL_CAMERA,
         ),
     ] = None,
     camera: Annotated[
         Optional[str],
-        typer.Option(help="The camera to use, by name (or table name), of an --intrinsics TOML file holding several."),
+        typer.Option(
+            help="The camera, by name, of an --intrinsics file holding several.", rich_help_panel=PANEL_CAMERA
+        ),
     ] = None,
-    min_confidence: Annotated[
-        float, typer.Option(help="Joints with a lower confidence are treated as missing (the prior fills them).")
-    ] = 0.0,
+    prior_spec: Annotated[
+        Optional[str],
+        typer.Option(
+            "--prior",
+            help="A bundled prior's name or a weights file. Default: syrip12-scratch.",
+            rich_help_panel=PANEL_LIFTING,
+        ),  # fmt: skip
+    ] = None,
+    preset: Annotated[
+        str,
+        typer.Option(
+            help=f"{', '.join(PRESETS)}. fast: 20 prior steps, plausible bone lengths; faithful: the paper's 1000 "
+            "steps, about 40x slower; fast-bf16: fast in bfloat16 (docs/lifting.md).",
+            rich_help_panel=PANEL_LIFTING,
+        ),
+    ] = DEFAULT_PRESET,
+    steps: Annotated[
+        Optional[int], typer.Option(help="Prior iterations instead of the preset's.", rich_help_panel=PANEL_LIFTING)
+    ] = None,
+    temporal: Annotated[
+        str,
+        typer.Option(
+            help=f"For sequences: {', '.join(TEMPORAL_MODES)}. smooth: a Gaussian filter over time after lifting; "
+            "two-pass: smooth, then 3 prior steps back onto the rays.",
+            rich_help_panel=PANEL_LIFTING,
+        ),
+    ] = "none",
+    sigma: Annotated[
+        float, typer.Option(help="Width of --temporal's Gaussian, in frames.", rich_help_panel=PANEL_LIFTING)
+    ] = DEFAULT_SIGMA_FRAMES,
     hypotheses: Annotated[
         Optional[int],
         typer.Option(
-            help=f"Solutions lifted per instance (1 to {MAX_HYPOTHESES}), seeded by --seed: the pose reported is the "
-            "deterministic one (fast), the others' spread sets the per-joint uncertainty_m. Default: the preset's (1). The bundled calibration covers the default preset with 1 or 8."
+            help=f"Solutions per instance (1 to {MAX_HYPOTHESES}); their spread sets uncertainty_m. Default: the "
+            "preset's (1).",
+            rich_help_panel=PANEL_LIFTING,
+        ),
+    ] = None,
+    seed: Annotated[
+        int, typer.Option(help="Seed of the hypotheses: the same seed, the same poses.", rich_help_panel=PANEL_LIFTING)
+    ] = 0,
+    calibration: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="Uncertainty calibration for a prior of your own (docs/uncertainty.md). Default: the bundled one.",
+            rich_help_panel=PANEL_LIFTING,
         ),
     ] = None,
     ray_weight: Annotated[
         Optional[float],
         typer.Option(
-            help="Fraction of the way each observed joint is moved onto its camera ray before every prior step, "
-            f"above 0 up to 1 (fast: {PRESETS['fast'].ray_weight:g}, which lets the prior hold a joint a few pixels "
-            "off where it disagrees with the 2D; 1: the reference, joints exactly on their rays, about 1 mm less "
-            "accurate on held-out SyRIP poses; no calibrated uncertainty with another value)."
+            help=f"Share of the way observed joints move onto their rays per step, (0, 1] "
+            f"(fast: {PRESETS['fast'].ray_weight:g}).",
+            rich_help_panel=PANEL_EXPERT,
         ),
     ] = None,
     ray_confidence_ratio: Annotated[
         Optional[float],
         typer.Option(
-            help="Joints whose confidence is below this fraction of the median confidence of their pose move onto "
-            "their rays only in proportion (--ray-weight x confidence / (this x median)), 0 to 1; relative, so the "
-            f"detector's confidence scale does not matter (fast: {PRESETS['fast'].ray_confidence_ratio:g}; 0: every "
-            "observed joint alike; no calibrated uncertainty with another value). --min-confidence drops joints "
-            "instead."
+            help="Joints below this share of their pose's median confidence move in proportion, [0, 1] "
+            f"(fast: {PRESETS['fast'].ray_confidence_ratio:g}).",
+            rich_help_panel=PANEL_EXPERT,
         ),
     ] = None,
     hip_ray_factor: Annotated[
         Optional[float],
         typer.Option(
-            help="The hips (left_hip, right_hip) move this factor of their pull onto their rays, 0 to 1: a 2D hip "
-            "is a landmark on the body's surface, the prior's hip a joint inside the pelvis (fast: "
-            f"{PRESETS['fast'].hip_ray_factor:g}, about 0.6 mm more accurate on held-out SyRIP poses; 1: like every "
-            "other joint, better for 2D projected from a body model's own joints, e.g. synthetic data; no calibrated "
-            "uncertainty with another value)."
+            help=f"The hips' share of that pull, [0, 1] (fast: {PRESETS['fast'].hip_ray_factor:g}).",
+            rich_help_panel=PANEL_EXPERT,
         ),
     ] = None,
     twin_rate: Annotated[
         Optional[float],
         typer.Option(
-            help="Fraction of each left/right limb-length mismatch removed per prior step, 0 to 1 (fast: "
-            f"{PRESETS['fast'].twin_rate:g}; lower: symmetry angles about 1 degree closer to the truth, as "
-            "accurate, but more limbs far longer than their twin, up to 38 % over 1.3x at 0 on held-out SyRIP "
-            "poses; no calibrated uncertainty then)."
+            help=f"Share of each left/right limb-length mismatch removed per step, [0, 1] "
+            f"(fast: {PRESETS['fast'].twin_rate:g}).",
+            rich_help_panel=PANEL_EXPERT,
         ),
     ] = None,
     proportion_rate: Annotated[
         Optional[float],
         typer.Option(
-            help="Fraction of each bone's mismatch with its share of the skeleton's size in the prior's template "
-            f"removed per step, 0 to 1 (fast: {PRESETS['fast'].proportion_rate:g}; 0: off, about 0.8 mm less "
-            "accurate, slightly lower symmetry-angle error; no calibrated uncertainty then)."
+            help=f"Share of each bone's mismatch with the template's proportions removed per step, [0, 1] "
+            f"(fast: {PRESETS['fast'].proportion_rate:g}).",
+            rich_help_panel=PANEL_EXPERT,
         ),
     ] = None,
     twin_ratio_cap: Annotated[
         Optional[float],
         typer.Option(
-            help="After the loop, limbs more than this many times as long as their left/right twin are brought to "
-            f"this ratio along the camera rays; 0: off (fast: {PRESETS['fast'].twin_ratio_cap:g}, which leaves "
-            "pairs within it untouched; no calibrated uncertainty with another value)."
+            help=f"Limbs longer than this times their twin are brought to it; 0: off "
+            f"(fast: {PRESETS['fast'].twin_ratio_cap:g}).",
+            rich_help_panel=PANEL_EXPERT,
         ),
+    ] = None,
+    out: Annotated[
+        Optional[str],
+        typer.Option(
+            "--output",
+            "-o",
+            "--out",
+            metavar="PATH",
+            help="Output file (one input), format from its extension; - for stdout. Default: "
+            "<input stem>.zedo.json beside the input.",
+            rich_help_panel=PANEL_OUTPUT,
+        ),
+    ] = None,
+    output_dir: Annotated[
+        Optional[Path],
+        typer.Option(help="Write every output into this folder (made if missing).", rich_help_panel=PANEL_OUTPUT),
+    ] = None,
+    output_format: Annotated[
+        Optional[str],
+        typer.Option(
+            "--output-format",
+            help=f"{', '.join(OUTPUT_FORMATS)} (trc, c3d: marker files, docs/exports.md). Default: from -o, else json.",
+            rich_help_panel=PANEL_OUTPUT,
+        ),
+    ] = None,
+    units: Annotated[
+        str, typer.Option(help=f"{', '.join(UNITS)} (TRC is always m, C3D mm).", rich_help_panel=PANEL_OUTPUT)
+    ] = "m",
+    frame: Annotated[
+        str,
+        typer.Option(
+            help=f"{', '.join(FRAMES)}: camera axes (x right, y down, z forward), with the root at the origin for "
+            "root.",
+            rich_help_panel=PANEL_OUTPUT,
+        ),
+    ] = "camera",
+    marker_axes: Annotated[
+        str,
+        typer.Option(
+            help=f"Axes of TRC / C3D files: {', '.join(MARKER_AXES)} (overhead: a camera above a lying infant).",
+            rich_help_panel=PANEL_OUTPUT,
+        ),
+    ] = "level",
+    plot: Annotated[
+        Optional[Path],
+        typer.Option(help="Also write PNGs of three 3D poses into this folder.", rich_help_panel=PANEL_OUTPUT),
     ] = None,
     save_hypotheses: Annotated[
-        bool, typer.Option(help="Also write every hypothesis (JSON: hypotheses_m per person; NPZ: hypotheses).")
+        bool, typer.Option(help="Also write every hypothesis (JSON, NPZ).", rich_help_panel=PANEL_OUTPUT)
     ] = False,
-    calibration: Annotated[
-        Optional[Path],
-        typer.Option(
-            help="Uncertainty calibration (zedo.uncertainty JSON, benchmarks/calibrate_uncertainty.py) for a prior "
-            "of your own. Default: the bundled one, which holds for the bundled prior and the default settings."
-        ),
-    ] = None,
-    seed: Annotated[
-        int,
-        typer.Option(
-            help="Seed of the hypotheses' perturbations, recorded in the output: the same seed gives the same poses."
-        ),
-    ] = 0,
-    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace outputs that exist.", rich_help_panel=PANEL_OUTPUT)] = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress or summary on stderr.", rich_help_panel=PANEL_OUTPUT)
+    ] = False,
+    device: Annotated[str, typer.Option(help=DEVICE_HELP, rich_help_panel=PANEL_PERFORMANCE)] = "cpu",
     engine: Annotated[
         str,
         typer.Option(
-            help="local: this process. ray: the same batch over a Ray cluster, one prior load per worker, the same "
-            "outputs (pip install 'zedo[ray]'; inputs and outputs on a file system every node sees)."
+            help="local, or ray: the batch over a Ray cluster, the same outputs (pip install 'zedo[ray]').",
+            rich_help_panel=PANEL_PERFORMANCE,
         ),
     ] = "local",
     ray_address: Annotated[
         Optional[str],
         typer.Option(
-            help="With --engine ray: the cluster to join (else RAY_ADDRESS; else Ray starts on this machine)."
-        ),
+            help="The Ray cluster to join (else RAY_ADDRESS, else a local one).", rich_help_panel=PANEL_PERFORMANCE
+        ),  # fmt: skip
     ] = None,
     workers: Annotated[
         Optional[int],
         typer.Option(
-            help="With --engine ray: workers (prior loads), sharing the cluster's CPUs. Default: as many as leave "
-            "each worker the local engine's torch threads, which keeps the outputs equal to its to the last digit."
-        ),
+            help="Ray workers (prior loads). Default: the CPUs / the local engine's threads.",
+            rich_help_panel=PANEL_PERFORMANCE,
+        ),  # fmt: skip
     ] = None,
 ) -> None:
     """Lift 2D keypoints to 3D poses, in the camera frame (x right, y down, z forward).
 
     Each instance is fitted by the ZeDO-i optimisation: its joints stay on their camera rays
-    while the diffusion prior denoises the pose. Missing joints (COCO v=0, confidence 0 or
-    below --min-confidence) are filled by the prior and flagged. Without calibration the
-    camera is the paper's pseudo camera: f = 2000 px at the image centre.
+    while the diffusion prior denoises the pose. Missing joints are filled by the prior and
+    flagged. Without a calibration the camera is the paper's pseudo camera (f = 2000 px at the
+    image centre).
 
-    Several inputs are lifted in one process with one model load; an input that fails is
-    reported and skipped, and the exit code is 4 when some inputs failed and others did not.
-    Outputs are written atomically and never replace a file without --overwrite.
+    Inputs are lifted with one model load; an input that fails is reported and skipped (exit
+    code 4). Outputs are written atomically and never replace a file without --overwrite.
 
     Examples:
 
-      zedo lift examples/prior_samples_coco.json            # writes examples/prior_samples_coco.zedo.json
-
+      zedo lift examples/prior_samples_coco.json   # -> its .zedo.json beside it
       zedo lift detections.json --images annotations.json -o - | jq .summary
-
-      zedo lift openpose_frames/ --fps 30 --temporal smooth --units mm --output-format csv
-
-      zedo lift 'clips/*.json' --output-dir out/ --person largest --plot out/plots
+      zedo lift frames/ --fps 30 --temporal smooth -o clip.zedo.csv
+      zedo lift 'clips/*.json' --output-dir out/ --plot out/plots
     """
     check_steps(steps)  # usage errors fail before torch and the prior load
     check_seed(seed)
@@ -750,7 +784,7 @@ def lift_command(
                 err_console.print(f"zedo: error: {one_line(str(error))}", markup=False, soft_wrap=True)
                 outcomes.append(FileOutcome(source, output, error=error))
     if not quiet:
-        err_console.print(_summary_table(outcomes))
+        print_table(_summary_table(outcomes))
     code = batch_exit_code(outcomes)
     if code:
         raise typer.Exit(code)

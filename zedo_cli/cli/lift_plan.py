@@ -9,7 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError
-from ..files import check_can_create, check_output_kind
+from ..files import check_can_create, check_output_folder, check_output_kind
 from ..formats.openpose import is_openpose_folder, is_zedo_output
 from ..formats.source import check_input_file
 from ..formats.writers import check_stdout, default_output_name, output_format
@@ -74,7 +74,7 @@ def check_inputs(inputs: list[str]) -> None:
 def check_output_options(out: str | None, output_dir: Path | None, fmt: str | None) -> None:
     """The usage errors of -o / --output-dir / --output-format, before the inputs are looked at."""
     if out is not None and output_dir is not None:
-        raise ConfigError("give --out or --output-dir, not both")
+        raise ConfigError("give -o/--output or --output-dir, not both")
     if out is not None:
         if out != STDIN:
             check_output_kind(Path(out))  # -o /dev/null, -o some_folder/: said as such
@@ -87,11 +87,13 @@ def plan_outputs(
     """The output of each input, or `-` for stdout. Refuses, before any work, clashing
     outputs, existing files without `overwrite` and missing folders."""
     if out is not None and len(inputs) > 1:
-        raise ConfigError("--out/-o names one output; for several inputs use --output-dir (or none: beside each input)")
+        raise ConfigError(
+            "-o/--output names one output; for several inputs use --output-dir (or none: beside each input)"
+        )
     if out is not None and output_dir is not None:
-        raise ConfigError("give --out or --output-dir, not both")
-    if output_dir is not None and not output_dir.is_dir():
-        raise ConfigError(f"{output_dir}: output folder does not exist")
+        raise ConfigError("give -o/--output or --output-dir, not both")
+    if output_dir is not None:
+        check_output_folder(output_dir)  # made when the outputs are checked, below
     if out is not None:
         output_format(out, fmt)  # a contradicting extension fails here
         outputs = [out]
@@ -195,8 +197,7 @@ def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> No
         if key in seen:
             raise ConfigError(f"{seen[key]} and {src} would both be written to {dst}; use separate --output-dir runs")
         seen[key] = src
-        if not Path(dst).parent.is_dir():
-            raise ConfigError(f"{Path(dst).parent}: output folder does not exist")
+        check_output_folder(Path(dst).parent)
         if check_output_kind(Path(dst)) and not overwrite:
             existing.append(dst)
     for dst in {str(Path(d).parent): d for d in reversed(outputs) if d != STDIN}.values():

@@ -13,7 +13,16 @@ from rich.table import Table
 from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
 from ..lifting.config import PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device, check_steps
-from .common import err_console, error_boundary, print_json_report, progress_bar
+from .common import (
+    REPORT_OUTPUT_HELP,
+    check_report_output,
+    err_console,
+    error_boundary,
+    output_option,
+    print_table,
+    progress_bar,
+    report_figures,
+)
 
 if TYPE_CHECKING:
     from ..evaluation.minirgbd_benchmark import MiniScore
@@ -49,6 +58,8 @@ def benchmark_minirgbd_command(
     stride: Annotated[int, typer.Option(help="Lift every N-th frame of each sequence (1: all 1000 per sequence; 10: a quick run).")] = 1,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
+    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
 ) -> None:
     """Run the MINI-RGBD benchmark: lift the test frames from their 2D and score MPJPE / PA-MPJPE.
@@ -61,7 +72,7 @@ def benchmark_minirgbd_command(
 
     Examples:
 
-      zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train --out mini.safetensors
+      zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train -o mini.safetensors
 
       zedo benchmark-minirgbd --minirgbd-dir ~/data/MINI-RGBD --prior mini.safetensors --protocol 16
 
@@ -77,6 +88,7 @@ def benchmark_minirgbd_command(
     protocol_joints(protocol, drop_joint)
     get_mapping(mapping)
     check_stride(stride)
+    check_report_output(output, overwrite)
     from ..evaluation.minirgbd_benchmark import DEPTH_INTRINSICS, minirgbd_lift_config, run_minirgbd_benchmark
     from ..prior.weights import load_prior, resolve_prior_path  # torch loads here, not for --help
 
@@ -94,17 +106,16 @@ def benchmark_minirgbd_command(
                                      protocol=protocol, dropped=drop_joint, stride=stride, device=device,
                                      callback=on_step)  # fmt: skip
     s = run.score
-    if as_json:
-        doc = {"dataset": "MINI-RGBD", "prior": prior.path, "prior_sha256": prior.sha256, "device": device,
-               "preset": cfg.preset, "stride": stride, "dropped_joint": drop_joint if protocol == "16" else None,
-               "intrinsics": DEPTH_INTRINSICS.matrix().tolist(), "config": minirgbd_lift_config(cfg).to_dict(),
-               **vars(s)}  # fmt: skip
-        print_json_report(doc)
+    doc = {"dataset": "MINI-RGBD", "prior": prior.path, "prior_sha256": prior.sha256, "device": device,
+           "preset": cfg.preset, "stride": stride, "dropped_joint": drop_joint if protocol == "16" else None,
+           "intrinsics": DEPTH_INTRINSICS.matrix().tolist(), "config": minirgbd_lift_config(cfg).to_dict(),
+           **vars(s)}  # fmt: skip
+    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
         return
     dropped = f" (without {drop_joint})" if protocol == "16" else ""
     title = (f"MINI-RGBD {split} split, {side} side, {s.count} frames, {mapping} mapping, "
              f"{protocol} joints{dropped}, pelvis centred (mm)")  # fmt: skip
-    Console().print(_score_table(s, title))
+    print_table(_score_table(s, title), Console())
     err_console.print(f"lifted {s.count} frames in {s.seconds:.1f} s ({s.poses_per_second:.1f} poses/s), mean "
                       f"reprojection error {s.mean_reprojection_error_px:.2f} px; prior {prior.label}; device {device}",
                       markup=False)  # fmt: skip

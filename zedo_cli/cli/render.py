@@ -7,10 +7,10 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..errors import ConfigError
+from ..errors import ConfigError, plural
 from ..footage.render import RenderSettings, render_images, render_video
 from ..formats.result_reader import read_result
-from .common import err_console, error_boundary, step_progress
+from .common import err_console, error_boundary, output_option, step_progress
 
 
 @error_boundary
@@ -18,9 +18,7 @@ def render_command(
     result: Annotated[
         str, typer.Argument(help="A zedo result, .json or .jsonl (zedo lift's output).", show_default=False)
     ],
-    out: Annotated[
-        str, typer.Option("--out", "-o", help="An .mp4 file (with --video), or a folder for the PNGs (with --images).")
-    ],
+    out: Annotated[str, output_option("An .mp4 file (with --video), or a folder for the PNGs (with --images).")],
     video: Annotated[
         Optional[Path], typer.Option(help="The video the keypoints came from (frame i <-> the result's frame_index i).")
     ] = None,
@@ -31,7 +29,7 @@ def render_command(
     side_view: Annotated[
         bool, typer.Option(help="Add a panel beside each frame: the skeletons from the side (depth against height).")
     ] = False,
-    overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
+    overwrite: Annotated[bool, typer.Option(help="Replace outputs that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
 ) -> None:
     """Draw the lifted skeletons over the footage, to see how well the 3D poses fit.
@@ -60,6 +58,6 @@ def render_command(
             summary = render_images(res, images, out, settings, on_frame)
     if not quiet:
         rate = summary.frames / summary.seconds if summary.seconds > 0 else float("nan")
-        err_console.print(f"rendered {summary.frames} frames ({summary.drawn} with persons, {summary.persons} "
-                          f"skeletons) in {summary.seconds:.1f} s ({rate:.0f} frames/s); wrote {summary.output}",
+        err_console.print(f"rendered {plural(summary.frames, 'frame')} ({summary.drawn} with people, "
+                          f"{plural(summary.persons, 'skeleton')}) in {summary.seconds:.1f} s ({rate:.0f} frames/s); wrote {summary.output}",
                           markup=False, soft_wrap=True)  # fmt: skip

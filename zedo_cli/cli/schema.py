@@ -10,7 +10,7 @@ import typer
 
 from ..errors import ConfigError
 from ..files import write_text_atomic
-from .common import error_boundary
+from .common import err_console, error_boundary, output_option
 
 SCHEMAS = ("result",)
 
@@ -19,8 +19,9 @@ SCHEMAS = ("result",)
 @error_boundary
 def schema_command(
     name: Annotated[str, typer.Argument(help=f"Which file's schema: {', '.join(SCHEMAS)} (the zedo.pose3d/1 result of zedo lift, JSON and JSON Lines).")],
-    out: Annotated[Optional[str], typer.Option("--out", "-o", help="Write the schema to this file instead of stdout.")] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace an existing --out file.")] = False,
+    out: Annotated[Optional[str], output_option("Write the schema to this file instead of stdout.")] = None,
+    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No note on stderr.")] = False,
 ) -> None:
     """Print the JSON Schema (draft 2020-12) of a zedo file, generated from the models zedo reads it with.
 
@@ -28,7 +29,9 @@ def schema_command(
     header (with "type": "header"), one of its frames ("type": "frame") or its summary
     ("type": "summary"). Per-joint lists have one entry per skeleton joint. See docs/exports.md.
 
-      zedo schema result > zedo.pose3d.schema.json
+    Example:
+
+      zedo schema result -o zedo.pose3d.schema.json
     """
     # fmt: on
     if name not in SCHEMAS:
@@ -40,3 +43,5 @@ def schema_command(
         sys.stdout.write(text)
     else:
         write_text_atomic(out, text, overwrite=overwrite)
+        if not quiet:
+            err_console.print(f"wrote {out}", markup=False, soft_wrap=True)

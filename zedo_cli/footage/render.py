@@ -21,8 +21,8 @@ import numpy as np
 from ..camera.calibration import IMAGE_SUFFIXES
 from ..camera.video import QUEUE_DEPTH, VideoWriter, frames_ahead, probe_video
 from ..data.skeleton import center_on_root
-from ..errors import ConfigError, InputFormatError, ZedoError
-from ..files import atomic_path, check_writable
+from ..errors import ConfigError, InputFormatError, ZedoError, plural
+from ..files import atomic_path, check_writable, make_output_folder
 from ..formats.result_reader import ResultPoses
 from .draw import SideView, Style, draw_flag, draw_skeleton, flag_names, label, stamp
 
@@ -191,8 +191,9 @@ def render_video(result: ResultPoses, video: str | Path, output: str | Path, set
                         on_frame(done, info.frame_count)
             beyond = sorted(f for f in by_frame if f >= done)
             if beyond:
-                raise InputFormatError(f"{result.source}: frame_index {beyond[0]}: the result has persons in "
-                                       f"{len(beyond)} frames after the end of {video} ({done} frames)")  # fmt: skip
+                raise InputFormatError(f"{result.source}: frame_index {beyond[0]}: the result has people in "
+                                       f"{plural(len(beyond), 'frame')} after the end of {video} "
+                                       f"({plural(done, 'frame')})")  # fmt: skip
             os.replace(encoded, tmp)
         finally:
             encoded.unlink(missing_ok=True)
@@ -218,8 +219,9 @@ def match_images(result: ResultPoses, images: list[Path]) -> dict[Path, list[int
         else:
             out.setdefault(path, []).append(i)
     if unmatched:
-        raise InputFormatError(f"{result.source}: {len(unmatched)} persons match no image of the folder (first: "
-                               f"{unmatched[0]}; matched by file_name, else image_id = the file's stem)")  # fmt: skip
+        raise InputFormatError(f"{result.source}: {plural(len(unmatched), 'person', 'people')} match no image of "
+                               f"the folder (first: {unmatched[0]}; matched by file_name, else image_id = the "
+                               "file's stem)")  # fmt: skip
     return out
 
 
@@ -248,9 +250,7 @@ def render_images(result: ResultPoses, folder: str | Path, output: str | Path, s
     targets = [output / f"{p.stem}.png" for p in images]
     if len(set(targets)) < len(targets):
         raise InputFormatError(f"{folder}: two images share a stem: their PNGs would have one name")
-    if not output.parent.is_dir():
-        raise ConfigError(f"{output.parent}: output folder does not exist")
-    output.mkdir(exist_ok=True)
+    make_output_folder(output)
     for target in targets:
         check_writable(target, settings.overwrite)
     painter = Painter(result, settings)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..camera.video import VideoInfo, count_frames, probe_video
 from ..data.keypoints import Keypoints2D
-from ..errors import ConfigError, InputFormatError
+from ..errors import ConfigError, InputFormatError, plural
 
 OUTSIDE_MARGIN = 0.25  # of the width (x) or height (y), beyond the frame's edges
 
@@ -47,9 +47,9 @@ class VideoCheck:
         if not self.outside:
             return None
         first, joints = self.outside[0]
-        return (f"{len(self.outside)} instances have keypoints more than {OUTSIDE_MARGIN:.0%} of the frame outside "
-                f"{self.info.path}'s {self.info.width}x{self.info.height} frame (first: instance {first}, "
-                f"{', '.join(joints)}); listed in params.video.keypoints_outside_frame")  # fmt: skip
+        return (f"{plural(len(self.outside), 'instance')} with keypoints more than {OUTSIDE_MARGIN:.0%} of the "
+                f"frame outside {self.info.path}'s {self.info.width}x{self.info.height} frame (first: instance "
+                f"{first}, {', '.join(joints)}); listed in params.video.keypoints_outside_frame")  # fmt: skip
 
 
 def video_options(
@@ -78,8 +78,8 @@ def check_against_video(kp: Keypoints2D, info: VideoInfo, source: str) -> VideoC
     if frames > info.frame_count or (last is not None and last >= info.frame_count):
         exact = count_frames(info.path)  # the container's count can be an estimate: count before refusing
         if frames > exact or (last is not None and last >= exact):
-            what = f"frame number {last}" if last is not None and last >= exact else f"{frames} frames"
-            raise VideoMismatchError(f"{source}: {what} but {info.path} has {exact} frames")
+            what = f"frame number {last}" if last is not None and last >= exact else plural(frames, "frame")
+            raise VideoMismatchError(f"{source}: {what} but {info.path} has {plural(exact, 'frame')}")
     sizes = kp.image_sizes
     known = np.isfinite(sizes).all(axis=1)
     wrong = known & (np.abs(sizes - [info.width, info.height]) > 1).any(axis=1)

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..camera.model import CameraModel
 from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
-from ..errors import ConfigError, InputFormatError, IntrinsicsError
+from ..errors import ConfigError, InputFormatError, IntrinsicsError, plural
 from .result_schema import (
     SCHEMA,
     Frame,
@@ -220,7 +220,8 @@ class _DocumentReader:
         j = self.joints
         if summary.frames_total != self.frames or summary.instances_total != len(self.persons):
             raise InputFormatError(
-                f"{self.name}: summary: {summary.frames_total} frames and {summary.instances_total} persons, "
+                f"{self.name}: summary: {plural(summary.frames_total, 'frame')} and "
+                f"{plural(summary.instances_total, 'person', 'people')}, "
                 f"but the file has {self.frames} and {len(self.persons)}: an incomplete or edited file"
             )
         has_radii = any("uncertainty_m" in person.model_fields_set for _, _, person in self.persons)

@@ -1,0 +1,134 @@
+"""`--help` that fits a screen: the options of a command grouped in panels (typer's
+`rich_help_panel`), option names never cut short, paragraphs rewrapped to the terminal, and a
+short usage with a hint when a command is run without arguments."""
+
+from __future__ import annotations
+
+import inspect
+import sys
+from typing import Any
+
+import typer
+from rich.console import Console, Group
+from rich.panel import Panel
+from rich.table import Table
+from rich.text import Text
+from typer.core import TyperArgument, TyperCommand
+
+# typer's click objects (its own vendored click in recent typer versions) are typed Any here: the
+# help only reads their documented attributes (params, opts, help, default, nargs, metavar).
+DEFAULT_PANEL = "Options"
+_TYPE_NAMES = {"str": "TEXT", "path": "PATH", "float": "FLOAT", "int": "INT", "bool": ""}
+
+
+def usage_line(command: Any, ctx: Any) -> str:
+    """`zedo lift [OPTIONS] KEYPOINTS...`: arguments by name, in capitals."""
+    parts = [ctx.command_path, "[OPTIONS]"]
+    for param in command.params:
+        if isinstance(param, TyperArgument) and not getattr(param, "hidden", False):
+            name = (param.metavar or param.name or "").upper()
+            name += "..." if param.nargs == -1 else ""
+            parts.append(name if param.required else f"[{name}]")
+    return " ".join(parts)
+
+
+def _metavar(param: Any, ctx: Any) -> str:
+    if getattr(param, "is_flag", False):
+        return ""
+    if param.metavar:
+        return param.metavar
+    shown = (param.display_type_rich(ctx) or "").strip("<>.")  # type: ignore[attr-defined]
+    return " ".join(_TYPE_NAMES.get(part, part.upper()) for part in shown.split(","))
+
+
+def _names(param: Any, ctx: Any) -> str:
+    """`-o, --output PATH`: the short names and the first long name (later long names, such as
+    an older spelling kept working, are not shown)."""
+    if isinstance(param, TyperArgument):
+        return (param.metavar or param.name or "").upper() + ("..." if param.nargs == -1 else "")
+    short = [o for o in param.opts if not o.startswith("--")]
+    long = [o for o in param.opts if o.startswith("--")][:1]
+    return " ".join([", ".join(short + long), _metavar(param, ctx)]).strip()
+
+
+def _default(param: Any) -> str:
+    shown = getattr(param, "show_default", True)
+    value = param.default
+    if not shown or value is None or value is False or getattr(param, "is_flag", False) or callable(value):
+        return ""
+    if isinstance(value, (list, tuple)):
+        value = " ".join(str(v) for v in value)
+    return f" [default: {value}]"
+
+
+def _paragraphs(doc: str) -> list[Text]:
+    """The docstring's paragraphs, rewrapped; indented lines (examples) kept as they are."""
+    out: list[Text] = []
+    for block in inspect.cleandoc(doc).split("\n\n"):
+        lines = block.splitlines()
+        if lines and all(line.startswith(" ") for line in lines):
+            out.append(Text("\n".join(lines), overflow="fold"))
+        else:
+            out.append(Text(" ".join(line.strip() for line in lines)))
+    return out
+
+
+def _panels(command: Any, ctx: Any) -> dict[str, list[Any]]:
+    panels: dict[str, list[Any]] = {}
+    for param in command.get_params(ctx):
+        if getattr(param, "hidden", False):
+            continue
+        panel = getattr(param, "rich_help_panel", None) or DEFAULT_PANEL
+        panels.setdefault(panel, []).append(param)
+    return panels
+
+
+def render_help(command: Any, ctx: Any, console: Console) -> str:
+    """The whole help of `command`, in one width (the terminal's, else 80 columns), without
+    trailing blanks."""
+    with console.capture() as captured:
+        _print_help(command, ctx, console)
+    return "\n".join(line.rstrip() for line in captured.get().splitlines()) + "\n"
+
+
+def _print_help(command: Any, ctx: Any, console: Console) -> None:
+    body: list[Any] = [Text(f"Usage: {usage_line(command, ctx)}", style="bold"), Text("")]
+    for paragraph in _paragraphs(command.help or ""):
+        body += [paragraph, Text("")]
+    console.print(Group(*body))
+    for title, params in _panels(command, ctx).items():
+        table = Table.grid(padding=(0, 2))
+        table.add_column(no_wrap=True, style="bold cyan")
+        table.add_column(ratio=1, overflow="fold")
+        for param in params:
+            help_text = (getattr(param, "help", None) or "") + _default(param)
+            if isinstance(param, TyperArgument) and param.required:
+                help_text += " [required]"
+            table.add_row(_names(param, ctx), Text(help_text))
+        console.print(Panel(table, title=title, title_align="left", border_style="dim"))
+
+
+def short_usage(command: Any, ctx: Any) -> str:
+    """What a command run without arguments prints: its usage, what it does, one example, and
+    where the rest is."""
+    doc = inspect.cleandoc(command.help or "")
+    lines = [f"Usage: {usage_line(command, ctx)}", "", doc.splitlines()[0] if doc else ""]
+    examples = doc.split("Example", 1)[1].splitlines()[1:] if "Example" in doc else []
+    first = next((line.strip() for line in examples if line.strip()), None)
+    if first:
+        lines += ["", f"Example: {first}"]
+    lines += ["", f"Try '{ctx.command_path} --help' for every option."]
+    return "\n".join(lines)
+
+
+class ZedoCommand(TyperCommand):
+    """A typer command with zedo's help layout (see the module's docstring)."""
+
+    def format_help(self, ctx: Any, formatter: Any) -> None:
+        formatter.write(render_help(self, ctx, Console(highlight=False)))
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        if not args and self.no_args_is_help and not ctx.resilient_parsing:
+            sys.stderr.write(short_usage(self, ctx) + "\n")
+            raise typer.Exit(2)  # a usage error: the required arguments are missing
+        return super().parse_args(ctx, args)
