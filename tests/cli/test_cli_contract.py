@@ -130,3 +130,12 @@ def test_figures_go_to_a_json_file_with_o(tiny_prior_path: Path, tmp_path: Path)
     assert result.exit_code == 2 and ".json" in result.stderr
     result = runner.invoke(app, [*evaluate, "-o", "-"])
     assert result.exit_code == 0 and json.loads(result.stdout)["count"] == 2
+
+
+def test_zedo_alone_lists_the_commands_in_the_same_layout() -> None:
+    result = runner.invoke(app, [], env={"COLUMNS": "80"}, terminal_width=80)
+    assert result.exit_code == 2
+    lines = result.stdout.splitlines()
+    assert lines[0] == "Usage: zedo [OPTIONS] COMMAND [ARGS]..." and "--version" in result.stdout
+    assert all(name in result.stdout for name in COMMANDS)
+    assert all(len(line) <= 80 and line == line.rstrip() for line in lines)

@@ -13,7 +13,7 @@ from .augment import augment_command, fit_augmenter_command
 from .calibrate import calibrate_command
 from .evaluate import benchmark_command, evaluate_command
 from .fit import fit_prior_command
-from .help import ZedoCommand
+from .help import ZedoCommand, ZedoGroup
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
 from .render import render_command
@@ -29,6 +29,7 @@ app = typer.Typer(
         "6 zedo calibrate refused an untrustworthy camera, "
         "130 interrupted, 141 stdout closed by its reader."
     ),
+    cls=ZedoGroup,
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,

@@ -13,7 +13,7 @@ from rich.console import Console, Group
 from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
-from typer.core import TyperArgument, TyperCommand
+from typer.core import TyperArgument, TyperCommand, TyperGroup
 
 # typer's click objects (its own vendored click in recent typer versions) are typed Any here: the
 # help only reads their documented attributes (params, opts, help, default, nargs, metavar).
@@ -92,7 +92,8 @@ def render_help(command: Any, ctx: Any, console: Console) -> str:
 
 
 def _print_help(command: Any, ctx: Any, console: Console) -> None:
-    body: list[Any] = [Text(f"Usage: {usage_line(command, ctx)}", style="bold"), Text("")]
+    usage = f"{ctx.command_path} [OPTIONS] COMMAND [ARGS]..." if isinstance(command, TyperGroup) else None
+    body: list[Any] = [Text(f"Usage: {usage or usage_line(command, ctx)}", style="bold"), Text("")]
     for paragraph in _paragraphs(command.help or ""):
         body += [paragraph, Text("")]
     console.print(Group(*body))
@@ -106,6 +107,15 @@ def _print_help(command: Any, ctx: Any, console: Console) -> None:
                 help_text += " [required]"
             table.add_row(_names(param, ctx), Text(help_text))
         console.print(Panel(table, title=title, title_align="left", border_style="dim"))
+    if isinstance(command, TyperGroup):
+        table = Table.grid(padding=(0, 2))
+        table.add_column(no_wrap=True, style="bold cyan")
+        table.add_column(ratio=1, overflow="fold")
+        for name in command.list_commands(ctx):
+            sub = command.get_command(ctx, name)
+            if sub is not None and not sub.hidden:
+                table.add_row(name, Text(sub.get_short_help_str(limit=300)))
+        console.print(Panel(table, title="Commands", title_align="left", border_style="dim"))
 
 
 def short_usage(command: Any, ctx: Any) -> str:
@@ -119,6 +129,19 @@ def short_usage(command: Any, ctx: Any) -> str:
         lines += ["", f"Example: {first}"]
     lines += ["", f"Try '{ctx.command_path} --help' for every option."]
     return "\n".join(lines)
+
+
+class ZedoGroup(TyperGroup):
+    """The `zedo` group, with the same help layout as its commands."""
+
+    def format_help(self, ctx: Any, formatter: Any) -> None:
+        formatter.write(render_help(self, ctx, Console(highlight=False)))
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        if not args and self.no_args_is_help and not ctx.resilient_parsing:
+            sys.stdout.write(ctx.get_help())  # the list of commands, as before (typer drops it otherwise)
+            raise typer.Exit(2)
+        return super().parse_args(ctx, args)
 
 
 class ZedoCommand(TyperCommand):
