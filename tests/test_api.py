@@ -1,4 +1,4 @@
-"""The Python API exported by `zedo_cli` (README, "Python API"): the same poses as `zedo lift`."""
+"""The Python API exported by `zedo_cli` (docs/api.md): the same poses as `zedo lift`."""
 
 from __future__ import annotations
 

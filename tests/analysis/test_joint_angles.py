@@ -1,4 +1,4 @@
-"""Joint-angle conventions (README, "zedo analyze"), pinned on constructed poses."""
+"""Joint-angle conventions (docs/clinical.md), pinned on constructed poses."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""`zedo lift --engine ray` gives exactly the local engine's outputs and exit codes (README
-"Large batches on a Ray cluster"). Runs on a local Ray instance with 2 CPUs; skipped when the
+"""`zedo lift --engine ray` gives exactly the local engine's outputs and exit codes (docs/lifting.md,
+"The Ray engine"). Runs on a local Ray instance with 2 CPUs; skipped when the
 `ray` extra is not installed (`.ci/run` installs it)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Cold start (README "Start-up"): help and option errors answer without loading torch, and
+"""Cold start (docs/lifting.md, "Start-up"): help and option errors answer without loading torch, and
 lifting never loads torch's compiler stack (torch._dynamo, which creating a torch.optim
 optimiser imports: about 0.8 s)."""
 

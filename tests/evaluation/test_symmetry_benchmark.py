@@ -71,7 +71,8 @@ def test_hwhup_reference_poses_are_the_test_rows() -> None:
 @pytest.mark.slow
 @needs_syrip
 def test_symmetry_benchmark_on_test100() -> None:
-    """The README's figures: the bundled prior, fast preset; the HW-HuP reference reaches ~0.65."""
+    """The figures of docs/uncertainty.md and docs/clinical.md: the bundled prior, fast preset; the HW-HuP
+    reference reaches ~0.65."""
     prior = load_prior(bundled_prior_path(), skeleton="syrip12")
     bench = run_symmetry_benchmark(SYRIP_DIR, prior, get_preset("fast"))
     by = {s.source: s for s in bench.scores}

@@ -244,7 +244,7 @@ def analyze_command(
     mirrored through the body's mid-plane), called symmetric at most
     --symmetry-threshold degrees (28), with the paper's bands (< 30, 30-60,
     >= 60); knee and elbow flexion, hip and shoulder flexion and abduction
-    in a trunk frame (conventions: README, "zedo analyze").
+    in a trunk frame (conventions: docs/clinical.md).
 
     For a video (--fps, or the fps given to zedo lift), per person: median
     and IQR of |angular velocity|, range of motion and the left-right

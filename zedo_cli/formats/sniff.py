@@ -8,7 +8,7 @@ from .validate import error
 
 WHAT_ZEDO_READS = (
     "zedo lift reads a 2D detector's keypoints (COCO, OpenPose, AlphaPose, MMPose, zedo JSON/JSONL): "
-    "run a 2D pose detector on it first (see README, 'Inputs of zedo lift')"
+    "run a 2D pose detector on it first (see docs/inputs.md)"
 )
 HEAD_BYTES = 4096  # enough for every signature below and a CSV's first lines
 _IMAGE = "an image"
