@@ -52,19 +52,24 @@ def _root(
     """Lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i)."""
 
 
-app.command("lift", no_args_is_help=True, cls=ZedoCommand)(lift_command)
-app.command("fit-prior", no_args_is_help=True, cls=ZedoCommand)(fit_prior_command)
-app.command("adapt", no_args_is_help=True, cls=ZedoCommand)(adapt_command)
-app.command("fit-augmenter", no_args_is_help=True, cls=ZedoCommand)(fit_augmenter_command)
-app.command("augment", no_args_is_help=True, cls=ZedoCommand)(augment_command)
-app.command("evaluate", no_args_is_help=True, cls=ZedoCommand)(evaluate_command)
-app.command("benchmark", no_args_is_help=True, cls=ZedoCommand)(benchmark_command)
-app.command("benchmark-minirgbd", no_args_is_help=True, cls=ZedoCommand)(benchmark_minirgbd_command)
-app.command("analyze", no_args_is_help=True, cls=ZedoCommand)(analyze_command)
-app.command("benchmark-symmetry", no_args_is_help=True, cls=ZedoCommand)(benchmark_symmetry_command)
-app.command("calibrate", no_args_is_help=True, cls=ZedoCommand)(calibrate_command)
-app.command("render", no_args_is_help=True, cls=ZedoCommand)(render_command)
-app.command("schema", no_args_is_help=True, cls=ZedoCommand)(schema_command)
+# In this order in `zedo --help`; each shows a short usage when run without arguments (cli/help.py).
+COMMANDS = {
+    "lift": lift_command,
+    "fit-prior": fit_prior_command,
+    "adapt": adapt_command,
+    "fit-augmenter": fit_augmenter_command,
+    "augment": augment_command,
+    "evaluate": evaluate_command,
+    "benchmark": benchmark_command,
+    "benchmark-minirgbd": benchmark_minirgbd_command,
+    "analyze": analyze_command,
+    "benchmark-symmetry": benchmark_symmetry_command,
+    "calibrate": calibrate_command,
+    "render": render_command,
+    "schema": schema_command,
+}
+for _name, _command in COMMANDS.items():
+    app.command(_name, no_args_is_help=True, cls=ZedoCommand)(_command)
 
 
 def main() -> None:
