@@ -15,9 +15,6 @@ from test_cli import lift_args, runner, write_coco
 
 from zedo_cli.cli import app
 
-# One local Ray cluster per module: its tests run in one xdist process (pyproject: --dist loadgroup).
-pytestmark = pytest.mark.xdist_group("ray")
-
 # Timings differ between runs; everything else must be equal to the byte.
 NUMBER = re.compile(r"-?\d+\.?\d*(?:e-?\d+)?")
 TIMINGS = re.compile(r'"(created|seconds)": [^,\n]*')
