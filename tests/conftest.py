@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -13,6 +14,11 @@ from zedo_cli.prior.schedules import TrainConfig
 from zedo_cli.prior.sde import SubVPSDE
 from zedo_cli.prior.training import train_score_model
 from zedo_cli.prior.weights import Prior, load_prior, save_prior
+
+if os.environ.get("PYTEST_XDIST_WORKER"):
+    # The suite runs in two processes on two cores (pyproject's -n 2): one torch thread each, as two
+    # threads each make OpenMP's workers wait on one another (the tiny prior took 59 s to train, not 4).
+    torch.set_num_threads(1)
 
 
 @pytest.fixture(scope="session")

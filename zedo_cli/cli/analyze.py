@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
-from rich.console import Console
 from rich.table import Table
 
 from ..analysis.analyse import (
@@ -40,6 +39,7 @@ from .common import (
     print_table,
     progress_bar,
     report_figures,
+    stdout_console,
 )
 from .lift_plan import STDIN, expand_inputs
 
@@ -411,7 +411,7 @@ def benchmark_symmetry_command(
     doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": preset, **asdict(bench)}
     if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
         return
-    console = Console()
+    console = stdout_console()
     for table in _benchmark_tables(bench):
         print_table(table, console)
     console.print("err: mean |symmetry-angle error| (deg) of zedo analyze's values (calibrated estimates where a "

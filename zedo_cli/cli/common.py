@@ -39,6 +39,13 @@ err_console = Console(stderr=True, highlight=False)
 err_console.soft_wrap = not err_console.is_terminal
 
 
+def stdout_console() -> Console:
+    """The console of a command's tables and notes on stdout: like stderr's, never wrapped off a terminal."""
+    console = Console(highlight=False)
+    console.soft_wrap = not console.is_terminal
+    return console
+
+
 def print_table(table: Table, console: Console | None = None) -> None:
     """A rich table on a terminal; elsewhere plain lines: the title, the header, one line per
     row, columns aligned with two spaces, nothing cut, wrapped or padded at the end."""

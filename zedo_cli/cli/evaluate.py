@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
-from rich.console import Console
 from rich.table import Table
 
 from ..data.datasets import load_npz_poses, load_syrip_3d
@@ -24,6 +23,7 @@ from .common import (
     print_table,
     progress_bar,
     report_figures,
+    stdout_console,
 )
 
 if TYPE_CHECKING:
@@ -85,7 +85,7 @@ def evaluate_command(
         table.add_row(joint, f"{err:.1f}")
     table.add_row("[b]mean[/b]", f"[b]{mpjpe:.1f}[/b]")
     table.add_row("PA-MPJPE", f"{pa:.1f}")
-    print_table(table, Console())
+    print_table(table, stdout_console())
 
 
 def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
@@ -205,7 +205,7 @@ def benchmark_command(
     }  # fmt: skip
     if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
         return
-    console = Console()
+    console = stdout_console()
     print_table(_benchmark_table(rows), console)
     if rates:
         print_table(_throughput_table(rates, device), console)

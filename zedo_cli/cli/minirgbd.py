@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
-from rich.console import Console
 from rich.table import Table
 
 from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
@@ -22,6 +21,7 @@ from .common import (
     print_table,
     progress_bar,
     report_figures,
+    stdout_console,
 )
 
 if TYPE_CHECKING:
@@ -115,7 +115,7 @@ def benchmark_minirgbd_command(
     dropped = f" (without {drop_joint})" if protocol == "16" else ""
     title = (f"MINI-RGBD {split} split, {side} side, {s.count} frames, {mapping} mapping, "
              f"{protocol} joints{dropped}, pelvis centred (mm)")  # fmt: skip
-    print_table(_score_table(s, title), Console())
+    print_table(_score_table(s, title), stdout_console())
     err_console.print(f"lifted {s.count} frames in {s.seconds:.1f} s ({s.poses_per_second:.1f} poses/s), mean "
                       f"reprojection error {s.mean_reprojection_error_px:.2f} px; prior {prior.label}; device {device}",
                       markup=False)  # fmt: skip
