@@ -138,7 +138,7 @@ def test_the_report_is_self_contained(kick_calibrated: tuple[Path, list], tmp_pa
     assert page.index("Decisions") < page.index("Skeleton views")  # the calls lead
     assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 3 + 1  # 3 skeleton views, 1 time series
     for needle in ("Decisions", "Symmetry per frame", "Joint angles per frame", "Time series", "Movement features",
-                   "<b>Uncertain</b>: the interval includes 28°"):  # fmt: skip
+                   "<b>Uncertain</b>: that interval includes 28°", "80% interval"):  # fmt: skip
         assert needle in page
     # nothing to fetch: no scripts, no external stylesheet, image or font
     assert "<script" not in page and "<link" not in page and "<img" not in page
