@@ -1,4 +1,4 @@
-"""Joint angles in degrees, with the conventions of the README ("zedo analyze").
+"""Joint angles in degrees, with the conventions of docs/clinical.md.
 
 - Knee and elbow flexion: the angle between the proximal segment (hip -> knee, shoulder ->
   elbow) and the distal one (knee -> ankle, elbow -> wrist): 0 = straight, 90 = right angle.

@@ -335,7 +335,7 @@ def report_html(a: Analysis) -> str:
         + (f" [{a.settings.level:.0%} interval]" if a.uncertainty_available else "") + " and call.</p>", sym_table,
         "<h2>Joint angles per frame</h2><p class=meta>degrees. Knee / elbow flexion: 0 = straight. Hip / "
         "shoulder flexion: from straight down the trunk, positive forward; abduction: positive away from the "
-        "midline (trunk frame from the hips and shoulders; README, “zedo analyze”).</p>", angle_table,
+        "midline (trunk frame from the hips and shoulders; docs/clinical.md).</p>", angle_table,
         "<p class=meta>Self-contained page (no network): figures are inline SVG.</p></body></html>",
     ]  # fmt: skip
     return "\n".join(parts) + "\n"

@@ -45,7 +45,7 @@ from .domain_model import DOMAINS, DomainScoreNet
 
 AUGMENTER_FORMAT = "zedo.augmenter"
 AUGMENTER_FORMAT_VERSION = "1"
-# Started from the adult prior, a few epochs over the balanced adult + infant set suffice (README).
+# Started from the adult prior, a few epochs over the balanced adult + infant set suffice (docs/benchmarks.md).
 ROTATE_ALL = PoseAugmentation(rotate=True)
 
 

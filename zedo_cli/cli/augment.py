@@ -28,7 +28,7 @@ from .common import check_weights_output, epoch_progress, err_console, error_bou
 
 ORIENT_MODES = ("keep", "infant")
 BONE_MODES = ("keep", "infant")
-DEFAULT_STRENGTH = 0.2  # the smallest sweep strength closing >= 90 % of the proportion gap (README)
+DEFAULT_STRENGTH = 0.2  # the smallest sweep strength closing >= 90 % of the proportion gap (docs/benchmarks.md)
 
 
 def load_adult_source(adult_poses: Optional[Path], adult_dir: Optional[Path], skeleton: str) -> PoseSet:

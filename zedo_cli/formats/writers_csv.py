@@ -149,7 +149,7 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
         "observed": "the joint was a 2D constraint (false: filled by the prior)",
         "lifted": "the instance was lifted (false: coordinates empty, `status` says why)",
         "status": "'lifted', or why the instance was not (too_few_observed_joints, ray_out_of_range, "
-        "degenerate_geometry, non_finite_result, behind_camera, poor_fit, implausible_skeleton; README)",
+        "degenerate_geometry, non_finite_result, behind_camera, poor_fit, implausible_skeleton; docs/outputs.md)",
         "confidence": "input joint confidence; empty where missing",
         "u_px, v_px": "input 2D keypoint in pixels; empty where missing",
         "reprojection_error_px": "pixel distance between the 2D input and the projected 3D joint; empty if unobserved",

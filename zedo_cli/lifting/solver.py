@@ -13,7 +13,7 @@
    length ratios (`twin_limbs.cap_twin_ratios`).
 
 Vectorised over all poses of a chunk: no per-pose Python loop, no host copies inside the loop,
-no per-iteration history. Deviations from the reference, all documented in the README: missing
+no per-iteration history. Deviations from the reference, all documented in docs/benchmarks.md: missing
 joints are left out of the fit, the projection and the translation solve (the prior fills
 them); the output is re-centred on the skeleton's root.
 
@@ -23,7 +23,7 @@ root translation over the last 15 % of them instead of 5 %, fits R0/T0 in 100 st
 observed joints 0.75 of the way onto their rays (less for joints under 0.6 times their pose's
 median confidence, and 0.6 of that for the hips), then takes two rounds of the bone-length terms
 (twin limbs, `twin_limbs.py`, and proportions, `proportions.py`) per step, and caps twin ratios at
-1.4 after the loop; chosen on held-out SyRIP training folds and confirmed on Test100 (README,
+1.4 after the loop; chosen on held-out SyRIP training folds and confirmed on Test100 (docs/uncertainty.md,
 "Speed" and "Plausible skeletons"). Cutting the reference to 100 steps while keeping delta =
 1/1000 loses 6 mm: the steps then denoise only a tenth as far.
 

@@ -3,7 +3,7 @@
 The lifting loop asks the prior for one noise prediction per step; an ensemble answers with the
 mean of its members' predictions. Two trainings of one recipe differ by about 2 mm on SyRIP
 Test100 (seed noise), and averaging their scores inside the loop removes part of that noise
-(README "Plausible skeletons", held-out figures). The members share one network config, SDE,
+(docs/uncertainty.md "Plausible skeletons", held-out figures). The members share one network config, SDE,
 skeleton and template, so the ensemble is called exactly like a single `ScoreNet`.
 """
 
