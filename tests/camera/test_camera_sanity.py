@@ -21,7 +21,7 @@ def test_distance_bounds_and_outside_margin() -> None:
         [], ["implausible_distance: 75.0 m"], ["implausible_distance: 0.1 m"],
         ["keypoints_outside_image: 1 joint(s)"], [],
     ]  # fmt: skip
-    assert len(sanity.warnings()) == 2 and "2 lifted instance(s) flagged implausible_distance" in sanity.warnings()[0]
+    assert len(sanity.warnings()) == 2 and "2 lifted instances flagged implausible_distance" in sanity.warnings()[0]
 
 
 def test_unknown_size_unobserved_joints_and_unlifted_are_not_flagged() -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from zedo_cli.cli.analyze import poses_counted
+from zedo_cli.analysis.analyse import poses_counted
 from zedo_cli.data.datasets import PoseSet
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.errors import ConfigError, InputFormatError

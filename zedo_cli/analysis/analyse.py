@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..data.skeleton import Skeleton
-from ..errors import ConfigError, InputFormatError
+from ..errors import ConfigError, InputFormatError, plural
 from ..formats.result_reader import ResultPoses
 from .calibration import (
     DEFAULT_CALL_LEVEL,
@@ -345,3 +345,12 @@ def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
             stats["too_fast"] = int(a.too_fast[name].sum())
         out[name] = stats
     return out
+
+
+def poses_counted(frames: np.ndarray, persons: np.ndarray) -> str:
+    """Honest counts of analysed poses: "1 pose", "809 poses (809 frames, 1 person)", "12 poses
+    (6 frames, 2 people)" (persons are tracks: places in their frame)."""
+    n, f, p = len(frames), len(set(frames.tolist())), len(set(persons.tolist()))
+    if n == 1:
+        return "1 pose"
+    return f"{plural(n, 'pose')} ({plural(f, 'frame')}, {plural(p, 'person', 'people')})"

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..files import write_text_atomic
 from ..version import __version__
-from .analyse import SYMMETRY_NAMES, Analysis, summary
+from .analyse import SYMMETRY_NAMES, Analysis, poses_counted, summary
 from .geometry import joint, reflect, unit
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
 from .symmetry import PAIRS
@@ -222,7 +222,7 @@ def _frame_tables(a: Analysis) -> tuple[str, str]:
         ang.append(f"<tr>{lead}" + "".join(_cell(a, n, k) for n in ANGLE_NAMES) + "</tr>")
     more = ""
     if len(a.index) > MAX_TABLE_ROWS:
-        more = f"<p class=meta>The first {MAX_TABLE_ROWS} of {len(a.index)} persons; the CSV has them all.</p>"
+        more = f"<p class=meta>The first {MAX_TABLE_ROWS} of {len(a.index)} poses; the CSV has them all.</p>"
     return f"<table>{''.join(sym)}</table>{more}", f"<table>{''.join(ang)}</table>{more}"
 
 
@@ -301,18 +301,18 @@ def _decisions(a: Analysis) -> str:
 def report_html(a: Analysis) -> str:
     """The whole report as one HTML string."""
     res = a.result
-    frames = len(set(res.frame_index.tolist()))
     box = _decisions(a)
     notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes[1:])  # the first is the calibration note
     fps = f"{a.fps:g} fps ({a.fps_source})" if a.fps else "none: frames analysed as separate images"
     sym_table, angle_table = _frame_tables(a)
+    counted = poses_counted(res.frame_index[a.index], res.person[a.index])
     parts = [
         "<!DOCTYPE html><html lang=en><head><meta charset=utf-8>",
         f"<title>zedo analyze: {_esc(Path(res.source).name)}</title><style>{_CSS}</style></head><body>",
         f"<h1>Postural symmetry and joint angles: {_esc(Path(res.source).name)}</h1>",
-        f"<p class=meta>{_esc(res.source)} · {res.format} · skeleton {res.skeleton.name} · {frames} frames, "
-        f"{len(a.index)} persons analysed · frame rate: {_esc(fps)} · symmetric at ≤ "
-        f"{a.settings.threshold_deg:g}° · zedo {__version__} · {datetime.now(UTC):%Y-%m-%d %H:%M} UTC</p>",
+        f"<p class=meta>{_esc(res.source)} · {res.format} · skeleton {res.skeleton.name} · {counted} analysed · "
+        f"frame rate: {_esc(fps)} · symmetric at ≤ {a.settings.threshold_deg:g}° · zedo {__version__} · "
+        f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC</p>",
         box,
         f"<ul class=meta>{notes}</ul>" if notes else "",
         "<h2>Symmetry</h2><p class=meta>Angle between the left segment and the right one mirrored through the "

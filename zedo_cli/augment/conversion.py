@@ -25,7 +25,7 @@ import torch
 
 from ..data.datasets import PoseSet
 from ..data.skeleton import Skeleton, bone_lengths, center_on_root
-from ..errors import ConfigError, DataError
+from ..errors import ConfigError, DataError, plural
 from ..prior.sampling import integrate_reverse_sde
 from ..prior.sde import SubVPSDE
 from ..rotation import best_rotation
@@ -63,7 +63,7 @@ def resize(poses: np.ndarray, skeleton: Skeleton, sizes: np.ndarray | float) -> 
     """`poses` scaled about the origin (their root) so each one's skeleton size is `sizes`."""
     current = skeleton_size(poses, skeleton)
     if not (current > 0).all():
-        raise DataError(f"{int((current <= 0).sum())} pose(s) have all joints at one point (skeleton size 0)")
+        raise DataError(f"{plural(int((current <= 0).sum()), 'pose')} with all joints at one point (skeleton size 0)")
     return poses * (np.asarray(sizes, dtype=np.float64) / current)[:, None, None]
 
 

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import plural
+
 MIN_DEPTH_M = 0.1
 MAX_DEPTH_M = 10.0
 OUTSIDE_MARGIN = 0.1  # fraction of the image's width (x) and height (y)
@@ -49,14 +51,14 @@ class CameraSanity:
         if far:
             depths = self.depth_m[self.implausible_distance]
             lines.append(
-                f"{far} lifted instance(s) flagged {IMPLAUSIBLE_DISTANCE}: the person is {depths.min():.2g} to "
+                f"{plural(far, 'lifted instance')} flagged {IMPLAUSIBLE_DISTANCE}: the person is {depths.min():.2g} to "
                 f"{depths.max():.3g} m from the camera, outside [{MIN_DEPTH_M:g}, {MAX_DEPTH_M:g}] m "
                 "(check --focal, --intrinsics and the image size)"
             )
         outside = int((self.outside > 0).sum())
         if outside:
             lines.append(
-                f"{outside} instance(s) flagged {KEYPOINTS_OUTSIDE_IMAGE}: observed 2D keypoints more than "
+                f"{plural(outside, 'instance')} flagged {KEYPOINTS_OUTSIDE_IMAGE}: observed 2D keypoints more than "
                 f"{OUTSIDE_MARGIN:.0%} of the image size beyond its border (check --image-size and the input)"
             )
         return lines

@@ -16,6 +16,7 @@ from ..analysis.analyse import (
     Analysis,
     AnalysisSettings,
     analyse,
+    poses_counted,
     summary,
 )
 from ..analysis.calibration import DEFAULT_CALL_LEVEL, DEFAULT_LEVEL, LEVELS
@@ -44,8 +45,6 @@ from .common import (
 from .lift_plan import STDIN, expand_inputs
 
 if TYPE_CHECKING:
-    import numpy as np
-
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
     from ..lifting.solver import LiftProgress
 
@@ -129,14 +128,6 @@ def plan_outputs(
                 continue  # the report folder is made before any work; nothing there to overwrite
             check_writable(Path(path), overwrite)
     return plans
-
-
-def poses_counted(frames: np.ndarray, persons: np.ndarray) -> str:
-    """Honest counts of analysed poses: "1 pose", "809 poses (809 frames, 1 person)", "12 poses
-    (6 frames, 2 people)" (persons are tracks: places in their frame)."""
-    n, f, p = len(frames), len(set(frames.tolist())), len(set(persons.tolist()))
-    poses = f"{n} pose" if n == 1 else f"{n} poses"
-    return poses if n == 1 else f"{poses} ({f} frame{'' if f == 1 else 's'}, {p} {'person' if p == 1 else 'people'})"
 
 
 def _summary_table(a: Analysis) -> Table:

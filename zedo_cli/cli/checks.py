@@ -7,7 +7,7 @@ import math
 from collections.abc import Iterable
 
 from ..data.datasets import SYRIP_SPLITS
-from ..errors import ConfigError
+from ..errors import ConfigError, plural
 
 MAX_SEED = 2**63 - 1  # torch and numpy take seeds in [0, 2**63)
 MAX_STEPS = 100_000  # prior / diffusion steps: 100x faithful's 1000
@@ -70,7 +70,7 @@ def check_device(device: str) -> str:
             raise ConfigError(f"--device {device}: no CUDA GPU is available to this torch ({torch.__version__}); "
                               "use --device cpu")  # fmt: skip
         if dev.index is not None and dev.index >= torch.cuda.device_count():
-            raise ConfigError(f"--device {device}: torch sees {torch.cuda.device_count()} CUDA GPU(s)")
+            raise ConfigError(f"--device {device}: torch sees {plural(torch.cuda.device_count(), 'CUDA GPU')}")
         return device
     if dev.type == "mps" and torch.backends.mps.is_available():
         return device

@@ -157,6 +157,10 @@ def _check_inputs_kept(inputs: list[str], outputs: list[str], fmt: str | None) -
                                   "not even with --overwrite: choose another -o or --output-dir")  # fmt: skip
 
 
+def _exist(paths: list[str]) -> str:
+    return "already exists" if len(paths) == 1 else "already exist"
+
+
 def plot_prefix(output: str) -> str:
     """The plots' file-name prefix for an output: its name before `.zedo.` (`stdin` for stdout)."""
     return "stdin" if output == STDIN else Path(output).name.split(".zedo.")[0]
@@ -184,7 +188,7 @@ def check_plot_paths(inputs: list[str], outputs: list[str], plot_dir: Path, over
                 existing.append(str(png))
     if existing:
         more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
-        raise ConfigError(f"{', '.join(existing[:3])}{more}: already exist(s); pass --overwrite to replace")
+        raise ConfigError(f"{', '.join(existing[:3])}{more}: {_exist(existing)}; pass --overwrite to replace")
 
 
 def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> None:
@@ -204,4 +208,4 @@ def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> No
         check_can_create(Path(dst))  # a read-only folder fails here (naming its first output), before any work
     if existing:
         more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
-        raise ConfigError(f"{', '.join(existing[:3])}{more}: already exist(s); pass --overwrite to replace")
+        raise ConfigError(f"{', '.join(existing[:3])}{more}: {_exist(existing)}; pass --overwrite to replace")

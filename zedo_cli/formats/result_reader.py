@@ -344,7 +344,8 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
     required = ("frame_index", "image_id", "person", "joint", "joint_index", "lifted")
     lacking = [c for c in required if c not in columns]
     if lacking:
-        raise InputFormatError(f"{name}: column(s) {', '.join(lacking)} missing: not a zedo result CSV")
+        what = "column" if len(lacking) == 1 else "columns"
+        raise InputFormatError(f"{name}: {what} {', '.join(lacking)} missing: not a zedo result CSV")
     xyz, coord, units = _coordinate_columns(columns, name)
     if not rows:
         raise InputFormatError(f"{name}: no persons in the result")
@@ -414,7 +415,8 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         raise InputFormatError(f"{name}: not a readable NPZ archive ({exc})") from None
     lacking = [k for k in ("poses", "joint_names", "units", "frame_index", "person") if k not in arrays]
     if lacking:
-        raise InputFormatError(f"{name}: array(s) {', '.join(lacking)} missing: not a zedo result NPZ")
+        what = "array" if len(lacking) == 1 else "arrays"
+        raise InputFormatError(f"{name}: {what} {', '.join(lacking)} missing: not a zedo result NPZ")
     names = tuple(str(n) for n in arrays["joint_names"])
     meta: dict[str, Any] = {}
     if "metadata" in arrays:
