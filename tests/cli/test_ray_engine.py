@@ -98,3 +98,20 @@ def test_missing_ray_is_a_usage_error(tiny_prior_path: Path, tmp_path: Path, mon
     monkeypatch.setitem(sys.modules, "ray", None)  # import ray now raises ImportError
     result = runner.invoke(app, [*lift_args(tiny_prior_path, str(write_coco(tmp_path / "a.json"))), "--engine", "ray"])
     assert result.exit_code == 2 and "pip install 'zedo[ray]'" in result.output
+
+
+@pytest.mark.usefixtures("local_ray")
+def test_ray_engine_says_the_workers_warnings(tiny_prior_path: Path, tmp_path: Path) -> None:
+    """A worker's warnings (here keypoints far outside the image) reach the driver's stderr, as locally."""
+    src = write_coco(tmp_path / "a.json")
+    doc = json.loads(src.read_text())
+    doc["annotations"][0]["keypoints"][3 * 5] += 10 * doc["images"][0]["width"]  # the left shoulder's x
+    src.write_text(json.dumps(doc))
+    said = {}
+    for name, engine in (("local", []), ("ray", ["--engine", "ray"])):
+        result = runner.invoke(app, [*lift_args(tiny_prior_path, str(src)), "--output-dir", str(tmp_path / name),
+                                     *engine])  # fmt: skip
+        assert result.exit_code == 0, result.output
+        said[name] = [line for line in result.stderr.splitlines() if line.startswith("zedo: warning:")]
+    assert said["local"] and said["ray"] == said["local"]
+    assert "keypoints_outside_image" in said["ray"][0]

@@ -174,6 +174,7 @@ class FileOutcome:
     lifted: int = 0
     seconds: float = 0.0
     error: ZedoError | None = None
+    warnings: tuple[str, ...] = ()  # the input's `zedo: warning:` lines (printed as they came)
 
 
 def read_input(source: str, st: LiftSettings) -> Keypoints2D:
@@ -207,14 +208,21 @@ def person_counts(kp: Keypoints2D, kept: np.ndarray, mode: str) -> dict[str, Any
             "left_out": len(kp) - len(kept), "frames_with_several": sum(len(g) > 1 for g in groups)}  # fmt: skip
 
 
-def _report_left_out(source: str, counts: dict[str, Any]) -> None:
+def warn(warnings: list[str], message: str) -> None:
+    """Print `message` as a `zedo: warning:` line and keep it for the input's outcome (the Ray
+    engine's driver prints a worker's warnings, which would otherwise go to the worker's log)."""
+    warnings.append(one_line(message))
+    err_console.print(f"zedo: warning: {warnings[-1]}", markup=False, soft_wrap=True)
+
+
+def _report_left_out(source: str, counts: dict[str, Any], warnings: list[str]) -> None:
     """A warning when --person left people out: the output holds fewer people than the input."""
     if counts["left_out"]:
-        err_console.print(one_line(
-            f"zedo: warning: {source}: --person {counts['mode']} kept one person per frame: "
-            f"{plural(counts['instances_kept'], 'instance')} of {counts['instances_read']}; "
-            f"{plural(counts['left_out'], 'instance')} left out in {plural(counts['frames_with_several'], 'frame')} "
-            "with several people (--person all lifts every one)"), markup=False, soft_wrap=True)  # fmt: skip
+        warn(warnings,
+             f"{source}: --person {counts['mode']} kept one person per frame: "
+             f"{plural(counts['instances_kept'], 'instance')} of {counts['instances_read']}; "
+             f"{plural(counts['left_out'], 'instance')} left out in {plural(counts['frames_with_several'], 'frame')} "
+             "with several people (--person all lifts every one)")  # fmt: skip
 
 
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keypoints2D | None = None) -> FileOutcome:
@@ -224,11 +232,12 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     from ..lifting.camera import resolve_cameras
     from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
 
+    warnings: list[str] = []
     kp, places, counts = read_selected(source, prior, st, kp)
-    _report_left_out(source, counts)
+    _report_left_out(source, counts, warnings)
     video = check_against_video(kp, st.video, source) if st.video is not None else None
     if video is not None and video.warning():
-        err_console.print(one_line(f"zedo: warning: {source}: {video.warning()}"), markup=False, soft_wrap=True)
+        warn(warnings, f"{source}: {video.warning()}")
     fmt = output_format(output, st.output_format)
     if fmt in MARKER_FORMATS:  # a marker file needs frame numbers (or --fps): refused before any lifting
         marker_frame_numbers(kp, st.fps, fmt)
@@ -295,8 +304,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     if not st.quiet and plots:
         err_console.print(one_line(f"plots: {', '.join(str(p) for p in plots)}"), markup=False, soft_wrap=True)
     lifted = int(res.lifted.sum())
-    _report_file(source, output, kp, res, lifted, st.quiet)
-    return FileOutcome(source, output, len(kp), lifted, res.seconds)
+    _report_file(source, output, kp, res, lifted, st.quiet, warnings)
+    return FileOutcome(source, output, len(kp), lifted, res.seconds, warnings=tuple(warnings))
 
 
 def _frame_numbers(kp: Keypoints2D) -> np.ndarray | None:
@@ -312,7 +321,9 @@ def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings
     return write_pose_plots(prefix, kp, res, units=st.units, overwrite=st.overwrite)
 
 
-def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lifted: int, quiet: bool) -> None:
+def _report_file(
+    source: str, output: str, kp: Keypoints2D, res: LiftResult, lifted: int, quiet: bool, warnings: list[str]
+) -> None:  # fmt: skip
     if not quiet:
         rate = lifted / res.seconds if res.seconds > 0 else float("nan")
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
@@ -321,12 +332,11 @@ def _report_file(source: str, output: str, kp: Keypoints2D, res: LiftResult, lif
                                    + ("" if output == STDIN else f"; wrote {output}")),
                           markup=False, soft_wrap=True)  # fmt: skip
     if lifted < len(kp):
-        err_console.print(one_line(f"zedo: warning: {source}: {_not_lifted_counts(res)}: not lifted "
-                                   "(null in the output, flagged not_lifted_<reason>)"),
-                          markup=False, soft_wrap=True)  # fmt: skip
+        warn(warnings, f"{source}: {_not_lifted_counts(res)}: not lifted (null in the output, flagged "
+                       "not_lifted_<reason>)")  # fmt: skip
     sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
     for line in sanity.warnings():  # flagged in the output too (camera.sanity)
-        err_console.print(one_line(f"zedo: warning: {source}: {line}"), markup=False, soft_wrap=True)
+        warn(warnings, f"{source}: {line}")
 
 
 def _not_lifted_counts(res: LiftResult) -> str:
@@ -415,12 +425,14 @@ def _lift_on_ray(
 
     done = lift_files_on_ray(sources, outputs, str(prior.path), st, lift_file, address=address, workers=workers)
     outcomes = [
-        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error)
+        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error, d.warnings)
         for source, output, d in zip(sources, outputs, done, strict=True)
     ]
     if len(outcomes) == 1 and outcomes[0].error is not None:
         raise outcomes[0].error  # one input: its error is the command's error, as locally
     for o in outcomes:
+        for line in o.warnings:  # a worker's warnings went to its log: said here, as locally
+            err_console.print(f"zedo: warning: {line}", markup=False, soft_wrap=True)
         if o.error is not None:
             err_console.print(f"zedo: error: {one_line(str(o.error))}", markup=False, soft_wrap=True)
         elif not st.quiet:

@@ -28,7 +28,7 @@ from .common import internal_error
 if TYPE_CHECKING:
     from .lift import LiftSettings
 
-# lift_file(source, output, prior, settings) -> an outcome with .instances, .lifted, .seconds
+# lift_file(source, output, prior, settings) -> an outcome with .instances, .lifted, .seconds, .warnings
 LiftOne = Callable[[str, str, Any, Any], Any]
 
 RAY_MISSING = "--engine ray needs Ray, an optional extra: pip install 'zedo[ray]'"
@@ -50,10 +50,12 @@ class LiftWorker:
     def __call__(self, batch: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         rows: list[dict[str, Any]] = []
         for index, source, output in zip(batch["index"], batch["source"], batch["output"], strict=True):
-            row = {"index": int(index), "instances": 0, "lifted": 0, "seconds": 0.0, "error_type": "", "error": ""}
+            row = {"index": int(index), "instances": 0, "lifted": 0, "seconds": 0.0, "error_type": "", "error": "",
+                   "warnings": ""}  # fmt: skip
             try:
                 outcome = self.lift_one(str(source), str(output), self.prior, self.settings)
-                row.update(instances=outcome.instances, lifted=outcome.lifted, seconds=outcome.seconds)
+                row.update(instances=outcome.instances, lifted=outcome.lifted, seconds=outcome.seconds,
+                           warnings="\n".join(outcome.warnings))  # fmt: skip
             except Exception as exc:  # isolated like the local engine: one line, no traceback
                 error = exc if isinstance(exc, ZedoError) else internal_error(str(source), exc)
                 row.update(error_type=type(error).__name__, error=str(error))
@@ -92,6 +94,7 @@ class RayOutcome:
     lifted: int
     seconds: float
     error: ZedoError | None
+    warnings: tuple[str, ...]  # its `zedo: warning:` lines, one line each
 
 
 def lift_files_on_ray(
@@ -152,6 +155,7 @@ def lift_files_on_ray(
     rows = [by_index[i] for i in range(len(sources))]
     return [
         RayOutcome(int(r["instances"]), int(r["lifted"]), float(r["seconds"]),
-                   _error(str(r["error_type"]), str(r["error"])) if r["error_type"] else None)
+                   _error(str(r["error_type"]), str(r["error"])) if r["error_type"] else None,
+                   tuple(str(r["warnings"]).split("\n")) if str(r["warnings"]) else ())
         for r in rows
     ]  # fmt: skip
