@@ -139,3 +139,12 @@ def test_zedo_alone_lists_the_commands_in_the_same_layout() -> None:
     assert lines[0] == "Usage: zedo [OPTIONS] COMMAND [ARGS]..." and "--version" in result.stdout
     assert all(name in result.stdout for name in COMMANDS)
     assert all(len(line) <= 80 and line == line.rstrip() for line in lines)
+
+
+def test_a_long_example_is_continued_so_that_it_still_pastes_into_a_shell() -> None:
+    example = ("zedo fit-prior --syrip-dir ../shared/data/syrip --split train --recipe "
+               "weights_spec/syrip12-scratch.toml -o my.safetensors")  # fmt: skip
+    result = runner.invoke(app, ["fit-prior", "--help"], env={"COLUMNS": "80"}, terminal_width=80)
+    text = result.stdout
+    assert example not in text  # too long for 80 columns: continued with a backslash
+    assert " ".join(text.replace(" \\\n", " ").split()).count(example) == 1

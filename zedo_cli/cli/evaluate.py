@@ -162,7 +162,7 @@ def benchmark_command(
 
     Examples:
 
-      zedo benchmark --syrip-dir ../shared/data/syrip                      # faithful vs fast
+      zedo benchmark --syrip-dir ../shared/data/syrip       # faithful vs fast
 
       zedo benchmark --syrip-dir ../shared/data/syrip --preset fast --no-throughput
     """

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import inspect
 import sys
+import textwrap
 from typing import Any
 
 import typer
@@ -38,6 +39,8 @@ def _metavar(param: Any, ctx: Any) -> str:
     if param.metavar:
         return param.metavar
     shown = (param.display_type_rich(ctx) or "").strip("<>.")  # type: ignore[attr-defined]
+    if shown.startswith("list[") and shown.endswith("]"):  # a repeatable option: its item's type
+        shown = shown[5:-1]
     return " ".join(_TYPE_NAMES.get(part, part.upper()) for part in shown.split(","))
 
 
@@ -61,16 +64,26 @@ def _default(param: Any) -> str:
     return f" [default: {value}]"
 
 
-def _paragraphs(doc: str) -> list[Text]:
-    """The docstring's paragraphs, rewrapped; indented lines (examples) kept as they are."""
+def _paragraphs(doc: str, width: int) -> list[Text]:
+    """The docstring's paragraphs, rewrapped; indented lines (examples) kept as commands, a long
+    one continued on the next line with a shell backslash, so that it still pastes into a shell."""
     out: list[Text] = []
     for block in inspect.cleandoc(doc).split("\n\n"):
         lines = block.splitlines()
         if lines and all(line.startswith(" ") for line in lines):
-            out.append(Text("\n".join(lines), overflow="fold"))
+            out.append(Text("\n".join(_command_lines(line, width) for line in lines)))
         else:
             out.append(Text(" ".join(line.strip() for line in lines)))
     return out
+
+
+def _command_lines(line: str, width: int) -> str:
+    if len(line) <= width:
+        return line
+    indent = line[: len(line) - len(line.lstrip())]
+    pieces = textwrap.wrap(line.strip(), width=width - len(indent) - 2, break_long_words=False,
+                           break_on_hyphens=False, subsequent_indent="    ")  # fmt: skip
+    return " \\\n".join(indent + piece for piece in pieces)
 
 
 def _panels(command: Any, ctx: Any) -> dict[str, list[Any]]:
@@ -94,7 +107,7 @@ def render_help(command: Any, ctx: Any, console: Console) -> str:
 def _print_help(command: Any, ctx: Any, console: Console) -> None:
     usage = f"{ctx.command_path} [OPTIONS] COMMAND [ARGS]..." if isinstance(command, TyperGroup) else None
     body: list[Any] = [Text(f"Usage: {usage or usage_line(command, ctx)}", style="bold"), Text("")]
-    for paragraph in _paragraphs(command.help or ""):
+    for paragraph in _paragraphs(command.help or "", console.width):
         body += [paragraph, Text("")]
     console.print(Group(*body))
     for title, params in _panels(command, ctx).items():
