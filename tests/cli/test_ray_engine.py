@@ -29,10 +29,15 @@ def local_ray() -> Iterator[None]:
 
 
 def batch(tmp_path: Path) -> list[str]:
+    """Three inputs: one with a warning (a keypoint far outside its image), one broken, one plain."""
     bad = tmp_path / "in" / "bad.json"
     bad.parent.mkdir()
     bad.write_text('{"images": [], "annotations": []}')
-    return [str(write_coco(tmp_path / "in" / "a.json")), str(bad), str(write_coco(tmp_path / "in" / "b.json", n=5))]
+    warned = write_coco(tmp_path / "in" / "a.json")
+    doc = json.loads(warned.read_text())
+    doc["annotations"][0]["keypoints"][3 * 5] += 10 * doc["images"][0]["width"]  # the left shoulder's x
+    warned.write_text(json.dumps(doc))
+    return [str(warned), str(bad), str(write_coco(tmp_path / "in" / "b.json", n=5))]
 
 
 def assert_same_text(a: str, b: str, atol: float = 1e-5) -> None:
@@ -46,18 +51,22 @@ def assert_same_text(a: str, b: str, atol: float = 1e-5) -> None:
             assert all(abs(float(p) - float(q)) <= atol for p, q in zip(nx, ny, strict=True)), (x, y)
 
 
-def run(prior: Path, inputs: list[str], out_dir: Path, *engine: str) -> tuple[int, dict[str, str]]:
+def run(prior: Path, inputs: list[str], out_dir: Path, *engine: str) -> tuple[int, dict[str, str], list[str]]:
+    """Exit code, the outputs' texts (timings left out) and the warning lines on stderr."""
     out_dir.mkdir()
     result = runner.invoke(app, [*lift_args(prior, *inputs), "--output-dir", str(out_dir), *engine])
-    return result.exit_code, {p.name: TIMINGS.sub("", p.read_text()) for p in sorted(out_dir.iterdir())}
+    warnings = [line for line in result.stderr.splitlines() if line.startswith("zedo: warning:")]
+    return result.exit_code, {p.name: TIMINGS.sub("", p.read_text()) for p in sorted(out_dir.iterdir())}, warnings
 
 
 @pytest.mark.usefixtures("local_ray")
 def test_ray_engine_writes_what_the_local_engine_writes(tiny_prior_path: Path, tmp_path: Path) -> None:
     inputs = batch(tmp_path)
-    local_code, local = run(tiny_prior_path, inputs, tmp_path / "local")
-    ray_code, on_ray = run(tiny_prior_path, inputs, tmp_path / "ray", "--engine", "ray", "--workers", "2")
+    local_code, local, local_warnings = run(tiny_prior_path, inputs, tmp_path / "local")
+    ray_code, on_ray, ray_warnings = run(tiny_prior_path, inputs, tmp_path / "ray", "--engine", "ray", "--workers", "2")
     assert local_code == ray_code == 4  # the bad input is isolated and counted in both
+    # a worker's warnings reach the driver's stderr, the same lines as the local engine's
+    assert local_warnings == ray_warnings and "keypoints_outside_image" in ray_warnings[0]
     assert sorted(on_ray) == ["a.zedo.json", "b.zedo.json"]
     # Two workers on 2 CPUs run 1 torch thread each, the local engine 2: on some CPUs (an AMD
     # EPYC) that rounds a derived coordinate 1 micrometre apart, so numbers are compared to 10 um.
@@ -98,20 +107,3 @@ def test_missing_ray_is_a_usage_error(tiny_prior_path: Path, tmp_path: Path, mon
     monkeypatch.setitem(sys.modules, "ray", None)  # import ray now raises ImportError
     result = runner.invoke(app, [*lift_args(tiny_prior_path, str(write_coco(tmp_path / "a.json"))), "--engine", "ray"])
     assert result.exit_code == 2 and "pip install 'zedo[ray]'" in result.output
-
-
-@pytest.mark.usefixtures("local_ray")
-def test_ray_engine_says_the_workers_warnings(tiny_prior_path: Path, tmp_path: Path) -> None:
-    """A worker's warnings (here keypoints far outside the image) reach the driver's stderr, as locally."""
-    src = write_coco(tmp_path / "a.json")
-    doc = json.loads(src.read_text())
-    doc["annotations"][0]["keypoints"][3 * 5] += 10 * doc["images"][0]["width"]  # the left shoulder's x
-    src.write_text(json.dumps(doc))
-    said = {}
-    for name, engine in (("local", []), ("ray", ["--engine", "ray"])):
-        result = runner.invoke(app, [*lift_args(tiny_prior_path, str(src)), "--output-dir", str(tmp_path / name),
-                                     *engine])  # fmt: skip
-        assert result.exit_code == 0, result.output
-        said[name] = [line for line in result.stderr.splitlines() if line.startswith("zedo: warning:")]
-    assert said["local"] and said["ray"] == said["local"]
-    assert "keypoints_outside_image" in said["ray"][0]

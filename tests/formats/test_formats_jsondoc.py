@@ -144,7 +144,14 @@ def test_no_reader_parses_the_whole_document(
     assert len(read_keypoints(path)) >= 2000
 
 
-@pytest.mark.parametrize("layout", sorted(_documents(3)))
+# The three costliest layouts to trace run with -m slow; the default suite keeps the others.
+_TRACED_SLOW = ("mmpose-demo", "mmpose-image", "mmpose-video")
+
+
+@pytest.mark.parametrize(
+    "layout",
+    [pytest.param(x, marks=pytest.mark.slow) if x in _TRACED_SLOW else x for x in sorted(_documents(3))],
+)
 def test_reading_holds_a_few_times_the_file(tmp_path: Path, layout: str) -> None:
     """Peak memory of a read (traced Python allocations) stays under 6x the file's size; a
     whole-document json.loads alone takes about 10x, reading into a 256 MiB buffer far more."""
