@@ -4,10 +4,13 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from .errors import WeightsError
+
+T = TypeVar("T")
 
 
 def read_items(path: str | Path, fmt: str, version: int, key: str, what: str) -> list[dict[str, Any]]:
@@ -22,6 +25,18 @@ def read_items(path: str | Path, fmt: str, version: int, key: str, what: str) ->
             raise TypeError(f"{key}: expected a list of objects")
         return items
     except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError) as exc:
+        raise WeightsError(f"{path}: unreadable {what} ({exc})") from None
+
+
+def read_models(
+    path: str | Path, fmt: str, version: int, key: str, what: str, parse: Callable[[dict[str, Any]], T]
+) -> list[T]:
+    """The items of `read_items`, each made into a model by `parse`; a malformed item is the same
+    one-line WeightsError naming `what`."""
+    items = read_items(path, fmt, version, key, what)
+    try:
+        return [parse(d) for d in items]
+    except (ValueError, KeyError, TypeError, AttributeError) as exc:
         raise WeightsError(f"{path}: unreadable {what} ({exc})") from None
 
 

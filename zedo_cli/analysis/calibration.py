@@ -38,9 +38,8 @@ from typing import Any
 import numpy as np
 
 from ..data.skeleton import Skeleton
-from ..errors import WeightsError
 from ..lifting.config import calibration_settings, settings_match
-from ..versioned_json import read_items, write_items
+from ..versioned_json import read_models, write_items
 
 FORMAT = "zedo.measures"
 FORMAT_VERSION = 1
@@ -211,11 +210,8 @@ def bundled_calibrations() -> tuple[MeasureCalibration, ...]:
 
 def read_calibrations(path: str | Path) -> list[MeasureCalibration]:
     """The calibrations of a measure-calibration file (format `zedo.measures`, version 1)."""
-    items = read_items(path, FORMAT, FORMAT_VERSION, "calibrations", "measure calibration")
-    try:
-        return [MeasureCalibration.from_dict(d) for d in items]
-    except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise WeightsError(f"{path}: unreadable measure calibration ({exc})") from None
+    return read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "measure calibration",
+                       MeasureCalibration.from_dict)  # fmt: skip
 
 
 def write_calibrations(path: str | Path, calibrations: Sequence[MeasureCalibration]) -> None:

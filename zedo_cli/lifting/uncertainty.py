@@ -27,8 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import WeightsError
-from ..versioned_json import read_items, write_items
+from ..versioned_json import read_models, write_items
 from .config import LiftConfig, calibration_settings, settings_match
 from .solver import LiftResult
 
@@ -113,11 +112,7 @@ def bundled_calibrations() -> tuple[UncertaintyModel, ...]:
 
 def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
     """The models of a calibration file (format `zedo.uncertainty`, version 1)."""
-    items = read_items(path, FORMAT, FORMAT_VERSION, "models", "uncertainty calibration")
-    try:
-        return [UncertaintyModel.from_dict(d) for d in items]
-    except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise WeightsError(f"{path}: unreadable uncertainty calibration ({exc})") from None
+    return read_models(path, FORMAT, FORMAT_VERSION, "models", "uncertainty calibration", UncertaintyModel.from_dict)
 
 
 def write_calibrations(path: str | Path, models: list[UncertaintyModel]) -> None:
