@@ -22,13 +22,17 @@ DEFAULT_PANEL = "Options"
 _TYPE_NAMES = {"str": "TEXT", "path": "PATH", "float": "FLOAT", "int": "INT", "bool": ""}
 
 
+def _argument_name(param: Any) -> str:
+    """`KEYPOINTS...`: an argument by name, in capitals, with ... when it takes several."""
+    return (param.metavar or param.name or "").upper() + ("..." if param.nargs == -1 else "")
+
+
 def usage_line(command: Any, ctx: Any) -> str:
     """`zedo lift [OPTIONS] KEYPOINTS...`: arguments by name, in capitals."""
     parts = [ctx.command_path, "[OPTIONS]"]
     for param in command.params:
         if isinstance(param, TyperArgument) and not getattr(param, "hidden", False):
-            name = (param.metavar or param.name or "").upper()
-            name += "..." if param.nargs == -1 else ""
+            name = _argument_name(param)
             parts.append(name if param.required else f"[{name}]")
     return " ".join(parts)
 
@@ -48,7 +52,7 @@ def _names(param: Any, ctx: Any) -> str:
     """`-o, --output PATH`: the short names and the first long name (later long names, such as
     an older spelling kept working, are not shown)."""
     if isinstance(param, TyperArgument):
-        return (param.metavar or param.name or "").upper() + ("..." if param.nargs == -1 else "")
+        return _argument_name(param)
     short = [o for o in param.opts if not o.startswith("--")]
     long = [o for o in param.opts if o.startswith("--")][:1]
     return " ".join([", ".join(short + long), _metavar(param, ctx)]).strip()
@@ -111,24 +115,27 @@ def _print_help(command: Any, ctx: Any, console: Console) -> None:
         body += [paragraph, Text("")]
     console.print(Group(*body))
     for title, params in _panels(command, ctx).items():
-        table = Table.grid(padding=(0, 2))
-        table.add_column(no_wrap=True, style="bold cyan")
-        table.add_column(ratio=1, overflow="fold")
+        rows = []
         for param in params:
             help_text = (getattr(param, "help", None) or "") + _default(param)
             if isinstance(param, TyperArgument) and param.required:
                 help_text += " [required]"
-            table.add_row(_names(param, ctx), Text(help_text))
-        console.print(Panel(table, title=title, title_align="left", border_style="dim"))
+            rows.append((_names(param, ctx), help_text))
+        console.print(_panel(title, rows))
     if isinstance(command, TyperGroup):
-        table = Table.grid(padding=(0, 2))
-        table.add_column(no_wrap=True, style="bold cyan")
-        table.add_column(ratio=1, overflow="fold")
-        for name in command.list_commands(ctx):
-            sub = command.get_command(ctx, name)
-            if sub is not None and not sub.hidden:
-                table.add_row(name, Text(sub.get_short_help_str(limit=300)))
-        console.print(Panel(table, title="Commands", title_align="left", border_style="dim"))
+        subs = [(name, command.get_command(ctx, name)) for name in command.list_commands(ctx)]
+        rows = [(name, sub.get_short_help_str(limit=300)) for name, sub in subs if sub is not None and not sub.hidden]
+        console.print(_panel("Commands", rows))
+
+
+def _panel(title: str, rows: list[tuple[str, str]]) -> Panel:
+    """A titled box of two columns: names never wrapped, their help wrapped to what is left."""
+    table = Table.grid(padding=(0, 2))
+    table.add_column(no_wrap=True, style="bold cyan")
+    table.add_column(ratio=1, overflow="fold")
+    for name, text in rows:
+        table.add_row(name, Text(text))
+    return Panel(table, title=title, title_align="left", border_style="dim")
 
 
 def short_usage(command: Any, ctx: Any) -> str:
@@ -144,11 +151,15 @@ def short_usage(command: Any, ctx: Any) -> str:
     return "\n".join(lines)
 
 
-class ZedoGroup(TyperGroup):
-    """The `zedo` group, with the same help layout as its commands."""
+class _ZedoHelp:
+    """zedo's help layout for a typer command or group (mixed in before the typer class)."""
 
     def format_help(self, ctx: Any, formatter: Any) -> None:
         formatter.write(render_help(self, ctx, Console(highlight=False)))
+
+
+class ZedoGroup(_ZedoHelp, TyperGroup):
+    """The `zedo` group, with the same help layout as its commands."""
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         if not args and self.no_args_is_help and not ctx.resilient_parsing:
@@ -157,11 +168,8 @@ class ZedoGroup(TyperGroup):
         return super().parse_args(ctx, args)
 
 
-class ZedoCommand(TyperCommand):
+class ZedoCommand(_ZedoHelp, TyperCommand):
     """A typer command with zedo's help layout (see the module's docstring)."""
-
-    def format_help(self, ctx: Any, formatter: Any) -> None:
-        formatter.write(render_help(self, ctx, Console(highlight=False)))
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         if not args and self.no_args_is_help and not ctx.resilient_parsing:
