@@ -24,7 +24,7 @@ from ..analysis.joint_angles import ANGLE_NAMES
 from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
-from ..files import check_output_folder, check_writable, make_output_folder
+from ..files import check_writable, make_output_folder
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
@@ -99,8 +99,6 @@ def plan_outputs(
         fmt = ANALYSIS_FORMATS.get(Path(output).suffix.lower())
         if fmt is None:
             raise ConfigError(f"{output}: -o/--output writes .csv or .json (or - for the CSV on stdout)")
-    if output_dir is not None:
-        check_output_folder(output_dir)
     plans: list[dict[str, str | None]] = []
     for source in sources:
         stem = output_stem(source)
@@ -124,9 +122,7 @@ def plan_outputs(
             if key in seen:
                 raise ConfigError(f"{path}: two inputs would write it; use separate runs or rename the inputs")
             seen.add(key)
-            if path == plan["report"] and not Path(path).parent.exists():
-                continue  # the report folder is made before any work; nothing there to overwrite
-            check_writable(Path(path), overwrite)
+            check_writable(Path(path), overwrite)  # and its folder can be made
     return plans
 
 

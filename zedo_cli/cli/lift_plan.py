@@ -92,8 +92,6 @@ def plan_outputs(
         )
     if out is not None and output_dir is not None:
         raise ConfigError("give -o/--output or --output-dir, not both")
-    if output_dir is not None:
-        check_output_folder(output_dir)  # made when the outputs are checked, below
     if out is not None:
         output_format(out, fmt)  # a contradicting extension fails here
         outputs = [out]
@@ -157,8 +155,12 @@ def _check_inputs_kept(inputs: list[str], outputs: list[str], fmt: str | None) -
                                   "not even with --overwrite: choose another -o or --output-dir")  # fmt: skip
 
 
-def _exist(paths: list[str]) -> str:
-    return "already exists" if len(paths) == 1 else "already exist"
+def _refuse_existing(existing: list[str]) -> None:
+    """The one usage error for outputs that exist (without --overwrite): the first three named, the rest counted."""
+    if existing:
+        more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
+        verb = "already exists" if len(existing) == 1 else "already exist"
+        raise ConfigError(f"{', '.join(existing[:3])}{more}: {verb}; pass --overwrite to replace")
 
 
 def plot_prefix(output: str) -> str:
@@ -186,9 +188,7 @@ def check_plot_paths(inputs: list[str], outputs: list[str], plot_dir: Path, over
                 raise ConfigError(f"{png}: is an input of this run; plots never overwrite an input")
             if check_output_kind(png) and not overwrite:
                 existing.append(str(png))
-    if existing:
-        more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
-        raise ConfigError(f"{', '.join(existing[:3])}{more}: {_exist(existing)}; pass --overwrite to replace")
+    _refuse_existing(existing)
 
 
 def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> None:
@@ -206,6 +206,4 @@ def _check_outputs(inputs: list[str], outputs: list[str], overwrite: bool) -> No
             existing.append(dst)
     for dst in {str(Path(d).parent): d for d in reversed(outputs) if d != STDIN}.values():
         check_can_create(Path(dst))  # a read-only folder fails here (naming its first output), before any work
-    if existing:
-        more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
-        raise ConfigError(f"{', '.join(existing[:3])}{more}: {_exist(existing)}; pass --overwrite to replace")
+    _refuse_existing(existing)
