@@ -33,17 +33,21 @@ from .checks import check_choice
 if TYPE_CHECKING:
     from ..prior.training import TrainProgress
 
+
 # Data goes to stdout; progress, logs and errors to stderr. Off a terminal (a log file, a pipe)
 # lines are never wrapped at 80 columns nor padded, and tables are printed as plain lines.
-err_console = Console(stderr=True, highlight=False)
-err_console.soft_wrap = not err_console.is_terminal
+def _console(stderr: bool) -> Console:
+    console = Console(stderr=stderr, highlight=False)
+    console.soft_wrap = not console.is_terminal
+    return console
+
+
+err_console = _console(stderr=True)
 
 
 def stdout_console() -> Console:
     """The console of a command's tables and notes on stdout: like stderr's, never wrapped off a terminal."""
-    console = Console(highlight=False)
-    console.soft_wrap = not console.is_terminal
-    return console
+    return _console(stderr=False)
 
 
 def print_table(table: Table, console: Console | None = None) -> None:
