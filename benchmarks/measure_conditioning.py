@@ -20,19 +20,15 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+from calibrate_measures import SKELETON, case_arrays
 
 from zedo_cli.analysis.calibration import conformal_quantile, fit_measure, residuals
-from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name, symmetry_angles
-from zedo_cli.data.skeleton import get_skeleton
-
-SKELETON = get_skeleton("syrip12")
-SEGMENTS = {"upper_arm": ("shoulder", "elbow"), "forearm": ("elbow", "wrist"), "thigh": ("hip", "knee"),
-            "shank": ("knee", "ankle")}  # fmt: skip
+from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 
 
 def towards_camera(poses: np.ndarray, pair: str) -> np.ndarray:
     """(N,) the larger |z| of the left and right segments' unit directions (camera frame)."""
-    a, b = SEGMENTS[pair]
+    a, b, _ = PAIRS[pair]
     out = []
     for side in ("left", "right"):
         j0, j1 = SKELETON.joints.index(f"{side}_{a}"), SKELETON.joints.index(f"{side}_{b}")
@@ -51,18 +47,16 @@ def lift_cases(args: argparse.Namespace) -> dict[str, np.ndarray]:
     cfg = get_preset(DEFAULT_PRESET)
     cases: dict[str, list[np.ndarray]] = {}
     for k, prior, truth, inputs in fold_priors(args.folds, "", args.syrip_dir):
-        true = symmetry_angles(truth.poses, SKELETON)
         for key, kp in inputs.items():
             kp = kp.to_skeleton(prior.skeleton)
             mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
             res = lift(kp.xy, kp.confidence, mats, prior, cfg, seed=0)
-            raw = symmetry_angles(res.poses_root_relative, SKELETON)
+            # the shipped calibration's cases: NaN where a joint the measure uses was not observed
+            arrays = case_arrays(res.poses_root_relative, res.observed, res.lifted, truth.poses)
             for pair in PAIRS:
                 n = measure_name(pair)
-                seen = res.observed[:, [SKELETON.joints.index(f"{s}_{j}") for s in ("left", "right")
-                                        for j in SEGMENTS[pair]]].all(axis=1)  # fmt: skip
-                cases.setdefault(f"{n}|raw", []).append(np.where(seen & res.lifted, raw[n], np.nan))
-                cases.setdefault(f"{n}|truth", []).append(true[n])
+                cases.setdefault(f"{n}|raw", []).append(arrays[f"{n}|raw"])
+                cases.setdefault(f"{n}|truth", []).append(arrays[f"{n}|truth"])
                 cases.setdefault(f"{n}|feature", []).append(towards_camera(res.poses_root_relative, pair))
             cases.setdefault("fold", []).append(np.full(len(kp), k))
             cases.setdefault("input", []).append(np.full(len(kp), key))
