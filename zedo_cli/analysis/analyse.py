@@ -170,7 +170,7 @@ def calibrated_measures(
     ranges = measure_ranges()
     for name, v in raw.items():
         filled = ~observed[:, uses[name]]
-        for k in range(m):
+        for k in np.flatnonzero(~np.isfinite(v) | filled.any(1)):  # only the cases without an interval
             if not np.isfinite(v[k]):
                 known = np.isfinite(poses[k]).all(-1)
                 missing = [j for j, u, ok in zip(skeleton.joints, uses[name], known, strict=True) if u and not ok]
