@@ -8,7 +8,8 @@ Rows follow the CSV's columns (COLUMNS): per lifted person, the four symmetry an
 (`symmetry_upper_arm_deg`, `symmetry_forearm_deg`, `symmetry_thigh_deg`,
 `symmetry_shank_deg`) with their call, the paper's band of each (`symmetry_<pair>_band`), and
 the twelve joint angles; then, for a sequence (an fps from the settings or the result), the
-movement features of each person's clip (frame_index, image_id and file_name empty).
+movement features of each person's clip (frame_index, image_id and file_name empty), then its
+published 2D features (Chambers et al. 2020) and `3d_` features (`analysis.clip_features`).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from .calibration import (
     find_calibration,
     measure_joints,
 )
+from .clip_features import clip_features
 from .geometry import require_joints
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
 from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
@@ -240,6 +242,10 @@ def analyse(
     a.rows = _frame_rows(a)
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
+        a.rows += [
+            Row(None, None, None, f.person, f.measure, f.value, f.unit, interval=f.interval)
+            for f in clip_features(result, index, fps)
+        ]  # the published 2D and the 3d_ features
     return a
 
 

@@ -20,6 +20,9 @@ the `fx_px` ... `camera_model`, `dist` columns (CSV) or the `K`, `camera_model`,
 `image_size` arrays (NPZ); None for a person whose file states no camera. Files written before
 `model` and `dist` existed read as pinhole cameras without distortion.
 
+2D input: `ResultPoses.keypoints_2d` `(N, J, 2)` holds the input's pixels per person and joint (JSON /
+JSONL `keypoints_2d`, CSV `u_px`, `v_px`, NPZ `keypoints_2d`), NaN where missing; None when the file has none.
+
 Errors are `InputFormatError`s (exit code 3) naming the file and the field.
 """
 
@@ -81,6 +84,8 @@ class ResultPoses:
     cameras: list[CameraModel | None] | None = None  # (N,) each person's camera (any format); None: not stated
     flags: list[list[str]] | None = None
     root_translation: np.ndarray | None = None  # (N, 3)
+    # the input's 2D keypoints in pixels (every format; None: a file without them), NaN where missing
+    keypoints_2d: np.ndarray | None = None  # (N, J, 2)
 
     def __len__(self) -> int:
         return len(self.poses)
@@ -242,7 +247,13 @@ class _DocumentReader:
                      for frame, _, _ in self.persons],
             flags=[list(person.flags) for _, _, person in self.persons],
             root_translation=np.asarray(roots).reshape(-1, 3),
+            keypoints_2d=np.asarray([_pixels(person.keypoints_2d) for _, _, person in self.persons]).reshape(-1, j, 2),
         )  # fmt: skip
+
+
+def _pixels(points: list[list[float | None] | None]) -> np.ndarray:
+    """A person's validated `keypoints_2d` (a point, or null where missing) as `(J, 2)` floats, NaN for null."""
+    return np.array([[np.nan, np.nan] if p is None else p for p in points], dtype=float).reshape(-1, 2)
 
 
 def _camera(block: Any, where: str) -> CameraModel | None:
@@ -363,9 +374,10 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         if key not in order:
             order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
                           "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
-                          "points": {}, "observed": {}, "radii": {}}  # fmt: skip
+                          "points": {}, "observed": {}, "radii": {}, "pixels": {}}  # fmt: skip
         inst = order[key]
         inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
+        inst["pixels"][j] = [_cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px")]
         inst["observed"][j] = row.get("observed", "true") == "true"
         if "uncertainty_m" in row:
             inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
@@ -391,7 +403,13 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
                    [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
                    if "uncertainty_m" in columns else None, fps, coord, units,
                    cameras=[inst["camera"] for inst in order.values()])  # fmt: skip
-    return replace(out, params=_params(meta))
+    pixels = [[inst["pixels"][j] for j in range(skel.num_joints)] for inst in order.values()]
+    has_2d = "u_px" in columns and "v_px" in columns
+    return replace(
+        out,
+        params=_params(meta),
+        keypoints_2d=np.asarray(pixels, dtype=float).reshape(-1, skel.num_joints, 2) if has_2d else None,
+    )
 
 
 def _csv_camera(row: dict[str, str], where: str) -> CameraModel | None:
@@ -439,6 +457,9 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
     cameras = _npz_cameras(arrays, n, name)
+    pixels = arrays.get("keypoints_2d")
+    if pixels is not None and np.shape(pixels) != (n, skel.num_joints, 2):
+        raise InputFormatError(f"{name}: keypoints_2d: expected shape ({n}, {skel.num_joints}, 2)")
     return ResultPoses(  # the lift's params come with the metadata
         name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
         np.asarray(arrays["person"], dtype=np.int64), [i.item() for i in np.asarray(ids)],
@@ -446,6 +467,7 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
         str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta), cameras,
+        keypoints_2d=None if pixels is None else np.asarray(pixels, dtype=float),
     )  # fmt: skip
 
 
