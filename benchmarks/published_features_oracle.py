@@ -90,8 +90,14 @@ def infant_clip(spec: ClipSpec, width: float = 1280.0, height: float = 720.0) ->
     trunk = rng.uniform(130, 170)  # px, hip midpoint to shoulder midpoint
     # the trunk's direction (up the body) in the image, turning slowly; its centre drifting
     heading = rng.uniform(-0.4, 0.4) - np.pi / 2 + 0.15 * np.sin(2 * np.pi * 0.05 * t + rng.uniform(0, 6))
-    centre = np.array([width / 2, height / 2]) + rng.uniform(-80, 80, 2) + 25 * np.stack(
-        [np.sin(2 * np.pi * 0.03 * t + rng.uniform(0, 6)), np.sin(2 * np.pi * 0.04 * t + rng.uniform(0, 6))], 1)
+    centre = (
+        np.array([width / 2, height / 2])
+        + rng.uniform(-80, 80, 2)
+        + 25
+        * np.stack(
+            [np.sin(2 * np.pi * 0.03 * t + rng.uniform(0, 6)), np.sin(2 * np.pi * 0.04 * t + rng.uniform(0, 6))], 1
+        )
+    )
     up = np.stack([np.cos(heading), np.sin(heading)], 1)  # (T, 2)
     right_of_image = np.stack([-up[:, 1], up[:, 0]], 1)  # the infant's left, seen from above
     pts: dict[str, np.ndarray] = {}

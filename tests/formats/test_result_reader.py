@@ -37,6 +37,24 @@ def test_every_format_reads_back_the_written_poses(tmp_path: Path, fmt: str, uni
     assert got.uncertainty_m is None
 
 
+@pytest.mark.parametrize("fmt", ["json", "jsonl", "csv", "npz"])
+def test_every_format_reads_back_the_input_2d(tmp_path: Path, fmt: str) -> None:
+    kp, res, mats, sources = make_case()
+    kp.xy[2, 4] = np.nan  # a joint the input missed
+    path = tmp_path / f"kp.zedo.{fmt}"
+    write_result(path, kp, res, mats, sources, PARAMS, INPUT_INFO)
+    got = read_result(path)
+    assert got.keypoints_2d is not None and got.keypoints_2d.shape == (4, 12, 2)
+    np.testing.assert_allclose(got.keypoints_2d, kp.xy, atol=1e-3)  # pixels, NaN where missing
+    assert np.isnan(got.keypoints_2d[2, 4]).all() and np.isfinite(got.keypoints_2d[0]).all()
+
+
+def test_a_result_without_2d_reads_as_none() -> None:
+    rows = ["frame_index,image_id,file_name,person,joint,joint_index,x_cam_m,y_cam_m,z_cam_m,lifted"]
+    rows += [f"0,0,f.png,0,{name},{j},{j},0,1,true" for j, name in enumerate(make_case()[0].skeleton.joints)]
+    assert read_result_bytes("\n".join(rows).encode(), "old.csv").keypoints_2d is None
+
+
 def test_csv_on_stdin_without_its_sidecar(monkeypatch: pytest.MonkeyPatch) -> None:
     kp, res, mats, sources = make_case()
     text = csv_text(kp, res, mats, sources, units="mm")

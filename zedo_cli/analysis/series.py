@@ -62,8 +62,19 @@ def rolling_centered(x: np.ndarray, window: int, stat: Literal["median", "mean"]
     if t >= window:
         w = _windows(flat, window)  # (T - w + 1, C, w)
         start = window // 2  # the row of the first full window: pandas' offset (w - 1) // 2 after its end
-        out[start : start + t - window + 1] = np.median(w, axis=-1) if stat == "median" else w.mean(axis=-1)
+        out[start : start + t - window + 1] = _median(flat, w) if stat == "median" else w.mean(axis=-1)
     return out.reshape(x.shape)
+
+
+def _median(flat: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """The median of each window `w (T - n + 1, C, n)` of `flat (T, C)`, NaN where the window holds a NaN
+    (the mean of the two middle values for an even n, as np.median and pandas take it)."""
+    n = w.shape[-1]
+    lo, hi = (n - 1) // 2, n // 2
+    part = np.partition(w, [lo, hi] if lo != hi else lo, axis=-1)
+    med = (part[..., lo] + part[..., hi]) / 2
+    nans = np.concatenate([np.zeros((1, flat.shape[1])), np.cumsum(np.isnan(flat), axis=0)])  # (T + 1, C)
+    return np.where(nans[n:] - nans[:-n] > 0, np.nan, med)
 
 
 def rolling_trailing_mean(x: np.ndarray, window: int) -> np.ndarray:
