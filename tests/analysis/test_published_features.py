@@ -107,6 +107,9 @@ def test_short_clips_and_missing_joints_say_why() -> None:
     f = published_features(still_clip(33), SKEL, 30.0, SIZE)  # 1.1 s: angles yes, angular velocities no
     assert np.isfinite(f.values["mean_angle_LKnee"]) and np.isnan(f.values["median_vel_angle_LKnee"])
     assert "33 frames" in f.reasons["median_vel_angle_LKnee"]
+    slow = published_features(still_clip(), SKEL, 3.0, SIZE)  # int(0.25 fps) = 0: no published windows
+    assert all(np.isnan(v) for v in slow.values.values()) and "3 fps is too low" in slow.reasons["Ankle_IQRx"]
+    assert all(np.isnan(v) for v in features_3d(np.zeros((90, 12, 3)), SKEL, 3.0).values.values())
     xy = still_clip()
     xy[:, SKEL.index("left_wrist")] = np.nan
     f = published_features(xy, SKEL, 25.0, SIZE)

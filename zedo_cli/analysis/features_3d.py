@@ -35,7 +35,7 @@ import numpy as np
 from ..data.skeleton import Skeleton
 from .geometry import angle_between_deg, joint
 from .joint_angles import angle_name, joint_angles, trunk_frame
-from .published_features import ANGLE_STATS, ClipFeatures, Windows, angle_statistics, smooth_positions
+from .published_features import ANGLE_STATS, ClipFeatures, Windows, all_empty, angle_statistics, smooth_positions
 from .series import pearson
 
 PREFIX = "3d_"
@@ -80,10 +80,12 @@ def dispersion(poses: np.ndarray, skeleton: Skeleton, side: str, part: str) -> f
 def features_3d(poses: np.ndarray, skeleton: Skeleton, fps: float) -> ClipFeatures:
     """The `3d_` features of one person's clip: poses `(T, J, 3)` (any frame and unit; NaN where not lifted)."""
     windows = Windows(fps)
+    if not windows.usable:
+        return all_empty(features_3d(poses, skeleton, 30.0), windows.too_slow)
     smooth = smooth_positions(poses, windows)  # (T, J, 3)
     angles = angle_series_3d(smooth, skeleton)
     out = ClipFeatures()
-    short = len(poses) < windows.frames_needed or windows.smooth < 1 or windows.delta < 1
+    short = len(poses) < windows.frames_needed
     why = (f"the clip ({len(poses)} frames at {fps:g} fps) is too short for the published windows "
            f"({windows.describe()})" if short else "undefined for this clip (e.g. a constant series)")  # fmt: skip
     for bp in sorted(angles):

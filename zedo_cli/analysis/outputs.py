@@ -73,6 +73,16 @@ def measure_descriptions() -> dict[str, str]:
         "of the frames' interval ends (coverage measured on synthetic clips, docs)",
         "<angle>_frames_too_fast": "per clip: frames whose angle changed faster than the bound (left out of the "
         "movement features)",
+        "<stat>_<L|R><Shoulder|Elbow|Hip|Knee>, lrCorr_angle_<part>": "per clip: the published 2D angle features "
+        "of Chambers et al. 2020 from the input's 2D keypoints, computed as their code does (docs/movement.md)",
+        "<stat>_<L|R><Ankle|Wrist>, lrCorr_x_<part>": "per clip: the published 2D position features (body frame, "
+        "trunk lengths) of Chambers et al. 2020",
+        "<Part>_<stat>": "per clip: the 38 pre-registered part-level features of Chambers et al. 2020, left and "
+        "right averaged (e.g. Ankle_medianx, Knee_lrCorr_angle)",
+        "3d_<stat>_<L|R><part>, 3d_lrCorr_angle_<part>": "per clip: the published angle statistics on the lifted 3D "
+        "elbow and knee interior angles and the trunk-frame hip and shoulder flexion and abduction",
+        "3d_mean_dispersion_<L|R><Wrist|Ankle>": "per clip: the mean distance of the joint's trunk-normalised 3D "
+        "position from its clip centroid (trunk lengths)",
     }
 
 

@@ -110,6 +110,14 @@ class Windows:
         velocity, its trailing mean, an acceleration and its trailing mean."""
         return 2 * (self.smooth - 1) + 2 * self.delta + 2
 
+    @property
+    def usable(self) -> bool:
+        return self.smooth >= 1 and self.delta >= 1
+
+    @property
+    def too_slow(self) -> str:
+        return f"{self.fps:g} fps is too low for the published windows (int(0.25 fps) = 0 frames; at least 4 fps)"
+
     def describe(self) -> str:
         return (f"int(0.5 fps) = {self.smooth} frames smoothed twice, int(0.25 fps) = {self.delta} frames per "
                 f"dynamics mean: at least {self.frames_needed} frames")  # fmt: skip
@@ -128,6 +136,14 @@ class ClipFeatures:
         self.units[name] = unit
         if not np.isfinite(value):
             self.reasons[name] = reason or "undefined for this clip"
+
+
+def all_empty(template: ClipFeatures, reason: str) -> ClipFeatures:
+    """The features of `template`, every one empty for `reason`."""
+    out = ClipFeatures()
+    for name, unit in template.units.items():
+        out.add(name, np.nan, unit, reason)
+    return out
 
 
 def smooth_positions(points: np.ndarray, windows: Windows) -> np.ndarray:
@@ -248,6 +264,8 @@ def published_features(xy: np.ndarray, skeleton: Skeleton, fps: float, image_siz
     absent); image_size `(T, 2)` or `(2,)`: width, height (only centres the coordinates: no feature
     depends on it, the body frame and the angles being free of translation and scale)."""
     windows = Windows(fps)
+    if not windows.usable:  # int(0.25 fps) = 0: the published windows are empty
+        return all_empty(published_features(xy, skeleton, 30.0, image_size), windows.too_slow)
     pts = points_of(xy, skeleton)  # (T, P, 2)
     size = np.broadcast_to(np.asarray(image_size, dtype=float), (len(pts), 2))
     w, h = size[:, :1], size[:, 1:]
@@ -296,12 +314,20 @@ def published_features(xy: np.ndarray, skeleton: Skeleton, fps: float, image_siz
         values = np.array([out.values[s] for s in source])
         known = values[np.isfinite(values)]
         value = float(known.mean()) if len(known) else np.nan
-        why = "; ".join(dict.fromkeys(out.reasons[s] for s in source if s in out.reasons))
-        out.add(name, value, out.units[source[0]], why)
+        out.add(name, value, out.units[source[0]], _merged([out.reasons[s] for s in source if s in out.reasons]))
     return out
 
 
 _FRAME_POINTS = ("LShoulder", "RShoulder", "LHip", "RHip")  # the body frame needs all four
+_NEVER = "never detected: "
+
+
+def _merged(reasons: list[str]) -> str:
+    """One reason for a part-level feature from its sides' reasons (the joints never detected pooled)."""
+    if reasons and all(r.startswith(_NEVER) for r in reasons):
+        joints = [j for r in reasons for j in r.removeprefix(_NEVER).split(", ")]
+        return _NEVER + ", ".join(dict.fromkeys(joints))
+    return "; ".join(dict.fromkeys(reasons))
 
 
 class _Reasons:
@@ -318,9 +344,7 @@ class _Reasons:
             if not self.seen[p]:
                 lacking.append("both shoulders in one frame (the neck)" if p == "Neck" else JOINT_OF[p])
         if lacking:
-            return "never detected: " + ", ".join(lacking)
-        if self.windows.smooth < 1 or self.windows.delta < 1:
-            return f"{self.windows.fps:g} fps is too low for the published windows ({self.windows.describe()})"
+            return _NEVER + ", ".join(lacking)
         if self.frames < self.windows.frames_needed:
             return f"the clip ({self.frames} frames) is too short for the published windows ({self.windows.describe()})"
         if body:
