@@ -101,7 +101,8 @@ def test_a_folder_and_several_inputs(kick: Path, tmp_path: Path) -> None:
     ("content", "message"),
     [
         ("", "empty file"),
-        ('{"images": [], "annotations": [], "categories": []}', "schema: expected a zedo result file"),
+        ('{"images": [], "annotations": [], "categories": []}', "2D keypoints (coco-annotations), not a zedo result"),
+        ('{"schema": "other/1", "frames": []}', "schema: expected a zedo result file"),
         ("not json at all", "not a zedo result"),
     ],
 )

@@ -25,6 +25,7 @@ from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
+from ..formats.openpose import is_openpose_folder
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
@@ -57,6 +58,9 @@ def _is_result_name(path: Path) -> bool:
 
 def _result_files(folder: Path) -> list[str]:
     found = sorted(str(p) for p in folder.iterdir() if _is_result_name(p))
+    if not found and is_openpose_folder(folder):
+        raise InputFormatError(f"{folder}: a folder of OpenPose 2D keypoint frames, not zedo results: lift it "
+                               f"first (zedo lift {folder} -o {folder.name or 'frames'}.zedo.json)")  # fmt: skip
     if not found:
         raise InputFormatError(f"{folder}: folder holds no zedo results (*.zedo.json/.jsonl/.csv/.npz)")
     return found

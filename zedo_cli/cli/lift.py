@@ -175,6 +175,11 @@ class FileOutcome:
     seconds: float = 0.0
     error: ZedoError | None = None
     warnings: tuple[str, ...] = ()  # the input's `zedo: warning:` lines (printed as they came)
+    written: tuple[str, ...] = ()  # the files written: a CSV's sidecar, every track's TRC / C3D (none for stdout)
+
+    def files(self) -> str:
+        """The files written, for a `wrote ...` line and the summary table (`output` for stdout)."""
+        return ", ".join(self.written) if self.written else self.output
 
 
 def read_input(source: str, st: LiftSettings) -> Keypoints2D:
@@ -295,8 +300,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     # (nor plots without their result: they are removed when the result cannot be written).
     plots = [] if st.plot_dir is None else write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
     try:
-        write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units, frame=st.frame,
-                     marker_axes=st.marker_axes, overwrite=st.overwrite, lenses=cams.lenses)  # fmt: skip
+        written = write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units,
+                               frame=st.frame, marker_axes=st.marker_axes, overwrite=st.overwrite,
+                               lenses=cams.lenses)  # fmt: skip
     except BaseException:
         for png in plots:
             png.unlink(missing_ok=True)
@@ -304,8 +310,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     if not st.quiet and plots:
         err_console.print(one_line(f"plots: {', '.join(str(p) for p in plots)}"), markup=False, soft_wrap=True)
     lifted = int(res.lifted.sum())
-    _report_file(source, output, kp, res, lifted, st.quiet, warnings)
-    return FileOutcome(source, output, len(kp), lifted, res.seconds, warnings=tuple(warnings))
+    outcome = FileOutcome(source, output, len(kp), lifted, res.seconds, written=tuple(str(p) for p in written))
+    _report_file(outcome, kp, res, st.quiet, warnings)
+    return replace(outcome, warnings=tuple(warnings))
 
 
 def _frame_numbers(kp: Keypoints2D) -> np.ndarray | None:
@@ -321,15 +328,16 @@ def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings
     return write_pose_plots(prefix, kp, res, units=st.units, overwrite=st.overwrite)
 
 
-def _report_file(
-    source: str, output: str, kp: Keypoints2D, res: LiftResult, lifted: int, quiet: bool, warnings: list[str]
-) -> None:  # fmt: skip
+def _report_file(outcome: FileOutcome, kp: Keypoints2D, res: LiftResult, quiet: bool, warnings: list[str]) -> None:
+    """The input's line (what was lifted, and every file written: `kick_P1.trc, kick_P2.trc`
+    for the tracks of --person all, `x.csv, x.meta.json` for a CSV) and its warnings."""
+    source, lifted = outcome.source, outcome.lifted
     if not quiet:
         rate = lifted / res.seconds if res.seconds > 0 else float("nan")
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
         err_console.print(one_line(f"lifted {lifted}/{plural(len(kp), 'instance')} in {res.seconds:.2f} s of lifting "
                                    f"({rate:.1f} poses/s), mean reprojection error {reproj:.2f} px"
-                                   + ("" if output == STDIN else f"; wrote {output}")),
+                                   + (f"; wrote {outcome.files()}" if outcome.written else "")),
                           markup=False, soft_wrap=True)  # fmt: skip
     if lifted < len(kp):
         warn(warnings, f"{source}: {_not_lifted_counts(res)}: not lifted (null in the output, flagged "
@@ -361,7 +369,7 @@ def _summary_table(outcomes: list[FileOutcome]) -> Table:
         if o.error is not None:
             result = Text(f"failed, exit code {o.error.exit_code} (its error is above)", style="red")
         else:
-            result = Text(one_line(o.output))
+            result = Text(one_line(o.files()))
         table.add_row(Text(one_line(o.source)), str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
     return table
 
@@ -425,7 +433,7 @@ def _lift_on_ray(
 
     done = lift_files_on_ray(sources, outputs, str(prior.path), st, lift_file, address=address, workers=workers)
     outcomes = [
-        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error, d.warnings)
+        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error, d.warnings, d.written)
         for source, output, d in zip(sources, outputs, done, strict=True)
     ]
     if len(outcomes) == 1 and outcomes[0].error is not None:
@@ -438,7 +446,7 @@ def _lift_on_ray(
         elif not st.quiet:
             rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
             err_console.print(one_line(f"lifted {o.lifted}/{plural(o.instances, 'instance')} from {o.source} in "
-                                       f"{o.seconds:.2f} s of lifting ({rate:.1f} poses/s); wrote {o.output}"),
+                                       f"{o.seconds:.2f} s of lifting ({rate:.1f} poses/s); wrote {o.files()}"),
                               markup=False, soft_wrap=True)  # fmt: skip
     return outcomes
 
@@ -483,7 +491,7 @@ def lift_command(
         Optional[tuple[float, float]],
         typer.Option(
             help="Image size in pixels, for inputs without one (COCO results, OpenPose).",
-            metavar="W H",
+            metavar="WIDTH HEIGHT",
             rich_help_panel=PANEL_INPUT,
         ),
     ] = None,

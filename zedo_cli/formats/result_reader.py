@@ -128,10 +128,34 @@ def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) ->
         except json.JSONDecodeError:
             doc = None  # several lines: JSON Lines
         if isinstance(doc, dict) and doc.get("type") != "header":
+            _refuse_keypoints(doc, name)
             return _from_document(doc, name, "json")
         return _read_jsonl(text, name)
+    if stripped.startswith("["):  # a list: a detector's (COCO results, MMPose, ...), never a result
+        try:
+            _refuse_keypoints(json.loads(text), name)
+        except json.JSONDecodeError:
+            pass
     raise InputFormatError(f"{name}: not a zedo result (expected a {SCHEMA} JSON / JSON Lines document, "
                            "a zedo CSV or a NPZ archive)")  # fmt: skip
+
+
+def _refuse_keypoints(doc: Any, name: str) -> None:
+    """Refuse a 2D keypoint file (any layout `zedo lift` reads) with what to do instead: lift it."""
+    if isinstance(doc, dict) and doc.get("schema") == SCHEMA:
+        return
+    from .readers import detect_format  # the 2D readers, only for a file that is not a result
+
+    try:
+        fmt = detect_format(doc, name)
+    except InputFormatError:
+        return  # not 2D keypoints either: the result reader says what it expected
+    shown = "stdin" if name == "-" else name
+    stem = "stdin" if name == "-" else Path(name).name.split(".")[0]
+    raise InputFormatError(
+        f"{shown}: 2D keypoints ({fmt}), not a zedo result (3D poses): lift them first "
+        f"(zedo lift {shown} -o {stem}.zedo.json) and give zedo that result"
+    )
 
 
 # --- JSON and JSON Lines ------------------------------------------------------------------------
@@ -158,6 +182,7 @@ def _read_jsonl(text: str, name: str) -> ResultPoses:
         where = f"line {number}"
         if reader is None:
             if kind != "header":
+                _refuse_keypoints(obj, name)  # a detector's JSON Lines (zedo 2D: frame, persons)
                 raise InputFormatError(f"{name}: {where}: not a zedo result (expected a JSON document "
                                        f"with schema {SCHEMA}, or JSON Lines starting with a header line)")  # fmt: skip
             _check_schema(obj, name)
