@@ -43,7 +43,7 @@ from .common import (
     report_figures,
     stdout_console,
 )
-from .lift_plan import STDIN, expand_inputs
+from .lift_plan import STDIN, expand_inputs, output_stem
 
 if TYPE_CHECKING:
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
@@ -70,14 +70,6 @@ def expand_results(args: list[str]) -> list[str]:
     """Result paths in the order given: `-`, files, folders (their `*.zedo.*` results) and glob
     patterns the shell did not expand (sidecars left out). Duplicates are dropped."""
     return expand_inputs(args, folder=_result_files, keep=lambda p: not p.name.endswith(".meta.json"))
-
-
-def output_stem(source: str) -> str:
-    """`clip` for `clip.zedo.json` (else the file's stem; `stdin` for -)."""
-    if source == STDIN:
-        return "stdin"
-    name = Path(source).name
-    return name.split(".zedo.")[0] if ".zedo." in name else Path(source).stem
 
 
 ANALYSIS_FORMATS = {".csv": "csv", ".json": "json"}
