@@ -1,6 +1,7 @@
 """`zedo export` (issue 36, item 5): a result written again in every format is what `zedo lift -o`
-wrote from the same lift, apart from the time of writing (and, for the C3D's float32 and the
-NPZ's full-precision arrays, the digits the source file rounded away); the same checks as lift."""
+wrote from the same lift (the same input and seed), apart from the times (of writing, of lifting)
+and, for the C3D's float32 and the NPZ's full-precision arrays, the digits the source file
+rounded away; the same checks as lift."""
 
 from __future__ import annotations
 
@@ -67,7 +68,12 @@ def lifted(tiny_prior_path: Path, tmp_path_factory: pytest.TempPathFactory) -> P
 
 
 def _drop_created(doc: dict[str, Any]) -> dict[str, Any]:
-    return {k: v for k, v in doc.items() if k != "created"}
+    """A document (or JSON Lines line) without its times: when it was written, and how long its
+    lift took (the outputs compared come from lifts run one after the other, same seed, same poses)."""
+    out = {k: v for k, v in doc.items() if k not in ("created", "seconds")}
+    if isinstance(out.get("summary"), dict):
+        out["summary"] = _drop_created(out["summary"])
+    return out
 
 
 def _text_equal(a: Path, b: Path) -> None:
@@ -100,7 +106,8 @@ def _same_file(fmt: str, direct: Path, exported: Path) -> None:
                 if key == "metadata":
                     assert _drop_created(json.loads(str(e[key]))) == _drop_created(json.loads(str(d[key])))
                 elif d[key].dtype.kind == "f":  # the JSON's precision: 1 µm, 0.001 px, 1e-4 confidence
-                    np.testing.assert_allclose(e[key], d[key], atol=1e-4, rtol=0, equal_nan=True, err_msg=key)
+                    atol = 6e-4 if key in ("keypoints_2d", "reprojection_error_px") else 6e-5
+                    np.testing.assert_allclose(e[key], d[key], atol=atol, rtol=0, equal_nan=True, err_msg=key)
                 else:
                     np.testing.assert_array_equal(e[key], d[key], err_msg=key)
 
@@ -113,6 +120,7 @@ def c3d_points(path: Path) -> np.ndarray:
         return np.array([points for _, points, _ in c3d.Reader(io.BytesIO(fh.read())).read_frames()])
 
 
+@pytest.mark.filterwarnings("ignore:No analog data")  # the c3d reader's: markers only, as written
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_export_writes_what_lift_wrote(lifted: Path, fmt: str) -> None:
     out = lifted / "exported" / f"x.{fmt}"  # a folder that does not exist yet: made
