@@ -12,34 +12,14 @@ from typing import Any
 
 import numpy as np
 import pytest
-from helpers import project_poses, synthetic_poses
+from export_fixtures import TWO_FRAMES as FRAMES
+from export_fixtures import write_two_people
 from typer.testing import CliRunner
 
 from zedo_cli.cli import app
 
 runner = CliRunner()
-FRAMES, EMPTY, PARTIAL, UNLIFTED = 16, 5, 8, 12
 FORMATS = ("json", "jsonl", "csv", "npz", "trc", "c3d")
-
-
-def write_two_people(path: Path) -> Path:
-    """zedo JSON Lines 2D: two people per frame (the second 150 px to the right), frame EMPTY
-    without people, the second person's ankle missing in PARTIAL, the first unliftable in UNLIFTED."""
-    xy = project_poses(synthetic_poses(FRAMES, seed=5))
-    lines = []
-    for f in range(FRAMES):
-        people = []
-        for shift in (0.0, 150.0):
-            points: list[Any] = [[float(x) + shift, float(y), 0.9] for x, y in xy[f]]
-            if f == PARTIAL and shift:
-                points[2] = None
-            if f == UNLIFTED and not shift:
-                points[2:] = [None] * 10
-            people.append({"keypoints": points, "score": 0.8})
-        record = {"frame": f, "image_size": [640, 480], "persons": [] if f == EMPTY else people}
-        lines.append(json.dumps({"skeleton": "syrip12", **record} if f == 0 else record))
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return path
 
 
 def lift(prior: Path, src: Path, out: Path, *extra: str) -> None:
