@@ -34,6 +34,30 @@ def write_clip(path: Path) -> Path:
     return path
 
 
+# A shorter clip of two people per frame (zedo export, the "wrote" lines of --person all).
+TWO_FRAMES, TWO_EMPTY, TWO_PARTIAL, TWO_UNLIFTED = 16, 5, 8, 12
+
+
+def write_two_people(path: Path) -> Path:
+    """zedo JSON Lines 2D: two people per frame (the second 150 px to the right), frame TWO_EMPTY
+    without people, the second person's ankle missing in TWO_PARTIAL, the first unliftable in TWO_UNLIFTED."""
+    xy = project_poses(synthetic_poses(TWO_FRAMES, seed=5))
+    lines = []
+    for f in range(TWO_FRAMES):
+        people = []
+        for shift in (0.0, 150.0):
+            points: list[Any] = [[float(x) + shift, float(y), 0.9] for x, y in xy[f]]
+            if f == TWO_PARTIAL and shift:
+                points[2] = None
+            if f == TWO_UNLIFTED and not shift:
+                points[2:] = [None] * 10
+            people.append({"keypoints": points, "score": 0.8})
+        record = {"frame": f, "image_size": [640, 480], "persons": [] if f == TWO_EMPTY else people}
+        lines.append(json.dumps({"skeleton": "syrip12", **record} if f == 0 else record))
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
 def lift_clip(prior: Path, folder: Path) -> dict[str, Path]:
     """The clip lifted (same seed) to clip.zedo.json, clip.trc and clip.c3d in `folder`."""
     src = write_clip(folder / "clip.jsonl")

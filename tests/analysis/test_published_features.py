@@ -167,7 +167,7 @@ def test_analyze_emits_them_as_clip_rows(tmp_path: Path) -> None:
 
 def test_a_result_without_2d_keypoints_gets_empty_published_features(tmp_path: Path) -> None:
     res = read_result(write_document(tmp_path / "k.zedo.json", result_document(kicking_poses(40), fps=30.0)))
-    res.keypoints_2d = None
+    res.record = None
     clip = {r.measure: r for r in analyse(res).rows if r.frame_index is None}
     assert np.isnan(clip["Ankle_IQRx"].value)
     assert clip["Ankle_IQRx"].interval == "none: the result file carries no 2D keypoints"

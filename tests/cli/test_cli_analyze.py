@@ -101,7 +101,11 @@ def test_a_folder_and_several_inputs(kick: Path, tmp_path: Path) -> None:
     ("content", "message"),
     [
         ("", "empty file"),
-        ('{"images": [], "annotations": [], "categories": []}', "schema: expected a zedo result file"),
+        ('{"images": [], "annotations": [], "categories": []}', "2D keypoints (coco-annotations), not a zedo result"),
+        ('{"schema": "other/1", "frames": []}', "schema: expected a zedo result file"),
+        ('[{"image_id": 1, "keypoints": [1, 2, 1], "score": 0.9}]', "2D keypoints (coco-results), not a zedo result"),
+        ('{"version": 1.3, "people": []}', "2D keypoints (openpose), not a zedo result (3D poses): lift them first"),
+        ('{"frame": 0, "persons": []}\n{"frame": 1, "persons": []}\n', "2D keypoints (zedo-jsonl), not a zedo"),
         ("not json at all", "not a zedo result"),
     ],
 )
@@ -113,6 +117,16 @@ def test_bad_input_is_one_line_and_exit_3(tmp_path: Path, content: str, message:
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"zedo: error: {bad}") and message in lines[0]
     assert not (tmp_path / "bad.analysis.csv").exists()
+
+
+def test_a_folder_of_openpose_frames_is_told_to_be_lifted(tmp_path: Path) -> None:
+    folder = tmp_path / "frames"
+    folder.mkdir()
+    for i in range(3):
+        (folder / f"clip_{i:012d}_keypoints.json").write_text('{"version": 1.3, "people": []}')
+    result = runner.invoke(app, ["analyze", str(folder)])
+    assert result.exit_code == 3, result.output
+    assert "a folder of OpenPose 2D keypoint frames, not zedo results: lift it first" in result.stderr
 
 
 def test_a_result_without_the_needed_joints_exits_3(tmp_path: Path) -> None:

@@ -130,8 +130,9 @@ def test_render_side_view_and_images(tmp_path: Path) -> None:
     (tmp_path / "r.zedo.json").write_text(json.dumps(doc))
     out = tmp_path / "rendered"
     cli = runner.invoke(app, ["render", str(tmp_path / "r.zedo.json"), "--images", str(folder), "-o", str(out),
-                              "--side-view", "-q"])  # fmt: skip
+                              "--side-view"])  # fmt: skip
     assert cli.exit_code == 0, cli.output
+    assert cli.stderr.strip().endswith(f"wrote 3 PNGs into {out}") and len(list(out.glob("*.png"))) == 3
     f0, f2 = cv2.imread(str(out / "f0.png")), cv2.imread(str(out / "f2.png"))
     assert f0.shape[0] == H and f0.shape[1] > W  # the panel beside the frame
     np.testing.assert_array_equal(f2[:, :W], background(2))  # no person: unchanged (PNG is lossless)
@@ -154,6 +155,11 @@ def test_render_errors(tmp_path: Path) -> None:
     assert exists.exit_code == 2 and out.read_bytes() == b"keep"
     both = runner.invoke(app, ["render", str(result), "-o", str(out)])
     assert both.exit_code == 2 and "exactly one of" in both.stderr
+    keypoints = tmp_path / "kp.json"  # 2D keypoints (COCO results), not a result: lift them first
+    keypoints.write_text(json.dumps([{"image_id": 1, "keypoints": [1.0] * 51, "score": 1.0}]))
+    two_d = runner.invoke(app, ["render", str(keypoints), "--video", str(full), "-o", str(tmp_path / "k.mp4")])
+    assert two_d.exit_code == 3 and two_d.stderr.count("\n") == 1
+    assert "2D keypoints (coco-results), not a zedo result (3D poses): lift them first (zedo lift" in two_d.stderr
     doc = json.loads(result.read_text())
     doc["frames"][0]["camera"]["image_size"] = [1280, 720]
     (tmp_path / "other.zedo.json").write_text(json.dumps(doc))

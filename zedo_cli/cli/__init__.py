@@ -12,6 +12,7 @@ from .analyze import analyze_command, benchmark_symmetry_command
 from .augment import augment_command, fit_augmenter_command
 from .calibrate import calibrate_command
 from .evaluate import benchmark_command, evaluate_command
+from .export import export_command
 from .fit import fit_prior_command
 from .help import ZedoCommand, ZedoGroup
 from .lift import lift_command
@@ -55,6 +56,7 @@ def _root(
 # In this order in `zedo --help`; each shows a short usage when run without arguments (cli/help.py).
 COMMANDS = {
     "lift": lift_command,
+    "export": export_command,
     "fit-prior": fit_prior_command,
     "adapt": adapt_command,
     "fit-augmenter": fit_augmenter_command,

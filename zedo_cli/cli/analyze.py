@@ -25,6 +25,7 @@ from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
+from ..formats.openpose import is_openpose_folder
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
@@ -42,7 +43,7 @@ from .common import (
     report_figures,
     stdout_console,
 )
-from .lift_plan import STDIN, expand_inputs
+from .lift_plan import STDIN, expand_inputs, output_stem
 
 if TYPE_CHECKING:
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
@@ -57,6 +58,9 @@ def _is_result_name(path: Path) -> bool:
 
 def _result_files(folder: Path) -> list[str]:
     found = sorted(str(p) for p in folder.iterdir() if _is_result_name(p))
+    if not found and is_openpose_folder(folder):
+        raise InputFormatError(f"{folder}: a folder of OpenPose 2D keypoint frames, not zedo results: lift it "
+                               f"first (zedo lift {folder} -o {folder.name or 'frames'}.zedo.json)")  # fmt: skip
     if not found:
         raise InputFormatError(f"{folder}: folder holds no zedo results (*.zedo.json/.jsonl/.csv/.npz)")
     return found
@@ -66,14 +70,6 @@ def expand_results(args: list[str]) -> list[str]:
     """Result paths in the order given: `-`, files, folders (their `*.zedo.*` results) and glob
     patterns the shell did not expand (sidecars left out). Duplicates are dropped."""
     return expand_inputs(args, folder=_result_files, keep=lambda p: not p.name.endswith(".meta.json"))
-
-
-def output_stem(source: str) -> str:
-    """`clip` for `clip.zedo.json` (else the file's stem; `stdin` for -)."""
-    if source == STDIN:
-        return "stdin"
-    name = Path(source).name
-    return name.split(".zedo.")[0] if ".zedo." in name else Path(source).stem
 
 
 ANALYSIS_FORMATS = {".csv": "csv", ".json": "json"}

@@ -7,6 +7,7 @@ from __future__ import annotations
 import inspect
 import sys
 import textwrap
+from collections.abc import Sequence
 from typing import Any
 
 import typer
@@ -15,6 +16,8 @@ from rich.panel import Panel
 from rich.table import Table
 from rich.text import Text
 from typer.core import TyperArgument, TyperCommand, TyperGroup
+
+from .usage import Abort, ClickException, usage_error_line
 
 # typer's click objects (its own vendored click in recent typer versions) are typed Any here: the
 # help only reads their documented attributes (params, opts, help, default, nargs, metavar).
@@ -159,7 +162,23 @@ class _ZedoHelp:
 
 
 class ZedoGroup(_ZedoHelp, TyperGroup):
-    """The `zedo` group, with the same help layout as its commands."""
+    """The `zedo` group, with the same help layout as its commands, and usage errors of every
+    command as one line (cli/usage.py) instead of typer's boxed panel."""
+
+    def main(self, args: Sequence[str] | None = None, prog_name: str | None = None, complete_var: str | None = None,
+             standalone_mode: bool = True, **extra: Any) -> Any:  # fmt: skip
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        words = list(sys.argv[1:] if args is None else args)
+        try:
+            code = super().main(words, prog_name, complete_var, False, **extra)
+        except ClickException as exc:
+            sys.stderr.write(usage_error_line(exc, words) + "\n")
+            sys.exit(exc.exit_code)
+        except Abort:  # end of input at a prompt (zedo asks none; click's own)
+            sys.stderr.write("zedo: interrupted\n")
+            sys.exit(1)
+        sys.exit(code if isinstance(code, int) else 0)
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         if not args and self.no_args_is_help and not ctx.resilient_parsing:
@@ -175,4 +194,9 @@ class ZedoCommand(_ZedoHelp, TyperCommand):
         if not args and self.no_args_is_help and not ctx.resilient_parsing:
             sys.stderr.write(short_usage(self, ctx) + "\n")
             raise typer.Exit(2)  # a usage error: the required arguments are missing
-        return super().parse_args(ctx, args)
+        try:
+            return super().parse_args(ctx, args)
+        except ClickException as exc:  # the parser's own errors come without the command: named in the message
+            if getattr(exc, "ctx", None) is None:
+                exc.ctx = ctx
+            raise

@@ -22,6 +22,7 @@ from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.markers import MARKER_AXES, marker_frame_numbers
 from ..formats.writers import FRAMES, MARKER_FORMATS, OUTPUT_FORMATS, UNITS, output_format, write_result
+from ..formats.writers_common import group_frames
 from ..lifting.config import (
     DEFAULT_PRESET,
     DEFAULT_SIGMA_FRAMES,
@@ -32,6 +33,7 @@ from ..lifting.config import (
     get_preset,
 )
 from ..lifting.people import PERSON_MODES, select_people
+from ..lifting.sequence import check_sequence
 from ..version import __version__
 from .checks import (
     DEVICE_HELP,
@@ -82,12 +84,12 @@ def run_lift(
     tracks: np.ndarray | None = None, frames: np.ndarray | None = None, seed: int = 0,
     calibrations: tuple[UncertaintyModel, ...] | None = None, lenses: Sequence[CameraModel | None] | None = None,
 ) -> LiftResult:  # fmt: skip
-    """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`); with the
-    calibrated per-joint uncertainty where the prior and settings have one in `calibrations`
-    (None: the bundled ones; frame by frame only). `lenses (N,)`: each instance's camera with
-    distortion (its 2D is undistorted to lift; reprojection errors are in the original image)."""
-    from ..camera.model import lens_groups, undistort_instances
-    from ..lifting.solver import lift, reprojection_error_px
+    """Lift with a progress bar on stderr; frame by frame, or as a sequence (`temporal`: the
+    frames checked to be one first); with the calibrated per-joint uncertainty where the prior and
+    settings have one in `calibrations` (None: the bundled ones; frame by frame only). `lenses
+    (N,)`: each instance's camera with distortion (its 2D is undistorted to lift; reprojection
+    errors and the poor-fit test are in the original image)."""
+    from ..lifting.solver import lift
     from ..lifting.temporal import lift_sequence
     from ..lifting.uncertainty import attach_uncertainty, bundled_calibrations
 
@@ -97,13 +99,11 @@ def run_lift(
         def on_step(p: LiftProgress) -> None:
             bar.update(task, completed=p.done, total=p.total)
 
-        if temporal != "none":  # the sequence is lifted from the undistorted 2D, its errors measured in the input's
-            res = lift_sequence(undistort_instances(kp.xy, lenses), kp.confidence, intrinsics, prior, cfg,
-                                mode=temporal, sigma=sigma, tracks=tracks, frames=frames,
-                                min_confidence=min_confidence, device=device, callback=on_step, seed=seed)  # fmt: skip
-            if lens_groups(lenses):
-                errors = reprojection_error_px(res.poses_camera, kp.xy, intrinsics, res.observed, lenses)
-                res = replace(res, reprojection_error_px=np.where(res.lifted[:, None], errors, np.nan))
+        if temporal != "none":
+            res = lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
+                                tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
+                                callback=on_step, seed=seed, cameras=lenses, image_sizes=kp.image_sizes,
+                                file_names=kp.file_names)  # fmt: skip
             return replace(res, uncertainty_note=f"not calibrated for --temporal {temporal}")
         res = lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
                    device=device, callback=on_step, seed=seed, cameras=lenses)  # fmt: skip
@@ -175,6 +175,11 @@ class FileOutcome:
     seconds: float = 0.0
     error: ZedoError | None = None
     warnings: tuple[str, ...] = ()  # the input's `zedo: warning:` lines (printed as they came)
+    written: tuple[str, ...] = ()  # the files written: a CSV's sidecar, every track's TRC / C3D (none for stdout)
+
+    def files(self) -> str:
+        """The files written, for a `wrote ...` line and the summary table (`output` for stdout)."""
+        return ", ".join(self.written) if self.written else self.output
 
 
 def read_input(source: str, st: LiftSettings) -> Keypoints2D:
@@ -261,13 +266,17 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
         first = str(Counter(str(s) for s in status).most_common(1)[0][0])
         raise InputFormatError(f"{source}: no instance can be lifted ({_reason_counts(status)}; "
                                f"{first}: {NOT_LIFTED[first]})")  # fmt: skip
+    tracks, frames = places if st.person == "all" else None, _frame_numbers(kp)
+    if st.temporal != "none":  # photos are not a video: refused before any work (lifting.sequence)
+        check_sequence(kp.xy, obs, st.temporal, tracks=tracks, frames=frames, image_sizes=kp.image_sizes,
+                       file_names=kp.file_names, source=source)  # fmt: skip
     if not st.quiet:
         err_console.print(one_line(f"lifting {plural(len(kp), 'instance')} from {source} ({kp.format}) with "
                           f"{prior.label}, preset {st.cfg.preset}, {st.cfg.steps} steps, {st.device}"),
                           markup=False, soft_wrap=True)  # fmt: skip
     res = run_lift(kp, prior, st.cfg, mats, min_confidence=st.min_confidence, device=st.device, quiet=st.quiet,
-                   temporal=st.temporal, sigma=st.sigma, tracks=places if st.person == "all" else None,
-                   frames=_frame_numbers(kp), seed=st.seed, calibrations=st.calibrations, lenses=cams.lenses)  # fmt: skip
+                   temporal=st.temporal, sigma=st.sigma, tracks=tracks, frames=frames, seed=st.seed,
+                   calibrations=st.calibrations, lenses=cams.lenses)  # fmt: skip
     if not st.save_hypotheses:  # the writers write the hypotheses a result keeps
         res = replace(res, hypotheses=None)
     if not res.lifted.any():  # nothing but flags to write: fail loudly instead
@@ -290,13 +299,15 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
         params["video"] = video.params()
     input_info = {"path": source, "format": kp.format, "skeleton": kp.skeleton.name,
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
-                  "zedo_version": __version__}  # fmt: skip
+                  "zedo_version": __version__,  # frame_numbers: frame_index is the input's (else positions)
+                  "frame_numbers": group_frames(kp.image_ids, kp.frame_indices).numbered}  # fmt: skip
     # Plots first: a plot that cannot be written is an error, and no result is left without its plots
     # (nor plots without their result: they are removed when the result cannot be written).
     plots = [] if st.plot_dir is None else write_plots(st.plot_dir / plot_prefix(output), kp, res, st)
     try:
-        write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units, frame=st.frame,
-                     marker_axes=st.marker_axes, overwrite=st.overwrite, lenses=cams.lenses)  # fmt: skip
+        written = write_result(output, kp, res, mats, sources, params, input_info, fmt=fmt, units=st.units,
+                               frame=st.frame, marker_axes=st.marker_axes, overwrite=st.overwrite,
+                               lenses=cams.lenses)  # fmt: skip
     except BaseException:
         for png in plots:
             png.unlink(missing_ok=True)
@@ -304,8 +315,9 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     if not st.quiet and plots:
         err_console.print(one_line(f"plots: {', '.join(str(p) for p in plots)}"), markup=False, soft_wrap=True)
     lifted = int(res.lifted.sum())
-    _report_file(source, output, kp, res, lifted, st.quiet, warnings)
-    return FileOutcome(source, output, len(kp), lifted, res.seconds, warnings=tuple(warnings))
+    outcome = FileOutcome(source, output, len(kp), lifted, res.seconds, written=tuple(str(p) for p in written))
+    _report_file(outcome, kp, res, st.quiet, warnings)
+    return replace(outcome, warnings=tuple(warnings))
 
 
 def _frame_numbers(kp: Keypoints2D) -> np.ndarray | None:
@@ -321,15 +333,16 @@ def write_plots(prefix: Path, kp: Keypoints2D, res: LiftResult, st: LiftSettings
     return write_pose_plots(prefix, kp, res, units=st.units, overwrite=st.overwrite)
 
 
-def _report_file(
-    source: str, output: str, kp: Keypoints2D, res: LiftResult, lifted: int, quiet: bool, warnings: list[str]
-) -> None:  # fmt: skip
+def _report_file(outcome: FileOutcome, kp: Keypoints2D, res: LiftResult, quiet: bool, warnings: list[str]) -> None:
+    """The input's line (what was lifted, and every file written: `kick_P1.trc, kick_P2.trc`
+    for the tracks of --person all, `x.csv, x.meta.json` for a CSV) and its warnings."""
+    source, lifted = outcome.source, outcome.lifted
     if not quiet:
         rate = lifted / res.seconds if res.seconds > 0 else float("nan")
         reproj = float(np.nanmean(res.reprojection_error_px)) if lifted else float("nan")
         err_console.print(one_line(f"lifted {lifted}/{plural(len(kp), 'instance')} in {res.seconds:.2f} s of lifting "
                                    f"({rate:.1f} poses/s), mean reprojection error {reproj:.2f} px"
-                                   + ("" if output == STDIN else f"; wrote {output}")),
+                                   + (f"; wrote {outcome.files()}" if outcome.written else "")),
                           markup=False, soft_wrap=True)  # fmt: skip
     if lifted < len(kp):
         warn(warnings, f"{source}: {_not_lifted_counts(res)}: not lifted (null in the output, flagged "
@@ -361,7 +374,7 @@ def _summary_table(outcomes: list[FileOutcome]) -> Table:
         if o.error is not None:
             result = Text(f"failed, exit code {o.error.exit_code} (its error is above)", style="red")
         else:
-            result = Text(one_line(o.output))
+            result = Text(one_line(o.files()))
         table.add_row(Text(one_line(o.source)), str(o.instances), str(o.lifted), f"{o.seconds:.1f}", result)
     return table
 
@@ -425,7 +438,7 @@ def _lift_on_ray(
 
     done = lift_files_on_ray(sources, outputs, str(prior.path), st, lift_file, address=address, workers=workers)
     outcomes = [
-        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error, d.warnings)
+        FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error, d.warnings, d.written)
         for source, output, d in zip(sources, outputs, done, strict=True)
     ]
     if len(outcomes) == 1 and outcomes[0].error is not None:
@@ -438,7 +451,7 @@ def _lift_on_ray(
         elif not st.quiet:
             rate = o.lifted / o.seconds if o.seconds > 0 else float("nan")
             err_console.print(one_line(f"lifted {o.lifted}/{plural(o.instances, 'instance')} from {o.source} in "
-                                       f"{o.seconds:.2f} s of lifting ({rate:.1f} poses/s); wrote {o.output}"),
+                                       f"{o.seconds:.2f} s of lifting ({rate:.1f} poses/s); wrote {o.files()}"),
                               markup=False, soft_wrap=True)  # fmt: skip
     return outcomes
 
@@ -483,7 +496,7 @@ def lift_command(
         Optional[tuple[float, float]],
         typer.Option(
             help="Image size in pixels, for inputs without one (COCO results, OpenPose).",
-            metavar="W H",
+            metavar="WIDTH HEIGHT",
             rich_help_panel=PANEL_INPUT,
         ),
     ] = None,

@@ -107,8 +107,8 @@ def plan_outputs(
             outputs.append(str(output_dir / default.name if output_dir is not None else default))
     for dst in outputs:  # NPZ, TRC and C3D are files only: refused before any work
         check_stdout(dst, output_format(dst, fmt))
+    _check_inputs_kept(inputs, outputs, fmt)  # first: --overwrite would not help
     _check_outputs(inputs, outputs, overwrite)
-    _check_inputs_kept(inputs, outputs, fmt)
     return outputs
 
 
@@ -161,6 +161,15 @@ def _refuse_existing(existing: list[str]) -> None:
         more = f" and {len(existing) - 3} more" if len(existing) > 3 else ""
         verb = "already exists" if len(existing) == 1 else "already exist"
         raise ConfigError(f"{', '.join(existing[:3])}{more}: {verb}; pass --overwrite to replace")
+
+
+def output_stem(source: str) -> str:
+    """`clip` for a result `clip.zedo.json` (else the file's stem; `stdin` for -): the stem of
+    the files made from a result (analyze, export)."""
+    if source == STDIN:
+        return "stdin"
+    name = Path(source).name
+    return name.split(".zedo.")[0] if ".zedo." in name else Path(source).stem
 
 
 def plot_prefix(output: str) -> str:

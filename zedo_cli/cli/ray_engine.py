@@ -28,7 +28,7 @@ from .common import internal_error
 if TYPE_CHECKING:
     from .lift import LiftSettings
 
-# lift_file(source, output, prior, settings) -> an outcome with .instances, .lifted, .seconds, .warnings
+# lift_file(source, output, prior, settings) -> an outcome with .instances, .lifted, .seconds, .warnings, .written
 LiftOne = Callable[[str, str, Any, Any], Any]
 
 RAY_MISSING = "--engine ray needs Ray, an optional extra: pip install 'zedo[ray]'"
@@ -51,11 +51,11 @@ class LiftWorker:
         rows: list[dict[str, Any]] = []
         for index, source, output in zip(batch["index"], batch["source"], batch["output"], strict=True):
             row = {"index": int(index), "instances": 0, "lifted": 0, "seconds": 0.0, "error_type": "", "error": "",
-                   "warnings": ""}  # fmt: skip
+                   "warnings": "", "written": ""}  # fmt: skip
             try:
                 outcome = self.lift_one(str(source), str(output), self.prior, self.settings)
                 row.update(instances=outcome.instances, lifted=outcome.lifted, seconds=outcome.seconds,
-                           warnings="\n".join(outcome.warnings))  # fmt: skip
+                           warnings="\n".join(outcome.warnings), written="\n".join(outcome.written))  # fmt: skip
             except Exception as exc:  # isolated like the local engine: one line, no traceback
                 error = exc if isinstance(exc, ZedoError) else internal_error(str(source), exc)
                 row.update(error_type=type(error).__name__, error=str(error))
@@ -95,6 +95,7 @@ class RayOutcome:
     seconds: float
     error: ZedoError | None
     warnings: tuple[str, ...]  # its `zedo: warning:` lines, one line each
+    written: tuple[str, ...] = ()  # the files it wrote (every track's TRC / C3D, a CSV's sidecar)
 
 
 def lift_files_on_ray(
@@ -156,6 +157,7 @@ def lift_files_on_ray(
     return [
         RayOutcome(int(r["instances"]), int(r["lifted"]), float(r["seconds"]),
                    _error(str(r["error_type"]), str(r["error"])) if r["error_type"] else None,
-                   tuple(str(r["warnings"]).split("\n")) if str(r["warnings"]) else ())
+                   tuple(str(r["warnings"]).split("\n")) if str(r["warnings"]) else (),
+                   tuple(str(r["written"]).split("\n")) if str(r["written"]) else ())
         for r in rows
     ]  # fmt: skip

@@ -58,6 +58,7 @@ def render_command(
             summary = render_images(res, images, out, settings, on_frame)
     if not quiet:
         rate = summary.frames / summary.seconds if summary.seconds > 0 else float("nan")
+        wrote = summary.output if video is not None else f"{plural(summary.frames, 'PNG')} into {summary.output}"
         err_console.print(f"rendered {plural(summary.frames, 'frame')} ({summary.drawn} with people, "
-                          f"{plural(summary.persons, 'skeleton')}) in {summary.seconds:.1f} s ({rate:.0f} frames/s); wrote {summary.output}",
-                          markup=False, soft_wrap=True)  # fmt: skip
+                          f"{plural(summary.persons, 'skeleton')}) in {summary.seconds:.1f} s ({rate:.0f} frames/s); "
+                          f"wrote {wrote}", markup=False, soft_wrap=True)  # fmt: skip

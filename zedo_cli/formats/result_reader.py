@@ -21,7 +21,8 @@ the `fx_px` ... `camera_model`, `dist` columns (CSV) or the `K`, `camera_model`,
 `model` and `dist` existed read as pinhole cameras without distortion.
 
 2D input: `ResultPoses.keypoints_2d` `(N, J, 2)` holds the input's pixels per person and joint (JSON /
-JSONL `keypoints_2d`, CSV `u_px`, `v_px`, NPZ `keypoints_2d`), NaN where missing; None when the file has none.
+JSONL `keypoints_2d`, CSV `u_px`, `v_px`, NPZ `keypoints_2d`; from `record`, `LiftRecord`), NaN where missing;
+None when the file has none.
 
 Errors are `InputFormatError`s (exit code 3) naming the file and the field.
 """
@@ -60,6 +61,25 @@ _FRAMES = {"cam": "camera", "root": "root"}
 
 
 @dataclass
+class LiftRecord:
+    """What a result file keeps of its lift beyond the 3D poses: enough to write the result again
+    in another format (`result_export`, `zedo export`). Per row of `ResultPoses`."""
+
+    keypoints_2d: np.ndarray  # (N, J, 2) the input's pixels, in the prior's joints; NaN where missing
+    confidence: np.ndarray  # (N, J) the input's confidence; 0 where missing
+    reprojection_error_px: np.ndarray  # (N, J) NaN where not observed or not lifted
+    status: np.ndarray  # (N,) object: "lifted" or why not (lifting.solver.NOT_LIFTED)
+    image_sizes: np.ndarray  # (N, 2) width, height px; NaN where unknown
+    k_sources: list[str]  # (N,) where each row's K came from: pseudo, cli, file
+    instance_index: np.ndarray  # (N,) int, each row's index in the lifted input (its order)
+    scores: list[float | None]  # (N,) the input's detection scores (JSON / JSON Lines; else None)
+    poses_root_relative: np.ndarray | None = None  # (N, J, 3) metres, as stored (JSON / JSON Lines)
+    hypotheses: np.ndarray | None = None  # (N, K, J, 3) metres, root-relative (--save-hypotheses)
+    input_info: dict[str, Any] = field(default_factory=dict)  # the header's `input`
+    seconds: float = 0.0  # the summary's seconds of lifting
+
+
+@dataclass
 class ResultPoses:
     """Every person of every frame of a zedo result, in file order."""
 
@@ -83,12 +103,16 @@ class ResultPoses:
     # back in the camera.
     cameras: list[CameraModel | None] | None = None  # (N,) each person's camera (any format); None: not stated
     flags: list[list[str]] | None = None
-    root_translation: np.ndarray | None = None  # (N, 3)
-    # the input's 2D keypoints in pixels (every format; None: a file without them), NaN where missing
-    keypoints_2d: np.ndarray | None = None  # (N, J, 2)
+    root_translation: np.ndarray | None = None  # (N, 3); also from NPZ
+    record: LiftRecord | None = None  # the lift's 2D, status, cameras' sources, ...; None where the file lacks them
 
     def __len__(self) -> int:
         return len(self.poses)
+
+    @property
+    def keypoints_2d(self) -> np.ndarray | None:
+        """(N, J, 2) the input's 2D in pixels, NaN where missing; None where the file does not keep them."""
+        return None if self.record is None else self.record.keypoints_2d
 
 
 def read_result(path: str | Path) -> ResultPoses:
@@ -133,10 +157,34 @@ def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) ->
         except json.JSONDecodeError:
             doc = None  # several lines: JSON Lines
         if isinstance(doc, dict) and doc.get("type") != "header":
+            _refuse_keypoints(doc, name)
             return _from_document(doc, name, "json")
         return _read_jsonl(text, name)
+    if stripped.startswith("["):  # a list: a detector's (COCO results, MMPose, ...), never a result
+        try:
+            _refuse_keypoints(json.loads(text), name)
+        except json.JSONDecodeError:
+            pass
     raise InputFormatError(f"{name}: not a zedo result (expected a {SCHEMA} JSON / JSON Lines document, "
                            "a zedo CSV or a NPZ archive)")  # fmt: skip
+
+
+def _refuse_keypoints(doc: Any, name: str) -> None:
+    """Refuse a 2D keypoint file (any layout `zedo lift` reads) with what to do instead: lift it."""
+    if isinstance(doc, dict) and doc.get("schema") == SCHEMA:
+        return
+    from .readers import detect_format  # the 2D readers, only for a file that is not a result
+
+    try:
+        fmt = detect_format(doc, name)
+    except InputFormatError:
+        return  # not 2D keypoints either: the result reader says what it expected
+    shown = "stdin" if name == "-" else name
+    stem = "stdin" if name == "-" else Path(name).name.split(".")[0]
+    raise InputFormatError(
+        f"{shown}: 2D keypoints ({fmt}), not a zedo result (3D poses): lift them first "
+        f"(zedo lift {shown} -o {stem}.zedo.json) and give zedo that result"
+    )
 
 
 # --- JSON and JSON Lines ------------------------------------------------------------------------
@@ -163,6 +211,7 @@ def _read_jsonl(text: str, name: str) -> ResultPoses:
         where = f"line {number}"
         if reader is None:
             if kind != "header":
+                _refuse_keypoints(obj, name)  # a detector's JSON Lines (zedo 2D: frame, persons)
                 raise InputFormatError(f"{name}: {where}: not a zedo result (expected a JSON document "
                                        f"with schema {SCHEMA}, or JSON Lines starting with a header line)")  # fmt: skip
             _check_schema(obj, name)
@@ -246,14 +295,38 @@ class _DocumentReader:
             cameras=[_camera(frame.camera.model_dump(exclude_none=True), f"{self.name}: frame {frame.frame_index}")
                      for frame, _, _ in self.persons],
             flags=[list(person.flags) for _, _, person in self.persons],
-            root_translation=np.asarray(roots).reshape(-1, 3),
-            keypoints_2d=np.asarray([_pixels(person.keypoints_2d) for _, _, person in self.persons]).reshape(-1, j, 2),
+            root_translation=np.asarray(roots).reshape(-1, 3), record=self._record(summary),
+        )  # fmt: skip
+
+    def _record(self, summary: Summary) -> LiftRecord:
+        j, persons = self.joints, [person for _, _, person in self.persons]
+        n = len(persons)
+        xy = [[p if p is not None else [None, None] for p in person.keypoints_2d] for person in persons]
+        hypotheses = None
+        if any(person.hypotheses_m is not None for person in persons):
+            count = max(len(person.hypotheses_m or []) for person in persons)
+            hypotheses = np.full((n, count, j, 3), np.nan)
+            for i, person in enumerate(persons):
+                for h, points in enumerate(person.hypotheses_m or []):
+                    hypotheses[i, h] = _array(points, (j, 3))
+        return LiftRecord(
+            keypoints_2d=np.array(xy, dtype=float).reshape(n, j, 2),
+            confidence=np.nan_to_num(np.array([p.joint_confidence for p in persons], dtype=float).reshape(n, j)),
+            reprojection_error_px=np.array([p.reprojection_error_px for p in persons], dtype=float).reshape(n, j),
+            status=np.array([_status(p.flags) for p in persons], dtype=object),
+            image_sizes=np.array([_array(f.camera.image_size, (2,)) for f, _, _ in self.persons]).reshape(n, 2),
+            k_sources=[f.camera.source for f, _, _ in self.persons],
+            instance_index=np.array([p.instance_index for p in persons], dtype=np.int64),
+            scores=[p.input_score for p in persons],
+            poses_root_relative=np.array([_array(p.keypoints_3d_root_relative, (j, 3)) * self.scale for p in persons])
+            .reshape(n, j, 3),
+            hypotheses=hypotheses, input_info=self.header.input.model_dump(), seconds=summary.seconds,
         )  # fmt: skip
 
 
-def _pixels(points: list[list[float | None] | None]) -> np.ndarray:
-    """A person's validated `keypoints_2d` (a point, or null where missing) as `(J, 2)` floats, NaN for null."""
-    return np.array([[np.nan, np.nan] if p is None else p for p in points], dtype=float).reshape(-1, 2)
+def _status(flags: list[str]) -> str:
+    """A person's status from its flags: the reason of `not_lifted_<reason>`, else lifted."""
+    return next((f.removeprefix("not_lifted_") for f in flags if f.startswith("not_lifted_")), "lifted")
 
 
 def _camera(block: Any, where: str) -> CameraModel | None:
@@ -374,10 +447,15 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         if key not in order:
             order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
                           "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
-                          "points": {}, "observed": {}, "radii": {}, "pixels": {}}  # fmt: skip
+                          "status": row.get("status") or ("lifted" if row["lifted"] == "true" else "not_lifted"),
+                          "k_source": row.get("k_source") or "",
+                          "instance": _int_cell(row.get("instance_index"), len(order)), "points": {}, "observed": {},
+                          "radii": {}, "pixels": {}, "confidence": {}, "errors": {}}  # fmt: skip
         inst = order[key]
-        inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
         inst["pixels"][j] = [_cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px")]
+        inst["confidence"][j] = _cell(row.get("confidence") or "", f"{where}: confidence")
+        inst["errors"][j] = _cell(row.get("reprojection_error_px") or "", f"{where}: reprojection_error_px")
+        inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
         inst["observed"][j] = row.get("observed", "true") == "true"
         if "uncertainty_m" in row:
             inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
@@ -403,13 +481,47 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
                    [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
                    if "uncertainty_m" in columns else None, fps, coord, units,
                    cameras=[inst["camera"] for inst in order.values()])  # fmt: skip
-    pixels = [[inst["pixels"][j] for j in range(skel.num_joints)] for inst in order.values()]
-    has_2d = "u_px" in columns and "v_px" in columns
-    return replace(
-        out,
-        params=_params(meta),
-        keypoints_2d=np.asarray(pixels, dtype=float).reshape(-1, skel.num_joints, 2) if has_2d else None,
-    )
+    return replace(out, params=_params(meta), record=_csv_record(order, skel.num_joints, meta))
+
+
+def _int_cell(value: str | None, default: int) -> int:
+    try:
+        return int(value) if value else default
+    except ValueError:
+        return default
+
+
+def _csv_record(order: dict[tuple[int, int], dict[str, Any]], joints: int, meta: dict[str, Any] | None) -> LiftRecord:
+    """The CSV's 2D, confidences, errors, status and K sources; image sizes from the sidecar's frames."""
+    insts = list(order.values())
+    sizes: dict[int, Any] = {}
+    for frame in (meta or {}).get("frames") or []:
+        if isinstance(frame, dict) and isinstance(frame.get("camera"), dict):
+            sizes[frame.get("frame_index")] = frame["camera"].get("image_size")
+    summary = (meta or {}).get("summary")
+    seconds = summary.get("seconds") if isinstance(summary, dict) else None
+    return LiftRecord(
+        keypoints_2d=np.array([[inst["pixels"][j] for j in range(joints)] for inst in insts], dtype=float),
+        confidence=np.nan_to_num(np.array([[inst["confidence"][j] for j in range(joints)] for inst in insts])),
+        reprojection_error_px=np.array([[inst["errors"][j] for j in range(joints)] for inst in insts], dtype=float),
+        status=np.array([inst["status"] for inst in insts], dtype=object),
+        image_sizes=np.array([_size(sizes.get(f)) for f, _ in order], dtype=float).reshape(-1, 2),
+        k_sources=[inst["k_source"] for inst in insts],
+        instance_index=np.array([inst["instance"] for inst in insts], dtype=np.int64),
+        scores=[None] * len(insts), input_info=_dict((meta or {}).get("input")),
+        seconds=float(seconds) if isinstance(seconds, int | float) else 0.0,
+    )  # fmt: skip
+
+
+def _size(value: Any) -> list[float]:
+    """An image size `[w, h]` from a sidecar, NaN where absent or not two numbers."""
+    if isinstance(value, list) and len(value) == 2 and all(isinstance(v, int | float) for v in value):
+        return [float(v) for v in value]
+    return [np.nan, np.nan]
+
+
+def _dict(value: Any) -> dict[str, Any]:
+    return value if isinstance(value, dict) else {}
 
 
 def _csv_camera(row: dict[str, str], where: str) -> CameraModel | None:
@@ -457,9 +569,45 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
     cameras = _npz_cameras(arrays, n, name)
-    pixels = arrays.get("keypoints_2d")
-    if pixels is not None and np.shape(pixels) != (n, skel.num_joints, 2):
-        raise InputFormatError(f"{name}: keypoints_2d: expected shape ({n}, {skel.num_joints}, 2)")
+    record = _npz_record(arrays, n, skel.num_joints, meta, scale, name)
+    roots = arrays.get("root_translation")
+    roots = None if roots is None or np.shape(roots) != (n, 3) else np.asarray(roots, dtype=float) * scale
+    return replace(_npz_result(arrays, name, skel, poses, scale, radii, ids, files, meta, cameras),
+                   record=record, root_translation=roots)  # fmt: skip
+
+
+def _npz_record(
+    arrays: dict[str, np.ndarray], n: int, joints: int, meta: dict[str, Any], scale: float, name: str
+) -> LiftRecord | None:
+    """The archive's 2D, confidences, errors, status, image sizes and K sources (None when one is missing)."""
+    need = {"keypoints_2d": (n, joints, 2), "confidence": (n, joints), "reprojection_error_px": (n, joints),
+            "status": (n,), "image_size": (n, 2), "k_source": (n,)}  # fmt: skip
+    if any(k not in arrays for k in need):
+        return None
+    bad = [k for k, shape in need.items() if np.shape(arrays[k]) != shape]
+    if bad:
+        raise InputFormatError(f"{name}: {', '.join(bad)}: not one entry per row and joint ({n} rows, {joints} joints)")
+    hypotheses = arrays.get("hypotheses")
+    summary = meta.get("summary") if isinstance(meta.get("summary"), dict) else {}
+    seconds = summary.get("seconds")
+    return LiftRecord(
+        keypoints_2d=np.asarray(arrays["keypoints_2d"], dtype=float),
+        confidence=np.nan_to_num(np.asarray(arrays["confidence"], dtype=float)),
+        reprojection_error_px=np.asarray(arrays["reprojection_error_px"], dtype=float),
+        status=np.asarray([str(s) for s in arrays["status"]], dtype=object),
+        image_sizes=np.asarray(arrays["image_size"], dtype=float), k_sources=[str(s) for s in arrays["k_source"]],
+        instance_index=np.arange(n), scores=[None] * n,
+        hypotheses=None if hypotheses is None else np.asarray(hypotheses, dtype=float),
+        input_info=_dict(meta.get("input")), seconds=float(seconds) if isinstance(seconds, int | float) else 0.0,
+    )  # fmt: skip
+
+
+def _npz_result(
+    arrays: dict[str, np.ndarray], name: str, skel: Skeleton, poses: np.ndarray, scale: float,
+    radii: np.ndarray | None, ids: np.ndarray, files: np.ndarray, meta: dict[str, Any],
+    cameras: list[CameraModel | None] | None,
+) -> ResultPoses:  # fmt: skip
+    n = len(poses)
     return ResultPoses(  # the lift's params come with the metadata
         name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
         np.asarray(arrays["person"], dtype=np.int64), [i.item() for i in np.asarray(ids)],
@@ -467,7 +615,6 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
         str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta), cameras,
-        keypoints_2d=None if pixels is None else np.asarray(pixels, dtype=float),
     )  # fmt: skip
 
 

@@ -23,7 +23,8 @@ __getattr__, __dir__, __all__ = lazy_exports(
         ],
         ".people": ["PERSON_MODES", "select_people"],
         ".config": ["DEFAULT_PRESET", "LiftConfig", "PRESETS", "TEMPORAL_MODES", "get_preset"],
-        ".solver": ["LiftProgress", "LiftResult", "lift"],
+        ".result": ["LiftResult"],
+        ".solver": ["LiftProgress", "lift"],
         ".temporal": ["lift_sequence"],
     },
 )

@@ -62,6 +62,7 @@ from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .config import LiftConfig
 from .proportions import bone_proportion_step, template_fractions
+from .result import LIFTED, LiftResult
 from .twin_limbs import cap_twin_ratios, twin_limb_step
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
@@ -99,40 +100,12 @@ NOT_LIFTED = {
     "implausible_skeleton": f"a lifted bone is more than {MAX_BONE_RATIO:g} times as long as in the prior's template "
     "(the loop diverged, e.g. with very few --steps)",
 }
-LIFTED = "lifted"
 
 
 @dataclass(frozen=True)
 class LiftProgress:
     done: int  # optimisation steps done over all chunks
     total: int
-
-
-@dataclass
-class LiftResult:
-    """3D poses in metres, camera frame (x right, y down, z forward). NaN where not lifted."""
-
-    poses_camera: np.ndarray  # (N, J, 3)
-    poses_root_relative: np.ndarray  # (N, J, 3), root point at the origin
-    root_translation: np.ndarray  # (N, 3), the root point in the camera frame
-    reprojection_error_px: np.ndarray  # (N, J), NaN for joints that were not observed
-    observed: np.ndarray  # (N, J) bool, joints used as ray constraints
-    lifted: np.ndarray  # (N,) bool, False for instances that were not lifted (see `status`)
-    config: LiftConfig
-    seconds: float
-    status: np.ndarray | None = None  # (N,) str (object array): "lifted" or a key of NOT_LIFTED; None: from `lifted`
-    # (N, K, J, 3) root-relative poses of the K hypotheses (`config.hypotheses`), NaN for those not
-    # lifted (and for all but hypothesis 0 of warm-started instances); None when K = 1.
-    hypotheses: np.ndarray | None = None
-    # (N, J) calibrated 90 % radii in metres around the root-relative joints (uncertainty.py), NaN
-    # where not lifted; None when no calibration fits the prior and settings (`uncertainty_note` says why).
-    uncertainty_m: np.ndarray | None = None
-    uncertainty_note: str = "not computed"
-    uncertainty_coverage: float | None = None  # the probability the radii hold (the calibration's)
-
-    def __post_init__(self) -> None:
-        if self.status is None:  # results built by hand know only "lifted" and "too few joints"
-            self.status = np.where(self.lifted, LIFTED, "too_few_observed_joints").astype(object)
 
 
 def observed_mask(xy: np.ndarray, confidence: np.ndarray, min_confidence: float) -> np.ndarray:
@@ -518,12 +491,8 @@ def _result_status(
     with np.errstate(all="ignore"):  # the poses of failed instances may hold inf and NaN
         finite = np.isfinite(cam).all(axis=(1, 2))
         near = (cam[..., 2] < MIN_JOINT_DEPTH_M).any(1)
-        count = np.maximum(observed.sum(1), 1)
-        centre = np.where(observed[..., None], xy, 0.0).sum(1) / count[:, None]  # (N, 2)
-        radius = np.sqrt(np.where(observed, ((xy - centre[:, None]) ** 2).sum(-1), 0.0).sum(1) / count)
-        mean_error = np.where(observed, reproj, 0.0).sum(1) / count
-        poor = ~(mean_error <= MAX_REPROJECTION_RATIO * radius)  # NaN errors count as poor
         implausible = ~(bones <= MAX_BONE_RATIO)
+    poor = poor_fit(xy, observed, reproj)
     out = status.copy()
     todo = status == LIFTED
     for failed, reason in ((~finite, "non_finite_result"), (singular, "degenerate_geometry"),
@@ -532,6 +501,19 @@ def _result_status(
         out[todo & failed] = reason
         todo &= ~failed
     return out
+
+
+def poor_fit(xy: np.ndarray, observed: np.ndarray, reproj: np.ndarray) -> np.ndarray:
+    """Poses `(N,)` whose mean reprojection error `reproj (N, J)` px over their `observed (N, J)`
+    joints exceeds MAX_REPROJECTION_RATIO times the RMS radius of those joints' pixels `xy (N, J, 2)`
+    about their centre: the pose does not reproduce its detection (NaN errors count as poor).
+    Checked after lifting (`status` poor_fit), and again after the temporal mode's smoothing."""
+    with np.errstate(all="ignore"):
+        count = np.maximum(observed.sum(1), 1)
+        centre = np.where(observed[..., None], xy, 0.0).sum(1) / count[:, None]  # (N, 2)
+        radius = np.sqrt(np.where(observed, ((xy - centre[:, None]) ** 2).sum(-1), 0.0).sum(1) / count)
+        mean_error = np.where(observed, reproj, 0.0).sum(1) / count
+        return ~(mean_error <= MAX_REPROJECTION_RATIO * radius)
 
 
 def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joints: int) -> np.ndarray:

@@ -23,20 +23,27 @@ them (NaN-aware): a gap never spreads into its neighbours. Where the input numbe
 frame without people) is a gap too, and a gap longer than the filter's radius (3 sigma) is
 never blended across. Measured against frame-by-frame in
 `benchmarks/temporal.py`.
+
+Only one sequence is smoothed: frames that are not one (several image sizes, frame numbers or
+file names that do not count up, a pose that jumps from frame to frame) are refused before any
+work (`sequence.py`). After smoothing, each pose is measured against its input 2D again: one
+the filter pulled off its detection is `poor_fit` (not lifted), as frame by frame.
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 import numpy as np
 
+from ..camera.model import CameraModel, undistort_instances
 from ..errors import ConfigError
 from ..prior.weights import Prior
 from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
-from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, reprojection_error_px
+from .sequence import check_sequence
+from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, poor_fit, reprojection_error_px
 
 
 def gaussian_kernel(sigma: float, truncate: float = 3.0) -> np.ndarray:
@@ -183,15 +190,24 @@ def lift_sequence(
     device: str = "cpu",
     callback: Callable[[LiftProgress], None] | None = None,
     seed: int = 0,
+    cameras: Sequence[CameraModel | None] | None = None,
+    image_sizes: np.ndarray | None = None,
+    file_names: Sequence[str | None] | None = None,
 ) -> LiftResult:
-    """Lift a video: `xy (N, J, 2)`, `confidence (N, J)`, `intrinsics (N, 3, 3)` as for `lift`,
-    the instances being frames in time order (per track: `tracks (N,)` labels one person
-    across frames; None is one track; `frames (N,)`: the input's frame numbers, so that missing
-    frames are gaps, see `smooth_on_frames`; None: consecutive). `mode` in `TEMPORAL_MODES`; `sigma` is the smoothing
-    filter's width in frames (modes `smooth` and `two-pass`). `config` is the preset; its
-    `warm_*` fields set the warm-started loops. Unlifted frames are NaN, as with `lift`. With
-    several hypotheses (`config.hypotheses`, seeded by `seed`) each frame's pose is their aggregate;
-    the smoothed results keep no hypotheses (they were lifted before the smoothing).
+    """Lift a video: `xy (N, J, 2)`, `confidence (N, J)`, `intrinsics (N, 3, 3)` and `cameras`
+    (lenses) as for `lift`, the instances being frames in time order (per track: `tracks (N,)`
+    labels one person across frames; None is one track; `frames (N,)`: the input's frame
+    numbers, so that missing frames are gaps, see `smooth_on_frames`; None: consecutive). `mode`
+    in `TEMPORAL_MODES`; `sigma` is the smoothing filter's width in frames (modes `smooth` and
+    `two-pass`). `config` is the preset; its `warm_*` fields set the warm-started loops. Unlifted
+    frames are NaN, as with `lift`. With several hypotheses (`config.hypotheses`, seeded by
+    `seed`) each frame's pose is their aggregate; the smoothed results keep no hypotheses (they
+    were lifted before the smoothing).
+
+    Before smoothing, the frames must be one sequence (`sequence.check_sequence`, with
+    `image_sizes (N, 2)` and `file_names (N,)` where known): else a ConfigError, before any
+    work. After smoothing, a pose the filter pulled away from its input 2D `xy` (through its
+    lens) is not lifted, status `poor_fit`, by the test `lift` applies (`solver.poor_fit`).
     """
     if mode not in TEMPORAL_MODES:
         raise ConfigError(f"unknown temporal mode {mode!r}; modes: {', '.join(TEMPORAL_MODES)}")
@@ -200,38 +216,55 @@ def lift_sequence(
     start = time.perf_counter()
     n = len(xy)
     _track_slices(tracks, n)  # validates the labels early
-    lifted = observed_mask(xy, confidence, min_confidence).sum(1) >= config.min_observed
+    observed = observed_mask(xy, confidence, min_confidence)
+    if mode != "none":
+        check_sequence(xy, observed, mode, tracks=tracks, frames=frames, image_sizes=image_sizes,
+                       file_names=file_names)  # fmt: skip
+    lifted = observed.sum(1) >= config.min_observed
     cold_cost = config.init_steps + config.steps
     passes = 2 if mode == "two-pass" else 1
     batches = _chunks(int(lifted.sum()), max(1, config.chunk_size // config.hypotheses))
     progress = _Progress(batches * cold_cost + (passes - 1) * batches * config.warm_steps, callback)
     first = lift(xy, confidence, intrinsics, prior, config, callback=progress.part(),
-                 min_confidence=min_confidence, device=device, seed=seed)  # fmt: skip
+                 min_confidence=min_confidence, device=device, seed=seed, cameras=cameras)  # fmt: skip
     progress.advance(batches * cold_cost)
     if mode == "none":
         return replace(first, seconds=time.perf_counter() - start)
     rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks, frames)
     if mode == "smooth":
-        cam = rel + trans[:, None]
-        reproj = reprojection_error_px(cam, xy, intrinsics, first.observed)
-        return replace(first, poses_camera=cam, poses_root_relative=rel, root_translation=trans,
-                       reprojection_error_px=reproj, seconds=time.perf_counter() - start, hypotheses=None)  # fmt: skip
+        smoothed = replace(first, poses_camera=rel + trans[:, None], poses_root_relative=rel, root_translation=trans,
+                           hypotheses=None)  # fmt: skip
+        return replace(_refit(smoothed, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
     # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
     # go through the detections smoothed by the same filter: rays through the raw pixels would bring
     # back their noise, one pixel being ~0.5 mm at 1 m with f = 2000 px (measured: jitter x3).
-    xy_smooth = smooth_tracks_2d(xy, sigma, tracks, frames)
+    xy_smooth = smooth_tracks_2d(undistort_instances(xy, cameras), sigma, tracks, frames)
     second = lift(xy_smooth, confidence, intrinsics, prior, config, callback=progress.part(), start_poses=rel,
                   start_translation=trans, min_confidence=min_confidence, device=device)  # fmt: skip
     # An instance the first pass could not lift (its start is NaN) stays not lifted, for the same reason,
     # rather than being lifted cold from the smoothed pixels.
     status = np.where(first.lifted, second.status, first.status)
+    refined = replace(second, status=status, hypotheses=None)
+    return replace(_refit(refined, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
+
+
+def _refit(
+    res: LiftResult, xy: np.ndarray, intrinsics: np.ndarray, cameras: Sequence[CameraModel | None] | None
+) -> LiftResult:
+    """`res` after smoothing, measured against the input's 2D `xy (N, J, 2)` (through the lens
+    of `cameras`, as `lift` measures): reprojection errors, and status `poor_fit` (not lifted,
+    NaN) for a pose that no longer reproduces its detection."""
+    lifted = res.status == LIFTED
+    cam = np.where(lifted[:, None, None], res.poses_camera, np.nan)
+    reproj = reprojection_error_px(cam, xy, intrinsics, res.observed, cameras)
+    status = np.where(lifted & poor_fit(xy, res.observed, reproj), "poor_fit", res.status).astype(object)
     lifted = status == LIFTED
-    cam = np.where(lifted[:, None, None], second.poses_camera, np.nan)
-    reproj = reprojection_error_px(cam, xy, intrinsics, second.observed)
-    return replace(second, poses_camera=cam, poses_root_relative=np.where(lifted[:, None, None],
-                   second.poses_root_relative, np.nan), root_translation=np.where(lifted[:, None],
-                   second.root_translation, np.nan), reprojection_error_px=reproj, lifted=lifted, status=status,
-                   seconds=time.perf_counter() - start, hypotheses=None)  # fmt: skip
+    keep = lifted[:, None, None]
+    return replace(res, poses_camera=np.where(keep, cam, np.nan),
+                   poses_root_relative=np.where(keep, res.poses_root_relative, np.nan),
+                   root_translation=np.where(lifted[:, None], res.root_translation, np.nan),
+                   reprojection_error_px=np.where(lifted[:, None], reproj, np.nan), lifted=lifted,
+                   status=status)  # fmt: skip
 
 
 def smooth_tracks_2d(

@@ -1,0 +1,84 @@
+"""Usage mistakes are one line with a hint and exit code 2, off a terminal and on one (issue 36,
+item 3): never typer's boxed panel, on any command. Run as a user runs zedo, in a subprocess,
+with stderr a pipe and then a pseudo-terminal."""
+
+from __future__ import annotations
+
+import os
+import pty
+import select
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+ENV = {**os.environ, "PYTHONPATH": str(ROOT), "COLUMNS": "80", "TERM": "xterm"}
+ZEDO = [sys.executable, "-m", "zedo_cli"]
+BOX = set("╭╮╰╯│─")
+
+# (arguments, what the one line says)
+CASES = [
+    (["lift", "kp.json", "--ouput", "y.json"], "zedo: error: no such option --ouput; did you mean --output?"),
+    (["lift", "kp.json", "--image-size", "640", "-o", "y.json"],
+     "zedo: error: --image-size takes two numbers, WIDTH HEIGHT, but got '640 -o': -o was read as one of its "
+     "numbers; give both numbers, e.g. --image-size 1280 720"),
+    (["lift", "--video", "clip.mp4"],
+     "zedo: error: missing KEYPOINTS; zedo needs 2D keypoints from a detector (COCO, OpenPose, MMPose, AlphaPose, "
+     "zedo 2D JSON / JSON Lines), also with --video: see docs/inputs.md"),
+    (["lift", "kp.json", "--steps", "many"], "zedo: error: --steps: expected an integer, got 'many'"),
+    (["lift", "kp.json", "--preset"], "zedo: error: option --preset needs a value"),
+    (["lft", "kp.json"], "zedo: error: no such command lft; did you mean lift?"),
+    (["analyze", "--json"], "zedo: error: missing RESULTS; analyze reads zedo results: run zedo lift"),
+    (["render", "-o", "x.mp4"], "zedo: error: missing RESULT; render draws a zedo result: run zedo lift"),
+    (["export", "r.zedo.json", "--marker-axis", "level"], "did you mean --marker-axes?"),
+    (["calibrate", "a.png", "--square", "x"], "zedo: error: --square: expected a number, got 'x'"),
+    (["evaluate", "r.json", "--bogus"], "zedo: error: no such option --bogus; zedo evaluate --help lists every option"),
+]  # fmt: skip
+
+
+def _check(text: str, expected: str) -> None:
+    lines = [line for line in text.replace("\r\n", "\n").splitlines() if line.strip()]
+    assert len(lines) == 1, text
+    assert lines[0].startswith("zedo: error: ") and expected in lines[0], lines[0]
+    assert not BOX & set(text) and "Usage:" not in text and "Traceback" not in text, text
+
+
+@pytest.mark.parametrize(("args", "expected"), CASES, ids=[" ".join(a) for a, _ in CASES])
+def test_off_a_terminal(args: list[str], expected: str, tmp_path: Path) -> None:
+    done = subprocess.run([*ZEDO, *args], capture_output=True, text=True, env=ENV, cwd=tmp_path, timeout=120)
+    assert done.returncode == 2
+    assert done.stdout == ""
+    _check(done.stderr, expected)
+
+
+def _on_a_terminal(args: list[str], cwd: Path) -> tuple[int, str]:
+    """Run zedo with stdout and stderr on a pseudo-terminal; its exit code and what it printed."""
+    leader, follower = pty.openpty()
+    proc = subprocess.Popen([*ZEDO, *args], stdin=subprocess.DEVNULL, stdout=follower, stderr=follower, env=ENV,
+                            cwd=cwd, close_fds=True)  # fmt: skip
+    os.close(follower)
+    out = b""
+    while True:
+        ready, _, _ = select.select([leader], [], [], 120)
+        if not ready:
+            break
+        try:
+            chunk = os.read(leader, 4096)
+        except OSError:  # the terminal closed: zedo has exited
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.close(leader)
+    return proc.wait(timeout=120), out.decode("utf-8", errors="replace")
+
+
+def test_on_a_terminal(tmp_path: Path) -> None:
+    """Every case in one test (a pseudo-terminal each): the same one line, no box, no colour codes."""
+    for args, expected in CASES:
+        code, text = _on_a_terminal(args, tmp_path)
+        assert code == 2, (args, text)
+        assert "\x1b[" not in text, (args, text)
+        _check(text, expected)
