@@ -111,8 +111,11 @@ class ResultPoses:
 
     @property
     def keypoints_2d(self) -> np.ndarray | None:
-        """(N, J, 2) the input's 2D in pixels, NaN where missing; None where the file does not keep them."""
-        return None if self.record is None else self.record.keypoints_2d
+        """(N, J, 2) the input's 2D in pixels, NaN where missing; None where the file does not keep them
+        (an older CSV without u_px, v_px reads as all NaN)."""
+        if self.record is None or not np.isfinite(self.record.keypoints_2d).any():
+            return None
+        return self.record.keypoints_2d
 
 
 def read_result(path: str | Path) -> ResultPoses:
