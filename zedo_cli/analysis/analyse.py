@@ -123,6 +123,7 @@ class Analysis:
     too_fast: dict[str, np.ndarray] = field(default_factory=dict)  # angle -> (M,) bool
     rows: list[Row] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
 
     @property
     def uncertainty_available(self) -> bool:

@@ -17,6 +17,7 @@ from .fit import fit_prior_command
 from .help import ZedoCommand, ZedoGroup
 from .lift import lift_command
 from .minirgbd import benchmark_minirgbd_command
+from .norms import norms_command
 from .render import render_command
 from .schema import schema_command
 
@@ -65,6 +66,7 @@ COMMANDS = {
     "benchmark": benchmark_command,
     "benchmark-minirgbd": benchmark_minirgbd_command,
     "analyze": analyze_command,
+    "norms": norms_command,
     "benchmark-symmetry": benchmark_symmetry_command,
     "calibrate": calibrate_command,
     "render": render_command,

@@ -3,7 +3,7 @@ accuracy on SyRIP Test100)."""
 
 from __future__ import annotations
 
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
@@ -46,8 +46,18 @@ from .common import (
 from .lift_plan import STDIN, expand_inputs, output_stem
 
 if TYPE_CHECKING:
+    from ..analysis.norms import Norms
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
     from ..lifting.solver import LiftProgress
+
+
+@dataclass(frozen=True)
+class Reference:
+    """--norms and --age-weeks: the reference of typical infants and the infant's age."""
+
+    norms: Norms
+    age_weeks: float | None
+
 
 _RESULT_SUFFIXES = (".json", ".jsonl", ".ndjson", ".csv", ".npz")
 
@@ -139,9 +149,13 @@ def _summary_table(a: Analysis) -> Table:
 
 
 def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSettings, *, overwrite: bool,
-                 quiet: bool) -> Analysis:  # fmt: skip
+                 quiet: bool, comparison: Reference | None = None) -> Analysis:  # fmt: skip
     """Read, analyse and write one result (errors are raised; the batch loop isolates them)."""
     a = analyse(read_result(source), settings)
+    if comparison is not None:
+        from ..analysis.compare import add_comparison
+
+        a.comparisons = add_comparison(a, comparison.norms, comparison.age_weeks)
     if plan["csv"]:
         write_csv(a, plan["csv"], overwrite=overwrite)
     if plan["json"]:
@@ -217,6 +231,16 @@ def analyze_command(
             "the movement features."
         ),
     ] = DEFAULT_MAX_VELOCITY_DEG_S,
+    norms: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="A reference of typical infants (from zedo norms): each clip feature's z, and the published "
+            "and extended comparisons (surprise_*_z, surprise_*_p)."
+        ),
+    ] = None,
+    age_weeks: Annotated[
+        Optional[float], typer.Option(help="The infant's age in weeks, for a reference split by age (--norms).")
+    ] = None,
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No summary on stderr.")] = False,
 ) -> None:
@@ -263,17 +287,18 @@ def analyze_command(
         if csv_out != STDIN and Path(csv_out).suffix.lower() != ".csv":
             raise ConfigError(f"--csv {csv_out}: a .csv file name, or -")
         output = csv_out
+    comparison = _reference(norms, age_weeks)
     sources = expand_results(results)
     plans = plan_outputs(sources, output, output_dir, report, as_json, overwrite)
     if report is not None:
         make_output_folder(report)
     if len(sources) == 1:
-        analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet)
+        analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet, comparison=comparison)
         return
     codes = []
     for source, plan in zip(sources, plans, strict=True):
         try:
-            analyze_file(source, plan, settings, overwrite=overwrite, quiet=quiet)
+            analyze_file(source, plan, settings, overwrite=overwrite, quiet=quiet, comparison=comparison)
         except ZedoError as exc:
             err_console.print(f"zedo: error: {one_line(str(exc))}", markup=False, soft_wrap=True)
             codes.append(exc.exit_code)
@@ -281,6 +306,23 @@ def analyze_command(
         raise typer.Exit(
             EXIT_PARTIAL if len(codes) < len(sources) else codes[0] if len(set(codes)) == 1 else EXIT_RUNTIME
         )
+
+
+def _reference(norms: Path | None, age_weeks: float | None) -> Reference | None:
+    """--norms read and checked before any work; --age-weeks is for a reference split by age."""
+    if norms is None:
+        if age_weeks is not None:
+            raise ConfigError("--age-weeks picks the age bracket of a reference: give it with --norms")
+        return None
+    if age_weeks is not None and not 0 <= age_weeks <= 200:
+        raise ConfigError(f"--age-weeks must be between 0 and 200 weeks, got {age_weeks:g}")
+    from ..analysis.norms import age_bracket
+    from ..analysis.norms_file import read_norms
+    from ..version import __version__
+
+    reference = read_norms(norms, __version__)
+    age_bracket(age_weeks, reference.with_ages)  # a reference split by age needs the infant's age
+    return Reference(reference, age_weeks)
 
 
 def _benchmark_tables(bench: SymmetryBenchmark) -> list[Table]:

@@ -1,0 +1,222 @@
+"""The comparison with typical infants (analysis.norms, analysis.norms_file)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from zedo_cli.analysis.norms import (
+    ALL_AGES,
+    BRACKET_OLD,
+    BRACKET_YOUNG,
+    FEATURE_SET_VERSION,
+    ClipFeatures,
+    asymmetry_indices,
+    build_norms,
+    compare,
+)
+from zedo_cli.analysis.norms_file import read_norms, write_norms
+from zedo_cli.analysis.published_names import PUBLISHED_PART_FEATURES
+from zedo_cli.errors import ConfigError, InputFormatError
+
+VERSION = "9.9.9"
+SIDE_FEATURES = ("median_vel_angle_LElbow", "median_vel_angle_RElbow", "medianvelx_LWrist", "medianvelx_RWrist",
+                 "3d_median_vel_angle_LKnee", "3d_median_vel_angle_RKnee", "lrCorr_angle_Knee")  # fmt: skip
+
+
+def _clip(rng: np.random.Generator, i: int, age: float | None = None, shift: float = 0.0) -> ClipFeatures:
+    values = {n: float(rng.normal(1.0 + k, 0.1 + 0.01 * k)) for k, n in enumerate(PUBLISHED_PART_FEATURES)}
+    values.update({n: float(abs(rng.normal(2.0, 0.2))) for n in SIDE_FEATURES})
+    values["median_vel_angle_LElbow"] += shift
+    values["zedo_own_feature"] = float(rng.normal())
+    return ClipFeatures(f"clip{i}.zedo.json", 0, values, age)
+
+
+def _reference(n: int = 20, ages: list[float] | None = None, seed: int = 0) -> list[ClipFeatures]:
+    rng = np.random.default_rng(seed)
+    return [_clip(rng, i, None if ages is None else ages[i]) for i in range(n)]
+
+
+def test_fits_are_maximum_likelihood_normals() -> None:
+    clips = _reference()
+    norms = build_norms(clips, VERSION)
+    assert norms.brackets == [ALL_AGES]
+    x = np.array([c.values["Knee_mean_angle"] for c in clips])
+    fit = norms.fits[ALL_AGES]["Knee_mean_angle"]
+    assert fit.mean == pytest.approx(x.mean()) and fit.sd == pytest.approx(x.std(ddof=0)) and fit.n == 20
+
+
+def test_published_surprise_by_hand() -> None:
+    clips = _reference()
+    norms = build_norms(clips, VERSION)
+    new = _clip(np.random.default_rng(99), 99).values
+    c = compare(new, norms, None)
+
+    def loglik(values: dict[str, float]) -> float:
+        total = 0.0
+        for n in PUBLISHED_PART_FEATURES:
+            x = np.array([cl.values[n] for cl in clips])
+            m, v = x.mean(), x.var()
+            total += -(0.5 * math.log(2 * math.pi * v) + (values[n] - m) ** 2 / (2 * v))
+        return total
+
+    ref = np.array([loglik(cl.values) for cl in clips])
+    z = (loglik(new) - ref.mean()) / ref.std(ddof=1)
+    assert c.published.total == pytest.approx(loglik(new))
+    assert c.published.z == pytest.approx(z)
+    assert c.published.p == pytest.approx(math.erfc(abs(z) / math.sqrt(2)))
+    assert c.published.features == 38 and c.published.reference_clips == 20
+
+
+def test_extended_reference_sums_are_left_one_out() -> None:
+    clips = _reference()
+    norms = build_norms(clips, VERSION)
+    new = _clip(np.random.default_rng(7), 7).values
+    c = compare(new, norms, None)
+    names = sorted(n for n in norms.fits[ALL_AGES] if n.startswith(("3d_", "lrCorr_", "asym_")) or "_L" in n
+                   or "_R" in n)  # fmt: skip
+    names = [n for n in names if n in {*SIDE_FEATURES} or n.startswith("asym_")]
+    full = [{**cl.values, **asymmetry_indices(cl.values)} for cl in clips]
+    ref = []
+    for i in range(len(clips)):
+        total = 0.0
+        for n in names:
+            others = np.array([f[n] for j, f in enumerate(full) if j != i])
+            m, v = others.mean(), others.var()
+            total += -(0.5 * math.log(2 * math.pi * v) + (full[i][n] - m) ** 2 / (2 * v))
+        ref.append(total)
+    assert c.extended.features == len(names)
+    assert c.extended.reference_clips == 20
+    new_full = {**new, **asymmetry_indices(new)}
+    total = sum(-(0.5 * math.log(2 * math.pi * norms.fits[ALL_AGES][n].sd ** 2)
+                  + (new_full[n] - norms.fits[ALL_AGES][n].mean) ** 2 / (2 * norms.fits[ALL_AGES][n].sd ** 2))
+                for n in names)  # fmt: skip
+    assert c.extended.total == pytest.approx(total)
+    assert c.extended.z == pytest.approx((total - np.mean(ref)) / np.std(ref, ddof=1))
+
+
+def test_a_one_sided_difference_shows_in_the_extended_comparison() -> None:
+    norms = build_norms(_reference(), VERSION)
+    rng = np.random.default_rng(5)
+    typical = compare(_clip(rng, 1).values, norms, None)
+    still_left = compare(_clip(rng, 2, shift=-1.5).values, norms, None)  # the left elbow barely moves
+    assert typical.extended.p > 0.05
+    assert still_left.extended.p < 0.05
+    assert still_left.z["median_vel_angle_LElbow"] < -5
+    assert still_left.z["asym_logratio_median_vel_angle_Elbow"] < -5
+
+
+def test_asymmetry_index_is_the_log_ratio() -> None:
+    idx = asymmetry_indices({"median_vel_angle_LElbow": 2.0, "median_vel_angle_RElbow": 1.0,
+                             "medianvelx_LWrist": 0.0, "medianvelx_RWrist": 1.0})  # fmt: skip
+    assert idx["asym_logratio_median_vel_angle_Elbow"] == pytest.approx(math.log(2.0))
+    assert math.isnan(idx["asym_logratio_medianvelx_Wrist"])  # not > 0: no index
+    assert math.isnan(idx["asym_logratio_median_vel_angle_Knee"])  # absent
+
+
+def test_age_brackets_split_at_ten_weeks() -> None:
+    ages = [6.0] * 12 + [14.0] * 12
+    norms = build_norms(_reference(24, ages), VERSION)
+    assert norms.brackets == [BRACKET_YOUNG, BRACKET_OLD]
+    assert compare(_reference(1)[0].values, norms, 10.0).bracket == BRACKET_YOUNG  # 10 weeks: the younger side
+    assert compare(_reference(1)[0].values, norms, 10.5).bracket == BRACKET_OLD
+    with pytest.raises(ConfigError, match="--age-weeks"):
+        compare(_reference(1)[0].values, norms, None)
+    young_only = build_norms(_reference(12, [6.0] * 12), VERSION)
+    with pytest.raises(InputFormatError, match="outside its age brackets"):
+        compare(_reference(1)[0].values, young_only, 20.0)
+
+
+def test_refusals() -> None:
+    with pytest.raises(ConfigError, match="at least 10 clips"):
+        build_norms(_reference(9), VERSION)
+    with pytest.raises(ConfigError, match="bracket >10w has 4"):
+        build_norms(_reference(16, [6.0] * 12 + [14.0] * 4), VERSION)
+    with pytest.raises(ConfigError, match="some clips but not"):
+        build_norms(_reference(12, [6.0] * 11 + [None]), VERSION)  # type: ignore[list-item]
+    clips = _reference()
+    for c in clips[:11]:
+        c.values["Wrist_meanent"] = math.nan
+    with pytest.raises(ConfigError, match="Wrist_meanent"):
+        build_norms(clips, VERSION)
+
+
+def test_a_clip_missing_a_feature_is_compared_on_the_others() -> None:
+    norms = build_norms(_reference(), VERSION)
+    values = _clip(np.random.default_rng(3), 3).values
+    values["Knee_lrCorr_angle"] = math.nan
+    c = compare(values, norms, None)
+    assert c.published.features == 37 and "Knee_lrCorr_angle" in c.not_compared
+    assert math.isfinite(c.published.z)
+
+
+def test_file_round_trip_and_version_refusals(tmp_path: Path) -> None:
+    norms = build_norms(_reference(), VERSION)
+    path = tmp_path / "norms.json"
+    write_norms(path, norms)
+    back = read_norms(path, VERSION)
+    new = _clip(np.random.default_rng(11), 11).values
+    assert compare(new, back, None) == compare(new, norms, None)
+    with pytest.raises(InputFormatError, match="zedo_version"):
+        read_norms(path, "0.0.1")
+    doc = json.loads(path.read_text())
+    doc["feature_set_version"] = "zedo-clip-features/0"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputFormatError, match="feature_set_version"):
+        read_norms(path, VERSION)
+    doc["feature_set_version"] = FEATURE_SET_VERSION
+    doc["fits"]["all"]["Knee_mean_angle"]["sd"] = -1
+    path.write_text(json.dumps(doc))
+    with pytest.raises(InputFormatError, match=r"fits\.all\.Knee_mean_angle\.sd"):
+        read_norms(path, VERSION)
+    (tmp_path / "other.json").write_text('{"schema": "zedo.pose3d/1"}')
+    with pytest.raises(InputFormatError, match="zedo norms"):
+        read_norms(tmp_path / "other.json", VERSION)
+
+
+_ORACLE = """
+import sys, types, pickle, json
+import numpy as np, pandas as pd
+sys.modules.setdefault("seaborn", types.ModuleType("seaborn"))
+sys.path.insert(0, sys.argv[1] + "/src/data")
+import compute_surprise as C
+rows = json.load(open(sys.argv[2]))
+pd.DataFrame(rows).to_pickle(sys.argv[3] + "/features_merged.pkl")
+C.main(sys.argv[3])
+s = pd.read_pickle(sys.argv[3] + "/bayes_surprise.pkl")
+json.dump({r.infant: r.z for r in s.itertuples()}, open(sys.argv[3] + "/z.json", "w"))
+"""
+
+
+def test_published_z_matches_the_published_code(tmp_path: Path) -> None:
+    """compute_surprise.py on the same merged features: the z of reference and new clips agree to 0.05."""
+    python = os.environ.get("ZEDO_CHAMBERS_PYTHON")
+    code = Path(__file__).resolve().parents[3] / "shared" / "reference" / "chambers2020"
+    if not python or not Path(python).exists() or not code.exists():
+        pytest.skip("set ZEDO_CHAMBERS_PYTHON to the reference venv's python (shared/reference/chambers2020)")
+    ages = [6.0] * 12 + [14.0] * 12
+    clips = _reference(24, ages)
+    rng = np.random.default_rng(42)
+    new = [_clip(rng, 100 + i, age, shift=0.5 * i) for i, age in enumerate((5.0, 9.0, 12.0, 30.0))]
+    rows = []
+    for cl, risk in [*((c, 0) for c in clips), *((c, 1) for c in new)]:
+        for name in PUBLISHED_PART_FEATURES:
+            part, feature = name.split("_", 1)
+            rows.append({"infant": cl.source, "part": part, "feature_name": feature, "Value": cl.values[name],
+                         "category": risk, "age_in_weeks": cl.age_weeks, "risk": risk,
+                         "age_bracket": int(cl.age_weeks > 10)})  # fmt: skip
+    (tmp_path / "rows.json").write_text(json.dumps(rows))
+    (tmp_path / "oracle.py").write_text(_ORACLE)
+    subprocess.run([python, str(tmp_path / "oracle.py"), str(code), str(tmp_path / "rows.json"), str(tmp_path)],
+                   check=True, capture_output=True, timeout=120)  # fmt: skip
+    theirs = json.loads((tmp_path / "z.json").read_text())
+    norms = build_norms(clips, VERSION)
+    for c in [*clips, *new]:
+        ours = compare(c.values, norms, c.age_weeks).published.z
+        assert ours == pytest.approx(theirs[c.source], abs=0.05), c.source

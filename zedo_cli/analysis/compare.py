@@ -1,0 +1,69 @@
+"""A clip's features as `zedo norms` collects them, and its comparison with a reference as rows of the
+analysis (`zedo analyze --norms`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .analyse import Analysis, Row
+from .norms import ClipFeatures, Comparison, Norms, compare
+
+# The `interval` column of the comparison rows: a z or p has no interval of its own.
+INTERVAL_COMPARISON = "none: comparison with the reference"
+Z_SUFFIX = "_norm_z"
+
+
+def clip_features(a: Analysis, age_weeks: float | None = None) -> list[ClipFeatures]:
+    """Per person track of a clip: its clip-level features (the rows without a frame), NaN where empty."""
+    out: dict[int, dict[str, float]] = {}
+    for r in a.rows:
+        if r.frame_index is None and not r.measure.endswith(Z_SUFFIX):
+            out.setdefault(r.person, {})[r.measure] = float(r.value)
+    return [ClipFeatures(a.result.source, p, values, age_weeks) for p, values in sorted(out.items())]
+
+
+@dataclass(frozen=True)
+class PersonComparison:
+    person: int
+    comparison: Comparison
+
+
+def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[PersonComparison]:
+    """Compare each person track of the clip `a` with `norms`: per feature its z (`<feature>_norm_z`), and
+    `surprise_published_z` / `_p` and `surprise_extended_z` / `_p`, appended to `a.rows`; notes say what
+    was left out. Refused for a result without fps (no clip features)."""
+    if not a.is_sequence:
+        a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
+        return []
+    done = []
+    for clip in clip_features(a, age_weeks):
+        c = compare(clip.values, norms, age_weeks)
+        p = clip.person
+
+        def add(measure: str, value: float, unit: str, p: int = p) -> None:
+            a.rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_COMPARISON))
+
+        for name in sorted(c.z):
+            add(f"{name}{Z_SUFFIX}", c.z[name], "z")
+        for kind, s in (("published", c.published), ("extended", c.extended)):
+            add(f"surprise_{kind}_z", s.z, "z")
+            add(f"surprise_{kind}_p", s.p, "p")
+            add(f"surprise_{kind}_features", float(s.features), "features")
+        if c.not_compared:
+            shown = ", ".join(c.not_compared[:5]) + (", ..." if len(c.not_compared) > 5 else "")
+            a.notes.append(f"person {p}: {len(c.not_compared)} reference features have no value in this clip and "
+                           f"are left out of the comparison ({shown})")  # fmt: skip
+        done.append(PersonComparison(p, c))
+    a.notes.append(f"compared with a reference of {len(norms.clips)} clips of typical infants "
+                   f"(age brackets: {', '.join(norms.brackets)})")  # fmt: skip
+    return done
+
+
+def furthest_from_typical(c: Comparison, count: int = 5) -> list[tuple[str, float]]:
+    """The features whose |z| is largest, most extreme first."""
+    finite = [(n, z) for n, z in c.z.items() if math.isfinite(z)]
+    order = np.argsort([-abs(z) for _, z in finite], kind="stable")
+    return [finite[i] for i in order[:count]]

@@ -1,0 +1,248 @@
+"""Comparison with typical infants (`zedo norms`, `zedo analyze --norms`): a reference built from clips
+of typical infants, and each clip's distance from it.
+
+The published comparison is the "Bayesian surprise" of Chambers et al. 2020 (their
+compute_surprise.py): per feature and age bracket (10 weeks or less, over 10) a normal distribution
+fitted by maximum likelihood to the reference clips; a clip's score is its summed log-likelihood over
+the 38 pre-registered part-level features (left and right averaged); its z is taken against the
+reference clips' own sums (their mean and sample standard deviation, over every bracket, as
+published), and p is two-sided.
+
+The extended comparison, which no published set has, sums the log-likelihoods of the per-side
+features, left-right asymmetry indices and zedo's `3d_` features: the published set averages the
+two sides, so a one-sided movement disorder can hide in it. Its reference sums are left-one-out (each
+reference clip scored under the fit made without it): with about 150 features and 10-30 clips, the
+in-sample sums of the published recipe would sit far above any new clip's and flag typical infants.
+
+A reference stores, besides each feature's fit, every reference clip's feature values, so that a clip
+missing a feature (a correlation of a still limb, say) is compared on the features it has, against the
+reference sums over the same features.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ConfigError, InputFormatError
+from .published_names import ASYMMETRY_BASES, PUBLISHED_PART_FEATURES, is_extended_feature
+
+NORMS_SCHEMA = "zedo.norms/1"
+# Bump when a feature's definition or the set of features changes: a reference built with another
+# version measures other things and is refused.
+FEATURE_SET_VERSION = "zedo-clip-features/1"
+AGE_THRESHOLD_WEEKS = 10.0  # the published brackets: age <= 10 weeks, age > 10 weeks
+MIN_REFERENCE_CLIPS = 10
+ALL_AGES = "all"
+BRACKET_YOUNG = "<=10w"
+BRACKET_OLD = ">10w"
+ASYMMETRY_PREFIX = "asym_logratio_"
+_MIN_SD = 1e-9  # a feature that does not vary across the reference cannot score a clip
+
+
+def age_bracket(age_weeks: float | None, with_ages: bool) -> str:
+    """The bracket of a clip: the published split at 10 weeks, or `all` for a reference without ages."""
+    if not with_ages:
+        return ALL_AGES
+    if age_weeks is None:
+        raise ConfigError("this reference is split by age: give the infant's age with --age-weeks")
+    return BRACKET_OLD if age_weeks > AGE_THRESHOLD_WEEKS else BRACKET_YOUNG
+
+
+@dataclass(frozen=True)
+class ClipFeatures:
+    """The clip-level features of one person track of one result."""
+
+    source: str
+    person: int
+    values: dict[str, float]
+    age_weeks: float | None = None
+
+
+def asymmetry_indices(values: Mapping[str, float]) -> dict[str, float]:
+    """Left-right asymmetry indices: log(left / right) of each positive per-side feature (speeds,
+    variabilities), e.g. `asym_logratio_median_vel_angle_Elbow`; NaN where either side is not > 0."""
+    out: dict[str, float] = {}
+    for base, parts in ASYMMETRY_BASES.items():
+        for part in parts:
+            left, right = values.get(f"{base}_L{part}", math.nan), values.get(f"{base}_R{part}", math.nan)
+            ok = left > 0 and right > 0  # NaN compares False
+            out[f"{ASYMMETRY_PREFIX}{base}_{part}"] = math.log(left / right) if ok else math.nan
+    return out
+
+
+def with_asymmetry(values: Mapping[str, float]) -> dict[str, float]:
+    return {**values, **asymmetry_indices(values)}
+
+
+def extended_names(values: Mapping[str, float]) -> list[str]:
+    return sorted(k for k in values if is_extended_feature(k) or k.startswith(ASYMMETRY_PREFIX))
+
+
+@dataclass
+class FeatureFit:
+    mean: float
+    sd: float
+    n: int
+
+
+@dataclass
+class Norms:
+    """A reference of typical infants: per bracket and feature a normal fit, and the reference clips."""
+
+    brackets: list[str]
+    fits: dict[str, dict[str, FeatureFit]]  # bracket -> feature -> fit
+    clips: list[ClipFeatures]
+    brackets_of_clips: list[str]
+    left_out: dict[str, list[str]] = field(default_factory=dict)  # bracket -> features without a usable fit
+    zedo_version: str = ""
+    feature_set_version: str = FEATURE_SET_VERSION
+
+    @property
+    def with_ages(self) -> bool:
+        return self.brackets != [ALL_AGES]
+
+    def clip_matrix(self, names: Sequence[str], bracket: str | None = None) -> np.ndarray:
+        """(C, F) reference values of `names`, NaN where a clip lacks one; only `bracket`'s clips if given."""
+        clips = [c for c, b in zip(self.clips, self.brackets_of_clips, strict=True) if bracket in (None, b)]
+        return np.array([[c.values.get(n, np.nan) for n in names] for c in clips], float).reshape(len(clips), -1)
+
+
+def _fit(column: np.ndarray) -> FeatureFit | None:
+    x = column[np.isfinite(column)]
+    if len(x) < MIN_REFERENCE_CLIPS:
+        return None
+    sd = float(x.std())  # maximum likelihood (scipy.stats.norm.fit), as published
+    return FeatureFit(float(x.mean()), sd, int(len(x))) if sd > _MIN_SD else None
+
+
+def build_norms(clips: Sequence[ClipFeatures], zedo_version: str) -> Norms:
+    """Fit the reference. Every clip has an age (split at 10 weeks) or none has (one bracket).
+    Refused: fewer than 10 clips in a bracket, or a published feature that cannot be fitted."""
+    if not clips:
+        raise ConfigError("no clips to build a reference from")
+    aged = [c.age_weeks is not None for c in clips]
+    if any(aged) and not all(aged):
+        missing = sum(not a for a in aged)
+        raise ConfigError(f"--age-weeks given for some clips but not {missing} others: give every clip's age or none")
+    with_ages = all(aged)
+    clips = [ClipFeatures(c.source, c.person, with_asymmetry(c.values), c.age_weeks) for c in clips]
+    of_clip = [age_bracket(c.age_weeks, with_ages) for c in clips]
+    brackets = [b for b in (BRACKET_YOUNG, BRACKET_OLD, ALL_AGES) if b in of_clip]
+    names = sorted(set().union(*(c.values for c in clips)))
+    norms = Norms(brackets, {}, clips, of_clip, zedo_version=zedo_version)
+    for bracket in brackets:
+        count = of_clip.count(bracket)
+        if count < MIN_REFERENCE_CLIPS:
+            raise ConfigError(f"a reference needs at least {MIN_REFERENCE_CLIPS} clips per age bracket; "
+                              f"bracket {bracket} has {count}")  # fmt: skip
+        matrix = norms.clip_matrix(names, bracket)
+        fits = {n: f for n, col in zip(names, matrix.T, strict=True) if (f := _fit(col)) is not None}
+        lacking = [n for n in PUBLISHED_PART_FEATURES if n not in fits]
+        if lacking:
+            raise ConfigError(f"bracket {bracket}: the published feature {lacking[0]} has fewer than "
+                              f"{MIN_REFERENCE_CLIPS} finite, varying values in the reference clips "
+                              f"({len(lacking)} such)")  # fmt: skip
+        norms.fits[bracket] = fits
+        norms.left_out[bracket] = [n for n in names if n not in fits]
+    return norms
+
+
+def _loglik(x: np.ndarray, mean: np.ndarray, sd: np.ndarray) -> np.ndarray:
+    """log N(x; mean, sd^2), the published `minus_log_pfeature` (which is, despite its name, log p)."""
+    var = sd**2
+    return -(0.5 * np.log(2 * np.pi * var) + (x - mean) ** 2 / (2 * var))
+
+
+@dataclass(frozen=True)
+class Surprise:
+    """A clip's summed log-likelihood under the reference, and its z and two-sided p against the
+    reference clips' own sums over the same features."""
+
+    total: float
+    z: float
+    p: float
+    features: int  # how many features were summed
+    reference_clips: int
+
+
+def _two_sided_p(z: float) -> float:
+    return math.erfc(abs(z) / math.sqrt(2.0)) if math.isfinite(z) else math.nan
+
+
+def _surprise(total: float, reference_totals: np.ndarray, features: int) -> Surprise:
+    ref = reference_totals[np.isfinite(reference_totals)]
+    sd = float(ref.std(ddof=1)) if len(ref) > 1 else math.nan  # pandas' std, as published
+    z = (total - float(ref.mean())) / sd if sd > 0 else math.nan
+    return Surprise(total, z, _two_sided_p(z), features, int(len(ref)))
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """One clip against a reference."""
+
+    bracket: str
+    z: dict[str, float]  # feature -> z against its bracket's fit
+    published: Surprise
+    extended: Surprise
+    not_compared: list[str]  # features the clip has no value for (left out of the sums)
+
+
+def _fitted(norms: Norms, bracket: str, names: Sequence[str]) -> tuple[list[str], np.ndarray, np.ndarray]:
+    fits = norms.fits[bracket]
+    kept = [n for n in names if n in fits]
+    return kept, np.array([fits[n].mean for n in kept]), np.array([fits[n].sd for n in kept])
+
+
+def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) -> Comparison:
+    """The clip's z per feature and its published and extended surprise."""
+    if norms.with_ages and age_weeks is None:
+        raise ConfigError("the reference is split by age (<= 10 and > 10 weeks): give --age-weeks")
+    bracket = age_bracket(age_weeks, norms.with_ages)
+    if bracket not in norms.fits:
+        raise InputFormatError(f"no reference clips in the age bracket {bracket} (the reference has "
+                               f"{', '.join(norms.brackets)}): this clip is outside its age brackets")  # fmt: skip
+    values = with_asymmetry(values)
+    fits = norms.fits[bracket]
+    z = {n: (values[n] - f.mean) / f.sd for n, f in fits.items() if math.isfinite(values.get(n, math.nan))}
+    published = _published(values, norms, bracket)
+    extended = _extended(values, norms, bracket)
+    missing = sorted(n for n in fits if not math.isfinite(values.get(n, math.nan)))
+    return Comparison(bracket, z, published, extended, missing)
+
+
+def _published(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
+    """Published: in-sample reference sums over every reference clip (each under its own bracket's fit);
+    a feature missing from the clip is left out of its sum and of the reference sums (pandas' sum skips NaN)."""
+    names = [n for n in PUBLISHED_PART_FEATURES if math.isfinite(values.get(n, math.nan))]
+    kept, mean, sd = _fitted(norms, bracket, names)
+    total = float(_loglik(np.array([values[n] for n in kept]), mean, sd).sum())
+    ref_totals = np.empty(len(norms.clips))
+    for b in norms.brackets:
+        sel = np.array([x == b for x in norms.brackets_of_clips])
+        k, m, s = _fitted(norms, b, kept)
+        ref_totals[sel] = np.nansum(_loglik(norms.clip_matrix(k, b), m, s), axis=1)
+    return _surprise(total, ref_totals, len(kept))
+
+
+def _extended(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
+    """Extended: per-side, asymmetry and 3d_ features; the reference sums are left-one-out within the bracket."""
+    names = [n for n in extended_names(values) if math.isfinite(values[n])]
+    kept, mean, sd = _fitted(norms, bracket, names)
+    total = float(_loglik(np.array([values[n] for n in kept]), mean, sd).sum())
+    x = norms.clip_matrix(kept, bracket)  # (C, F)
+    finite = np.isfinite(x)
+    n = finite.sum(0)  # (F,)
+    xs = np.where(finite, x, 0.0)
+    s1, s2 = xs.sum(0), (xs**2).sum(0)
+    # each clip's fit without itself: the maximum-likelihood mean and sd of the other clips' values
+    n_loo = n - finite
+    with np.errstate(invalid="ignore", divide="ignore"):
+        m_loo = (s1 - xs) / n_loo
+        var_loo = (s2 - xs**2) / n_loo - m_loo**2
+        ll = _loglik(x, m_loo, np.sqrt(np.maximum(var_loo, _MIN_SD**2)))
+    ll[~finite | (n_loo < 2)] = 0.0  # a clip without the feature adds nothing (as the published sum)
+    return _surprise(total, ll.sum(1), len(kept))
