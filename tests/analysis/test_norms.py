@@ -16,13 +16,13 @@ from zedo_cli.analysis.norms import (
     BRACKET_OLD,
     BRACKET_YOUNG,
     FEATURE_SET_VERSION,
-    ClipFeatures,
+    ClipValues,
     asymmetry_indices,
     build_norms,
     compare,
 )
 from zedo_cli.analysis.norms_file import read_norms, write_norms
-from zedo_cli.analysis.published_names import PUBLISHED_PART_FEATURES
+from zedo_cli.analysis.published_features import PREREGISTERED as PUBLISHED_PART_FEATURES
 from zedo_cli.errors import ConfigError, InputFormatError
 
 VERSION = "9.9.9"
@@ -30,15 +30,15 @@ SIDE_FEATURES = ("median_vel_angle_LElbow", "median_vel_angle_RElbow", "medianve
                  "3d_median_vel_angle_LKnee", "3d_median_vel_angle_RKnee", "lrCorr_angle_Knee")  # fmt: skip
 
 
-def _clip(rng: np.random.Generator, i: int, age: float | None = None, shift: float = 0.0) -> ClipFeatures:
+def _clip(rng: np.random.Generator, i: int, age: float | None = None, shift: float = 0.0) -> ClipValues:
     values = {n: float(rng.normal(1.0 + k, 0.1 + 0.01 * k)) for k, n in enumerate(PUBLISHED_PART_FEATURES)}
     values.update({n: float(abs(rng.normal(2.0, 0.2))) for n in SIDE_FEATURES})
     values["median_vel_angle_LElbow"] += shift
     values["zedo_own_feature"] = float(rng.normal())
-    return ClipFeatures(f"clip{i}.zedo.json", 0, values, age)
+    return ClipValues(f"clip{i}.zedo.json", 0, values, age)
 
 
-def _reference(n: int = 20, ages: list[float] | None = None, seed: int = 0) -> list[ClipFeatures]:
+def _reference(n: int = 20, ages: list[float] | None = None, seed: int = 0) -> list[ClipValues]:
     rng = np.random.default_rng(seed)
     return [_clip(rng, i, None if ages is None else ages[i]) for i in range(n)]
 

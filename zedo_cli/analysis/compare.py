@@ -9,20 +9,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from .analyse import Analysis, Row
-from .norms import ClipFeatures, Comparison, Norms, compare
+from .norms import ClipValues, Comparison, Norms, compare
 
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
 Z_SUFFIX = "_norm_z"
 
 
-def clip_features(a: Analysis, age_weeks: float | None = None) -> list[ClipFeatures]:
+def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[ClipValues]:
     """Per person track of a clip: its clip-level features (the rows without a frame), NaN where empty."""
     out: dict[int, dict[str, float]] = {}
     for r in a.rows:
         if r.frame_index is None and not r.measure.endswith(Z_SUFFIX):
             out.setdefault(r.person, {})[r.measure] = float(r.value)
-    return [ClipFeatures(a.result.source, p, values, age_weeks) for p, values in sorted(out.items())]
+    return [ClipValues(a.result.source, p, values, age_weeks) for p, values in sorted(out.items())]
 
 
 @dataclass(frozen=True)
@@ -39,7 +39,7 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
         a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
         return []
     done = []
-    for clip in clip_features(a, age_weeks):
+    for clip in features_by_person(a, age_weeks):
         c = compare(clip.values, norms, age_weeks)
         p = clip.person
 

@@ -22,13 +22,32 @@ reference sums over the same features.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import ConfigError, InputFormatError
-from .published_names import ASYMMETRY_BASES, PUBLISHED_PART_FEATURES, is_extended_feature
+from .features_3d import PREFIX as PREFIX_3D
+from .published_features import PREREGISTERED
+
+# Per-side features whose values are positive (speeds, spreads): log(left / right) is an asymmetry index.
+ASYMMETRY_BASES: dict[str, tuple[str, ...]] = {
+    **dict.fromkeys(("median_vel_angle", "IQR_vel_angle", "IQR_acc_angle"), ("Elbow", "Knee")),
+    **dict.fromkeys(("medianvelx", "medianvely", "IQRvelx", "IQRvely", "IQRaccx", "IQRaccy", "IQRx", "IQRy"),
+                    ("Wrist", "Ankle")),
+    **dict.fromkeys(("3d_median_vel_angle", "3d_IQR_vel_angle", "3d_IQR_acc_angle"), ("Elbow", "Knee")),
+}  # fmt: skip
+
+_PER_SIDE = re.compile(r"^[A-Za-z_]+_[LR](Ankle|Wrist|Knee|Elbow|Hip|Shoulder)$")
+
+
+def is_extended_feature(name: str) -> bool:
+    """A feature of the extended comparison: a published per-side feature (`medianx_LAnkle`), a left-right
+    correlation (`lrCorr_angle_Knee`), or one of zedo's 3D features (`3d_...`)."""
+    return name.startswith(PREFIX_3D) or name.startswith("lrCorr_") or bool(_PER_SIDE.match(name))
+
 
 NORMS_SCHEMA = "zedo.norms/1"
 # Bump when a feature's definition or the set of features changes: a reference built with another
@@ -53,7 +72,7 @@ def age_bracket(age_weeks: float | None, with_ages: bool) -> str:
 
 
 @dataclass(frozen=True)
-class ClipFeatures:
+class ClipValues:
     """The clip-level features of one person track of one result."""
 
     source: str
@@ -95,7 +114,7 @@ class Norms:
 
     brackets: list[str]
     fits: dict[str, dict[str, FeatureFit]]  # bracket -> feature -> fit
-    clips: list[ClipFeatures]
+    clips: list[ClipValues]
     brackets_of_clips: list[str]
     left_out: dict[str, list[str]] = field(default_factory=dict)  # bracket -> features without a usable fit
     zedo_version: str = ""
@@ -119,7 +138,7 @@ def _fit(column: np.ndarray) -> FeatureFit | None:
     return FeatureFit(float(x.mean()), sd, int(len(x))) if sd > _MIN_SD else None
 
 
-def build_norms(clips: Sequence[ClipFeatures], zedo_version: str) -> Norms:
+def build_norms(clips: Sequence[ClipValues], zedo_version: str) -> Norms:
     """Fit the reference. Every clip has an age (split at 10 weeks) or none has (one bracket).
     Refused: fewer than 10 clips in a bracket, or a published feature that cannot be fitted."""
     if not clips:
@@ -129,7 +148,7 @@ def build_norms(clips: Sequence[ClipFeatures], zedo_version: str) -> Norms:
         missing = sum(not a for a in aged)
         raise ConfigError(f"--age-weeks given for some clips but not {missing} others: give every clip's age or none")
     with_ages = all(aged)
-    clips = [ClipFeatures(c.source, c.person, with_asymmetry(c.values), c.age_weeks) for c in clips]
+    clips = [ClipValues(c.source, c.person, with_asymmetry(c.values), c.age_weeks) for c in clips]
     of_clip = [age_bracket(c.age_weeks, with_ages) for c in clips]
     brackets = [b for b in (BRACKET_YOUNG, BRACKET_OLD, ALL_AGES) if b in of_clip]
     names = sorted(set().union(*(c.values for c in clips)))
@@ -141,7 +160,7 @@ def build_norms(clips: Sequence[ClipFeatures], zedo_version: str) -> Norms:
                               f"bracket {bracket} has {count}")  # fmt: skip
         matrix = norms.clip_matrix(names, bracket)
         fits = {n: f for n, col in zip(names, matrix.T, strict=True) if (f := _fit(col)) is not None}
-        lacking = [n for n in PUBLISHED_PART_FEATURES if n not in fits]
+        lacking = [n for n in PREREGISTERED if n not in fits]
         if lacking:
             raise ConfigError(f"bracket {bracket}: the published feature {lacking[0]} has fewer than "
                               f"{MIN_REFERENCE_CLIPS} finite, varying values in the reference clips "
@@ -217,7 +236,7 @@ def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) 
 def _published(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
     """Published: in-sample reference sums over every reference clip (each under its own bracket's fit);
     a feature missing from the clip is left out of its sum and of the reference sums (pandas' sum skips NaN)."""
-    names = [n for n in PUBLISHED_PART_FEATURES if math.isfinite(values.get(n, math.nan))]
+    names = [n for n in PREREGISTERED if math.isfinite(values.get(n, math.nan))]
     kept, mean, sd = _fitted(norms, bracket, names)
     total = float(_loglik(np.array([values[n] for n in kept]), mean, sd).sum())
     ref_totals = np.empty(len(norms.clips))

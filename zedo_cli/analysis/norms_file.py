@@ -14,7 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from ..errors import InputFormatError
 from ..files import write_text_atomic
 from ..formats.source import load_json
-from .norms import AGE_THRESHOLD_WEEKS, FEATURE_SET_VERSION, NORMS_SCHEMA, ClipFeatures, FeatureFit, Norms
+from .norms import AGE_THRESHOLD_WEEKS, FEATURE_SET_VERSION, NORMS_SCHEMA, ClipValues, FeatureFit, Norms
 
 
 class _Closed(BaseModel):
@@ -94,7 +94,7 @@ def read_norms(path: str | Path, zedo_version: str) -> Norms:
         if b not in doc.fits:
             raise InputFormatError(f"{name}: fits: no fits for the bracket {b!r}")
     clips = [
-        ClipFeatures(c.source, c.person, {k: math.nan if v is None else v for k, v in c.values.items()}, c.age_weeks)
+        ClipValues(c.source, c.person, {k: math.nan if v is None else v for k, v in c.values.items()}, c.age_weeks)
         for c in doc.clips
     ]
     fits = {b: {n: FeatureFit(f.mean, f.sd, f.n) for n, f in fs.items()} for b, fs in doc.fits.items()}

@@ -8,7 +8,7 @@ from typing import Annotated, Optional
 import typer
 
 from ..analysis.analyse import AnalysisSettings, analyse
-from ..analysis.compare import clip_features
+from ..analysis.compare import features_by_person
 from ..analysis.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_norms
 from ..analysis.norms_file import write_norms
 from ..errors import ConfigError, plural
@@ -81,7 +81,7 @@ def norms_command(
             if not a.is_sequence:
                 raise ConfigError(f"{source}: no fps (neither --fps nor recorded by zedo lift --fps): a reference "
                                   "is built from clips")  # fmt: skip
-            clips += clip_features(a, age)
+            clips += features_by_person(a, age)
             bar.update(task, advance=1)
     norms = build_norms(clips, __version__)
     write_norms(output, norms, overwrite=overwrite)
