@@ -110,6 +110,7 @@ def main() -> int:
     ap.add_argument("--still", type=int, default=5)
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--reuse", action="store_true", help="compare the results already in --work (no new lifts)")
     args = ap.parse_args()
     prior = args.folds / f"fold{args.fold}.safetensors"
     if not prior.exists():
@@ -121,7 +122,7 @@ def main() -> int:
     rng = np.random.default_rng(args.seed)
     groups = {"reference": (args.reference, False), "typical": (args.typical, False), "still": (args.still, True)}
     t0 = time.perf_counter()
-    for group, (count, still) in groups.items():
+    for group, (count, still) in groups.items() if not args.reuse else ():
         folder = args.work / group
         folder.mkdir(parents=True, exist_ok=True)
         inputs = []
@@ -142,7 +143,8 @@ def main() -> int:
             doc = json.loads(zedo("analyze", str(path), "--norms", str(norms), "--json", "-q").stdout)
             v = {r["measure"]: r["value"] for r in doc["rows"] if r["measure"].startswith("surprise_")}
             for kind in flagged:
-                flagged[kind] += int((v[f"surprise_{kind}_p"] or 1.0) < 0.05)
+                p = v[f"surprise_{kind}_p"]
+                flagged[kind] += int(p is not None and p < 0.05)
             print(f"{path.name.split('.')[0]:<12} {v['surprise_published_z']:>12.2f} {v['surprise_published_p']:>7.3f} "
                   f"{v['surprise_extended_z']:>11.2f} {v['surprise_extended_p']:>7.3f}")  # fmt: skip
         counts[group] = (flagged, len(results))

@@ -74,31 +74,26 @@ def test_published_surprise_by_hand() -> None:
     assert c.published.features == 38 and c.published.reference_clips == 20
 
 
-def test_extended_reference_sums_are_left_one_out() -> None:
+def test_extended_sums_per_side_asymmetry_and_3d_features() -> None:
     clips = _reference()
     norms = build_norms(clips, VERSION)
     new = _clip(np.random.default_rng(7), 7).values
     c = compare(new, norms, None)
-    names = sorted(n for n in norms.fits[ALL_AGES] if n.startswith(("3d_", "lrCorr_", "asym_")) or "_L" in n
-                   or "_R" in n)  # fmt: skip
-    names = [n for n in names if n in {*SIDE_FEATURES} or n.startswith("asym_")]
+    names = [*SIDE_FEATURES, "asym_logratio_median_vel_angle_Elbow", "asym_logratio_medianvelx_Wrist",
+             "asym_logratio_3d_median_vel_angle_Knee"]  # fmt: skip
     full = [{**cl.values, **asymmetry_indices(cl.values)} for cl in clips]
-    ref = []
-    for i in range(len(clips)):
+
+    def loglik(values: dict[str, float]) -> float:
         total = 0.0
         for n in names:
-            others = np.array([f[n] for j, f in enumerate(full) if j != i])
-            m, v = others.mean(), others.var()
-            total += -(0.5 * math.log(2 * math.pi * v) + (full[i][n] - m) ** 2 / (2 * v))
-        ref.append(total)
-    assert c.extended.features == len(names)
-    assert c.extended.reference_clips == 20
-    new_full = {**new, **asymmetry_indices(new)}
-    total = sum(-(0.5 * math.log(2 * math.pi * norms.fits[ALL_AGES][n].sd ** 2)
-                  + (new_full[n] - norms.fits[ALL_AGES][n].mean) ** 2 / (2 * norms.fits[ALL_AGES][n].sd ** 2))
-                for n in names)  # fmt: skip
-    assert c.extended.total == pytest.approx(total)
-    assert c.extended.z == pytest.approx((total - np.mean(ref)) / np.std(ref, ddof=1))
+            x = np.array([f[n] for f in full])
+            total += -(0.5 * math.log(2 * math.pi * x.var()) + (values[n] - x.mean()) ** 2 / (2 * x.var()))
+        return total
+
+    ref = np.array([loglik(f) for f in full])
+    assert c.extended.features == len(names) and c.extended.reference_clips == 20
+    assert c.extended.total == pytest.approx(loglik({**new, **asymmetry_indices(new)}))
+    assert c.extended.z == pytest.approx((c.extended.total - ref.mean()) / ref.std(ddof=1))
 
 
 def test_a_one_sided_difference_shows_in_the_extended_comparison() -> None:

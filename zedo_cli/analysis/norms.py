@@ -8,11 +8,9 @@ the 38 pre-registered part-level features (left and right averaged); its z is ta
 reference clips' own sums (their mean and sample standard deviation, over every bracket, as
 published), and p is two-sided.
 
-The extended comparison, which no published set has, sums the log-likelihoods of the per-side
-features, left-right asymmetry indices and zedo's `3d_` features: the published set averages the
-two sides, so a one-sided movement disorder can hide in it. Its reference sums are left-one-out (each
-reference clip scored under the fit made without it): with about 150 features and 10-30 clips, the
-in-sample sums of the published recipe would sit far above any new clip's and flag typical infants.
+The extended comparison, which no published set has, is the same recipe over the per-side features,
+left-right asymmetry indices and zedo's `3d_` features: the published set averages the two sides, so a
+one-sided movement disorder can hide in it (docs/movement.md has the measured difference).
 
 A reference stores, besides each feature's fit, every reference clip's feature values, so that a clip
 missing a feature (a correlation of a still limb, say) is compared on the features it has, against the
@@ -234,9 +232,18 @@ def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) 
 
 
 def _published(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
-    """Published: in-sample reference sums over every reference clip (each under its own bracket's fit);
-    a feature missing from the clip is left out of its sum and of the reference sums (pandas' sum skips NaN)."""
-    names = [n for n in PREREGISTERED if math.isfinite(values.get(n, math.nan))]
+    return _summed(values, norms, bracket, list(PREREGISTERED))
+
+
+def _extended(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
+    return _summed(values, norms, bracket, extended_names(values))
+
+
+def _summed(values: Mapping[str, float], norms: Norms, bracket: str, names: list[str]) -> Surprise:
+    """The clip's log-likelihood summed over `names` under its bracket's fits, against the reference clips' own
+    sums (each under its bracket's fit, in sample, as published); a feature the clip lacks is left out of its sum
+    and of the reference sums (pandas' sum skips NaN)."""
+    names = [n for n in names if math.isfinite(values.get(n, math.nan))]
     kept, mean, sd = _fitted(norms, bracket, names)
     total = float(_loglik(np.array([values[n] for n in kept]), mean, sd).sum())
     ref_totals = np.empty(len(norms.clips))
@@ -245,23 +252,3 @@ def _published(values: Mapping[str, float], norms: Norms, bracket: str) -> Surpr
         k, m, s = _fitted(norms, b, kept)
         ref_totals[sel] = np.nansum(_loglik(norms.clip_matrix(k, b), m, s), axis=1)
     return _surprise(total, ref_totals, len(kept))
-
-
-def _extended(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
-    """Extended: per-side, asymmetry and 3d_ features; the reference sums are left-one-out within the bracket."""
-    names = [n for n in extended_names(values) if math.isfinite(values[n])]
-    kept, mean, sd = _fitted(norms, bracket, names)
-    total = float(_loglik(np.array([values[n] for n in kept]), mean, sd).sum())
-    x = norms.clip_matrix(kept, bracket)  # (C, F)
-    finite = np.isfinite(x)
-    n = finite.sum(0)  # (F,)
-    xs = np.where(finite, x, 0.0)
-    s1, s2 = xs.sum(0), (xs**2).sum(0)
-    # each clip's fit without itself: the maximum-likelihood mean and sd of the other clips' values
-    n_loo = n - finite
-    with np.errstate(invalid="ignore", divide="ignore"):
-        m_loo = (s1 - xs) / n_loo
-        var_loo = (s2 - xs**2) / n_loo - m_loo**2
-        ll = _loglik(x, m_loo, np.sqrt(np.maximum(var_loo, _MIN_SD**2)))
-    ll[~finite | (n_loo < 2)] = 0.0  # a clip without the feature adds nothing (as the published sum)
-    return _surprise(total, ll.sum(1), len(kept))
