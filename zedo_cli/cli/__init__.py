@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Annotated
 
 import typer
@@ -54,26 +55,36 @@ def _root(
     """Lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i)."""
 
 
-# In this order in `zedo --help`; each shows a short usage when run without arguments (cli/help.py).
-COMMANDS = {
-    "lift": lift_command,
-    "export": export_command,
-    "fit-prior": fit_prior_command,
-    "adapt": adapt_command,
-    "fit-augmenter": fit_augmenter_command,
-    "augment": augment_command,
-    "evaluate": evaluate_command,
-    "benchmark": benchmark_command,
-    "benchmark-minirgbd": benchmark_minirgbd_command,
-    "analyze": analyze_command,
-    "norms": norms_command,
-    "benchmark-symmetry": benchmark_symmetry_command,
-    "calibrate": calibrate_command,
-    "render": render_command,
-    "schema": schema_command,
+# In this order in `zedo --help`, in two panels: the commands of an analyst's day (2D keypoints to 3D
+# poses, measures, footage, cameras, files) first, then those of training priors and benchmarking
+# them. Each shows a short usage when run without arguments (cli/help.py).
+ANALYSIS_PANEL = "Commands"
+RESEARCH_PANEL = "Research: priors, augmentation, benchmarks"
+PANELS: dict[str, dict[str, Callable[..., None]]] = {
+    ANALYSIS_PANEL: {
+        "lift": lift_command,
+        "analyze": analyze_command,
+        "norms": norms_command,
+        "render": render_command,
+        "export": export_command,
+        "calibrate": calibrate_command,
+        "schema": schema_command,
+    },
+    RESEARCH_PANEL: {
+        "fit-prior": fit_prior_command,
+        "adapt": adapt_command,
+        "fit-augmenter": fit_augmenter_command,
+        "augment": augment_command,
+        "evaluate": evaluate_command,
+        "benchmark": benchmark_command,
+        "benchmark-minirgbd": benchmark_minirgbd_command,
+        "benchmark-symmetry": benchmark_symmetry_command,
+    },
 }
-for _name, _command in COMMANDS.items():
-    app.command(_name, no_args_is_help=True, cls=ZedoCommand)(_command)
+COMMANDS = {name: command for commands in PANELS.values() for name, command in commands.items()}
+for _panel, _commands in PANELS.items():
+    for _name, _command in _commands.items():
+        app.command(_name, no_args_is_help=True, cls=ZedoCommand, rich_help_panel=_panel)(_command)
 
 
 def main() -> None:

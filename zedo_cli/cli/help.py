@@ -125,10 +125,15 @@ def _print_help(command: Any, ctx: Any, console: Console) -> None:
                 help_text += " [required]"
             rows.append((_names(param, ctx), help_text))
         console.print(_panel(title, rows))
-    if isinstance(command, TyperGroup):
-        subs = [(name, command.get_command(ctx, name)) for name in command.list_commands(ctx)]
-        rows = [(name, sub.get_short_help_str(limit=300)) for name, sub in subs if sub is not None and not sub.hidden]
-        console.print(_panel("Commands", rows))
+    if isinstance(command, TyperGroup):  # the commands in their panels (rich_help_panel), in order
+        panels: dict[str, list[tuple[str, str]]] = {}
+        for name in command.list_commands(ctx):
+            sub = command.get_command(ctx, name)
+            if sub is not None and not sub.hidden:
+                title = getattr(sub, "rich_help_panel", None) or "Commands"
+                panels.setdefault(title, []).append((name, sub.get_short_help_str(limit=300)))
+        for title, rows in panels.items():
+            console.print(_panel(title, rows))
 
 
 def _panel(title: str, rows: list[tuple[str, str]]) -> Panel:

@@ -43,6 +43,7 @@ import numpy as np
 from ..camera.model import CameraModel
 from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, plural
+from ..strict_json import loads
 from .result_schema import (
     SCHEMA,
     Frame,
@@ -54,6 +55,7 @@ from .result_schema import (
     SummaryLine,
     validate,
 )
+from .source import json_error
 
 RESULT_FORMATS = ("json", "jsonl", "csv", "npz")
 _SCALE_TO_M = {"m": 1.0, "mm": 1e-3}
@@ -156,9 +158,11 @@ def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) ->
         return _read_csv(text, name, meta)
     if stripped.startswith("{"):
         try:
-            doc = json.loads(text)
+            doc = loads(text)
         except json.JSONDecodeError:
             doc = None  # several lines: JSON Lines
+        except (ValueError, RecursionError) as exc:  # a repeated key, a 5000-digit integer, deep nesting
+            raise json_error(name, "", exc) from None
         if isinstance(doc, dict) and doc.get("type") != "header":
             _refuse_keypoints(doc, name)
             return _from_document(doc, name, "json")
@@ -207,9 +211,11 @@ def _read_jsonl(text: str, name: str) -> ResultPoses:
         if not line.strip():
             continue
         try:
-            obj = json.loads(line)
+            obj = loads(line)
         except json.JSONDecodeError as exc:
             raise InputFormatError(f"{name}: line {number}: not JSON ({exc.msg})") from None
+        except (ValueError, RecursionError) as exc:
+            raise json_error(name, f"line {number}", exc) from None
         kind = obj.get("type") if isinstance(obj, dict) else None
         where = f"line {number}"
         if reader is None:
@@ -397,8 +403,8 @@ def _finish(
 
 def _read_sidecar(path: Path) -> dict[str, Any]:
     try:
-        meta = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        meta = loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:
         raise InputFormatError(f"{path}: not a readable JSON sidecar ({exc})") from None
     if not isinstance(meta, dict):
         raise InputFormatError(f"{path}: expected a JSON object")
@@ -554,9 +560,11 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     meta: dict[str, Any] = {}
     if "metadata" in arrays:
         try:
-            meta = json.loads(str(arrays["metadata"]))
+            meta = loads(str(arrays["metadata"]))
         except json.JSONDecodeError:
             raise InputFormatError(f"{name}: metadata: not JSON") from None
+        except (ValueError, RecursionError) as exc:
+            raise json_error(name, "metadata", exc) from None
         _check_schema(meta, name)
     skel = _skeleton_of(meta, name) if meta else skeleton_from_joint_names(names)
     if skel is None or skel.joints != names:

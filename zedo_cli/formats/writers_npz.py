@@ -17,7 +17,7 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
                                               (0: none), NaN past an instance's own
     image_size             (N, 2)    float64  width, height in pixels; NaN where unknown
     frame_index, person    (N,)      int64    frame (the input's frame number, else the output frame) and position in it
-    image_ids              (N,)      int64 when every id is an integer, else str
+    image_ids              (N,)      int64 when every id is an integer within int64's range, else str
     file_names             (N,)      str      "" where the input has none
     joint_names            (J,) str, bones (B, 2) int64
     uncertainty_m          (N, J)    float64  only when calibrated: 90 % radius in metres; NaN where not lifted
@@ -47,8 +47,14 @@ if TYPE_CHECKING:  # the writers only read a result; importing the solver would 
     from ..lifting.solver import LiftResult
 
 
+_INT64 = np.iinfo(np.int64)
+
+
 def _ids(image_ids: list[int | str]) -> np.ndarray:
-    if all(isinstance(i, int | np.integer) and not isinstance(i, bool) for i in image_ids):
+    """int64 when every id is an integer that fits (COCO's ids do); else each id's text, so that an id
+    such as 10**30, which JSON holds, is kept whole rather than refused by numpy."""
+    if all(isinstance(i, int | np.integer) and not isinstance(i, bool) and _INT64.min <= i <= _INT64.max
+           for i in image_ids):  # fmt: skip
         return np.asarray(image_ids, dtype=np.int64)
     return np.asarray([str(i) for i in image_ids], dtype=np.str_)
 
