@@ -76,10 +76,10 @@ def make_sequences(
     """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels.
 
     By default about 1 m in front of the pseudo camera. `place` puts each clip before another camera
-    (its K and root points). `key_noise (P, J, 2)`: a detector's error of each pose of `poses`, relative
-    to the pose's 2D size (`scale_2d`; NaN: the joint was missed), eased from key pose to key pose like
-    the poses and scaled to each frame's 2D size. `noise_rel`: Gaussian pixel noise as a fraction of the
-    frame's 2D size, on top of `noise_px`."""
+    (its K and root points; the root drifts up to 2 cm/s about its place there). `key_noise (P, J, 2)`:
+    a detector's error of each pose of `poses`, relative to the pose's 2D size (`scale_2d`; NaN: the
+    joint was missed), eased from key pose to key pose like the poses and scaled to each frame's 2D
+    size. `noise_rel`: Gaussian pixel noise as a fraction of the frame's 2D size, on top of `noise_px`."""
     frames = int(round(transition_s * fps))
     rel_all, cam_all, tracks, k_all, err_all = [], [], [], [], []
     for track in range(count):
@@ -102,7 +102,7 @@ def make_sequences(
             )
             k_all.append(np.repeat(Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()[None], len(seq), 0))
         else:
-            kmat, root = place(rng, rel, rng.uniform(-0.05, 0.05, 3) * (t - t.mean())[:, None])
+            kmat, root = place(rng, rel, rng.uniform(-0.02, 0.02, 3) * (t - t.mean())[:, None])
             k_all.append(np.repeat(kmat[None], len(seq), 0))
         rel_all.append(rel)
         cam_all.append(rel + root[:, None])
