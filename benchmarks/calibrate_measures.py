@@ -59,7 +59,8 @@ def measures(p: np.ndarray) -> dict[str, np.ndarray]:
 
 def case_arrays(lifted: np.ndarray, observed: np.ndarray, ok: np.ndarray, truth: np.ndarray) -> dict[str, np.ndarray]:
     """Per measure: raw value and truth of every case; the raw value NaN where a joint it uses was
-    filled by the prior or the pose was not lifted (such cases are never calibrated)."""
+    filled by the prior or the pose was not lifted (such cases are calibrated apart: `filled_raw`, the
+    raw value of the lifted cases with a filled joint, NaN elsewhere)."""
     raw, true = measures(lifted), measures(truth)
     uses = measure_joints(SKELETON, measures, list(raw))
     out = {}
@@ -67,6 +68,7 @@ def case_arrays(lifted: np.ndarray, observed: np.ndarray, ok: np.ndarray, truth:
         usable = ok & observed[:, uses[name]].all(1)
         out[f"{name}|raw"] = np.where(usable, raw[name], np.nan)
         out[f"{name}|truth"] = true[name]
+        out[f"{name}|filled_raw"] = np.where(ok & ~usable, raw[name], np.nan)
     return out
 
 
@@ -105,7 +107,7 @@ class CameraRange:
     and a place in the frame with the whole body at least `margin` of the frame inside it."""
 
     focal_px: tuple[float, float] = (600.0, 2500.0)
-    depth_m: tuple[float, float] = (0.5, 2.4)  # wider than DEPTH_EDGES: lifted depths err by ~10 %
+    depth_m: tuple[float, float] = (0.5, 2.2)  # wider than DEPTH_EDGES: lifted depths err by ~10 %
     frames: tuple[tuple[int, int], ...] = ((1280, 720), (1920, 1080))
     margin: float = 0.05
 
@@ -114,7 +116,7 @@ CAMERAS = CameraRange()
 F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the issue's target set-up
 CAMERA_DRAWS = 6  # cameras per held-out pose and 2D input (images)
 # per fold and 2D input; the jitter (noise_rel of the body's 2D size) is the pseudo clips' 3 px at 1 m
-CAMERA_CLIPS = {"count": 12, "keyposes": 8, "transition_s": 1.0, "fps": 30.0, "noise_px": 0.0, "drop": 0.03,
+CAMERA_CLIPS = {"count": 16, "keyposes": 8, "transition_s": 1.0, "fps": 30.0, "noise_px": 0.0, "drop": 0.03,
                 "gap": 3, "noise_rel": 0.0125}  # fmt: skip
 # clips per camera kind: (kind, cameras drawn (None: the pseudo camera), temporal modes lifted)
 CLIP_KINDS = (("intrinsics", CAMERAS, ("smooth", "none")), ("f1000", F1000, ("smooth",)), ("pseudo", None, ("none",)))
@@ -126,9 +128,11 @@ def place_camera(rng: np.random.Generator, rel: np.ndarray, drift: np.ndarray, c
     """A camera of `cams` and the root points `(T, 3)` of root-relative poses `rel (T, J, 3)` (drifting by
     `drift (T, 3)`) with every joint of every frame inside the frame: K `(3, 3)` and the roots."""
     lo, hi = np.log(cams.focal_px)
-    for _ in range(1000):
+    for attempt in range(5000):
+        if attempt % 50 == 0:  # the depth is kept for 50 tries of a lens, frame and place: depths stay near uniform
+            z = float(rng.uniform(*cams.depth_m))
         w, h = cams.frames[rng.integers(len(cams.frames))]
-        f, z = float(np.exp(rng.uniform(lo, hi))), float(rng.uniform(*cams.depth_m))
+        f = float(np.exp(rng.uniform(lo, hi)))
         u, v = rng.uniform(cams.margin, 1 - cams.margin, 2) * (w, h)  # where the root appears
         root = np.array([(u - w / 2) * z / f, (v - h / 2) * z / f, z]) + drift
         cam = rel + root[:, None]  # (T, J, 3)
@@ -288,6 +292,8 @@ def scored(held_out: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: di
             est = model.estimate(raw[ok])
             for kd in np.unique(kind[evaluate]):
                 sel = kind[evaluate][ok] == kd
+                if not sel.any():
+                    continue
                 d = per.setdefault((n, kd), {"raw": [], "est": [], "truth": [], "low": {}, "high": {}})
                 d["raw"].append(raw[ok][sel])
                 d["est"].append(est[sel])
@@ -365,7 +371,8 @@ DEPTH_EDGES = (0.6, 2.0)  # m: the calibrations of known cameras, one per range 
 FOCAL_EDGES = (600.0, 1000.0, 1600.0, 2500.0)  # px: bins the held-out figures are reported by
 DEPTH_EDGES_REPORT = (0.0, 0.6, 0.9, 1.2, 1.6, 2.0, 9.0)  # m: likewise (the lifted root depth)
 SIZE_EDGES = (0.0, 60.0, 120.0, 1e9)  # px: the body's 2D size (RMS distance of the joints from their mean)
-CAMERA_FITS = {"none": ("gt", "detected"), "smooth": ("clips_gt", "clips_detected")}  # what each mode is fitted on
+# what each mode is fitted on: frame by frame, images and clips' frames; --temporal smooth, clips
+CAMERA_FITS = {"none": ("gt", "detected", "clips_gt", "clips_detected"), "smooth": ("clips_gt", "clips_detected")}
 
 
 @dataclass
@@ -374,8 +381,24 @@ class HeldOut:
     fold's groups, `evaluate` the other half)."""
 
     models: list[dict[str, MeasureModel]]  # per range of DEPTH_EDGES
+    filled: list[dict[str, MeasureModel]]  # the same, of the cases with a joint the prior filled
     fold: int | None
     evaluate: np.ndarray  # (n,) bool, over the cases they were fitted from
+
+
+FILLED_BINS, MIN_FILLED = 1, 100  # cases with a filled joint: one bin, and a model only from this many cases
+
+
+def filled_view(cases: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The cases with a joint the prior filled, as `cases` (their raw values under `raw`)."""
+    return {k.replace("|filled_raw", "|raw"): v for k, v in cases.items() if not k.endswith("|raw")}
+
+
+def fit_filled(cases: dict[str, np.ndarray], mask: np.ndarray) -> dict[str, MeasureModel]:
+    view = filled_view(cases)
+    enough = [n for n in names_of(view) if (mask & np.isfinite(view[f"{n}|raw"])).sum() >= MIN_FILLED]
+    return {n: fit_measure(view[f"{n}|raw"][mask], view[f"{n}|truth"][mask], circular=n in CIRCULAR_ANGLES,
+                           bins=FILLED_BINS) for n in enough}  # fmt: skip
 
 
 def depth_bin(depth: np.ndarray) -> np.ndarray:
@@ -386,7 +409,7 @@ def depth_bin(depth: np.ndarray) -> np.ndarray:
 
 
 def camera_fits(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray, mode: str
-                ) -> tuple[list[HeldOut], list[dict[str, MeasureModel]]]:  # fmt: skip
+                ) -> tuple[list[HeldOut], HeldOut]:  # fmt: skip
     """The cross-fitted models of mode `mode` (one per split and depth range) and the models on every case."""
     fit_base = np.isin(kind, CAMERA_FITS[mode])
     b = depth_bin(cases["lifted_depth"])
@@ -395,12 +418,16 @@ def camera_fits(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray
     held = []
     for fit, evaluate in splits(fold, group):
         models = [fit_all(cases, fit & fit_base & (b == r), BINS[mode]) for r in ranges]
-        held.append(HeldOut(models, int(fold[evaluate][0]) if len(folds) > 1 else None, evaluate))
-    return held, [fit_all(cases, fit_base & (b == r), BINS[mode]) for r in ranges]
+        filled = [fit_filled(cases, fit & fit_base & (b == r)) for r in ranges]
+        held.append(HeldOut(models, filled, int(fold[evaluate][0]) if len(folds) > 1 else None, evaluate))
+    every = [fit_base & (b == r) for r in ranges]
+    final = HeldOut([fit_all(cases, m, BINS[mode]) for m in every], [fit_filled(cases, m) for m in every], None,
+                    np.zeros(len(fold), bool))  # fmt: skip
+    return held, final
 
 
-def apply_held_out(held: list[HeldOut], cases: dict[str, np.ndarray], fold: np.ndarray,
-                   same: bool) -> list[tuple[dict[str, MeasureModel], np.ndarray]]:  # fmt: skip
+def apply_held_out(held: list[HeldOut], cases: dict[str, np.ndarray], fold: np.ndarray, same: bool,
+                   filled: bool = False) -> list[tuple[dict[str, MeasureModel], np.ndarray]]:  # fmt: skip
     """(models, mask) of the held-out models on `cases`: on their own held-out part (`same`: the cases they were
     fitted from), else on the cases of the fold they never saw (one fold: the first half's models)."""
     b = depth_bin(cases["lifted_depth"])
@@ -412,7 +439,7 @@ def apply_held_out(held: list[HeldOut], cases: dict[str, np.ndarray], fold: np.n
             mask = np.full(len(fold), i == 0)
         else:
             mask = fold == h.fold
-        out += [(m, mask & (b == r)) for r, m in enumerate(h.models)]
+        out += [(m, mask & (b == r)) for r, m in enumerate(h.filled if filled else h.models)]
     return out
 
 
@@ -447,6 +474,8 @@ def print_pooled(title: str, figures: dict[str, dict]) -> None:
           "decisive at 0.8 (agreement) | joint angles 90 % coverage |")  # fmt: skip
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for label, rows in figures.items():
+        if not any(n in rows for n in SYMMETRY_NAMES):
+            continue
         r = pooled(rows)
         pairs = " / ".join(f"{100 * c:.1f}" for c in r["coverage_pairs"])
         print(f"| {label} | {r['pair_cases']} | {r['mae_raw']:.1f} -> {r['mae_est']:.1f} | {100 * r['coverage']:.1f} % "
@@ -472,7 +501,7 @@ def frame_probabilities(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]],
 
 def share_figures(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: dict[str, np.ndarray],
                   fold: np.ndarray, kind: np.ndarray, group: np.ndarray, threshold: float, fps: float,
-                  level: float = 0.9) -> dict[str, float]:  # fmt: skip
+                  level: float = 0.9, filled: list | None = None) -> dict[str, float]:  # fmt: skip
     """Clip-level shares asymmetric (analysis.clip_share) on held-out clips: per (clip, pair) the share's interval
     against the true share of the same frames; also the frames' probabilities' calibration and how long errors
     persist (the integrated autocorrelation time of the truth's ranks, seconds)."""
@@ -482,6 +511,9 @@ def share_figures(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]], cases
     clip = np.char.add(np.char.add(fold.astype(str), kind.astype(str)), group.astype(str))
     for n in SYMMETRY_NAMES:
         p, rank = frame_probabilities(pairs, cases, n, threshold)
+        if filled:  # the frames with a joint the prior filled, under their own models
+            fp, frank = frame_probabilities([(m, k) for m, k in filled if n in m], filled_view(cases), n, threshold)
+            p, rank = np.where(np.isnan(p), fp, p), np.where(np.isnan(rank), frank, rank)
         for c in np.unique(clip[np.isfinite(p)]):
             sel = np.flatnonzero((clip == c) & np.isfinite(p))  # time order within a clip
             if len(sel) < 30:
@@ -508,6 +540,19 @@ def share_figures(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]], cases
             "probability_bins": calib}  # fmt: skip
 
 
+def interval_share(pairs: list, filled: list, cases: dict[str, np.ndarray]) -> tuple[float, int]:
+    """The share of the lifted symmetry frame-pairs that get an interval (observed joints or filled ones), and
+    how many frame-pairs were lifted."""
+    lifted = np.stack([np.isfinite(cases[f"{n}|raw"]) | np.isfinite(cases[f"{n}|filled_raw"]) for n in SYMMETRY_NAMES])
+    covered = np.zeros_like(lifted)
+    for k, n in enumerate(SYMMETRY_NAMES):
+        for models, mask in pairs:
+            covered[k] |= mask & np.isfinite(cases[f"{n}|raw"]) & (n in models)
+        for models, mask in filled:
+            covered[k] |= mask & np.isfinite(cases[f"{n}|filled_raw"]) & (n in models)
+    return float(covered[lifted].mean()), int(lifted.sum())
+
+
 def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[str, Any]) -> list[MeasureCalibration]:
     """The calibrations of known cameras (one per mode and depth range) and their held-out figures per camera kind."""
     folder = args.cases / "cameras"
@@ -518,6 +563,7 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
         cases, fold, kind, group = load_cases(folder, f"intrinsics-{mode}")
         held, final = camera_fits(cases, fold, kind, group, mode)
         pairs = apply_held_out(held, cases, fold, same=True)
+        filled = apply_held_out(held, cases, fold, same=True, filled=True)
         depth = cases["lifted_depth"]
         inside = depth_bin(depth) >= 0
         print(f"\n## mode {mode}: {int((~inside).sum())} of {len(depth)} cases lifted outside {DEPTH_EDGES[0]:g}-"
@@ -526,51 +572,56 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
                   "depth": bin_labels(depth, DEPTH_EDGES_REPORT, "m"),
                   "size": bin_labels(cases["size_px"], SIZE_EDGES, "px")}  # fmt: skip
         figures = {by: scored(pairs, cases, labels, args.threshold) for by, labels in strata.items()}
+        figures["filled joint"] = scored(filled, filled_view(cases), kind, args.threshold)
         for by, f in figures.items():
             print_pooled(f"known intrinsics, {mode}, by {by}", f)
         report[mode] = {by: {k: pooled(v) for k, v in f.items()} for by, f in figures.items()}
+        report[mode]["interval_share"], report[mode]["lifted_pairs"] = interval_share(pairs, filled, cases)
         clips = np.char.startswith(kind.astype(str), "clips")
         if clips.any():
-            sh = share_figures([(m, k & clips) for m, k in pairs], cases, fold, kind, group, args.threshold, fps)
+            sh = share_figures([(m, k & clips) for m, k in pairs], cases, fold, kind, group, args.threshold, fps,
+                               filled=[(m, k & clips) for m, k in filled])  # fmt: skip
             print(f"clip shares asymmetric, known intrinsics, {mode}:", sh)
             report[mode]["shares"] = sh
         if mode == "smooth":  # the issue's set-up: f = 1000 px, about 1 m away
             ext, efold, ekind, egroup = load_cases(folder, "f1000-smooth")
             epairs = apply_held_out(held, ext, efold, same=False)
+            efilled = apply_held_out(held, ext, efold, same=False, filled=True)
             f1000 = scored(epairs, ext, ekind, args.threshold)
             print_pooled("f = 1000 px, 0.9-1.1 m, smooth clips", f1000)
             report["f1000"] = {k: pooled(v) for k, v in f1000.items()}
-            sym = np.stack([np.isfinite(ext[f"{n}|truth"]) for n in SYMMETRY_NAMES])
-            with_value = np.stack([np.isfinite(ext[f"{n}|raw"]) for n in SYMMETRY_NAMES])
-            covered = np.zeros_like(with_value)
-            for _, mask in epairs:
-                covered |= mask[None] & with_value
-            report["f1000"]["interval_share"] = float(covered[sym].mean())
-            report["f1000"]["lifted_pairs"] = int(sym.sum())
-            print(f"f1000: {100 * covered[sym].mean():.1f} % of the {int(sym.sum())} frame-pairs have an interval "
-                  "(the rest use a joint the 2D did not give, or were not lifted)")  # fmt: skip
-            report["f1000"]["shares"] = share_figures(epairs, ext, efold, ekind, egroup, args.threshold, fps)
+            f1000_filled = scored(efilled, filled_view(ext), ekind, args.threshold)
+            print_pooled("f = 1000 px, 0.9-1.1 m, smooth clips, frame-pairs with a filled joint", f1000_filled)
+            report["f1000"]["filled joint"] = {k: pooled(v) for k, v in f1000_filled.items()}
+            share, lifted = interval_share(epairs, efilled, ext)
+            report["f1000"]["interval_share"], report["f1000"]["lifted_pairs"] = share, lifted
+            print(f"f1000: {100 * share:.1f} % of the {lifted} lifted frame-pairs have an interval")
+            report["f1000"]["shares"] = share_figures(epairs, ext, efold, ekind, egroup, args.threshold, fps,
+                                                      filled=efilled)  # fmt: skip
             print("clip shares asymmetric, f1000:", report["f1000"]["shares"])
-        for r, models in enumerate(final):
+        for r, (models, filled_models) in enumerate(zip(final.models, final.filled, strict=True)):
             domain = CameraDomain((DEPTH_EDGES[r], DEPTH_EDGES[r + 1]), CAMERAS.focal_px)
+            fitted = np.isin(kind, CAMERA_FITS[mode]) & (depth_bin(depth) == r)
             provenance = {
                 "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), seen by drawn known "
                 f"cameras (focal {CAMERAS.focal_px[0]:g}-{CAMERAS.focal_px[1]:g} px, root depth "
-                f"{CAMERAS.depth_m[0]:g}-{CAMERAS.depth_m[1]:g} m, 1280x720 and 1920x1080), from their projected GT 2D "
-                "and with their own FiDIP error" + (", as synthetic 30 fps clips" if mode != "none" else "")
+                f"{CAMERAS.depth_m[0]:g}-{CAMERAS.depth_m[1]:g} m, 1280x720 and 1920x1080), from their projected GT "
+                "2D and with their own FiDIP error, " + ("as images and synthetic 30 fps clips lifted frame by frame"
+                                                        if mode == "none" else "as synthetic 30 fps clips")
                 + "; never Test100 or the synthetic rows",
                 "recipe": "benchmarks/calibrate_measures.py --cameras",
                 "folds": sorted(int(f) for f in np.unique(fold)),
-                "cases": int((np.isin(kind, CAMERA_FITS[mode]) & (depth_bin(depth) == r)).sum()),
+                "cases": int((fitted & np.isfinite(cases["symmetry_thigh_deg|raw"])).sum()),
+                "cases_filled": int((fitted & np.isfinite(cases["symmetry_thigh_deg|filled_raw"])).sum()),
                 "bins": BINS[mode],
+                "bins_filled": FILLED_BINS,
                 "cameras": {"focal_px": list(CAMERAS.focal_px), "depth_m": list(CAMERAS.depth_m),
                             "frames": [list(f) for f in CAMERAS.frames], "draws": CAMERA_DRAWS},
-                "clips": CAMERA_CLIPS if mode != "none" else None,
+                "clips": CAMERA_CLIPS,
                 "cross_fitted": report[mode],
             }  # fmt: skip
             out.append(MeasureCalibration(shipped.sha256, settings, mode, ("cli", "file"), shipped.skeleton.joints,
-                                          models, provenance, domain))  # fmt: skip
-    # the pseudo camera's clips lifted frame by frame, under the pseudo camera's own image calibration (cross-fitted)
+                                          models, provenance, domain, filled_models))  # fmt: skip
     report["pseudo"] = pseudo_share_figures(args)
     args.camera_report = report
     return out

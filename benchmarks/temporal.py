@@ -55,8 +55,12 @@ Placement = Callable[[np.random.Generator, np.ndarray, np.ndarray], tuple[np.nda
 
 def scale_2d(xy: np.ndarray) -> np.ndarray:
     """The size of 2D poses `(..., J, 2)` in pixels `(...,)`: the RMS distance of the known joints from their mean."""
-    c = np.nanmean(xy, axis=-2, keepdims=True)
-    return np.sqrt(np.nanmean(((xy - c) ** 2).sum(-1), axis=-1))
+    known = np.isfinite(xy).all(-1)  # (..., J)
+    count = known.sum(-1, keepdims=True)  # a pose without a known joint has no size (NaN)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = np.where(known[..., None], xy, 0.0).sum(-2, keepdims=True) / count[..., None]
+        d2 = np.where(known, ((xy - c) ** 2).sum(-1), 0.0)
+        return np.sqrt(d2.sum(-1) / count[..., 0])
 
 
 def _eased_error(e0: np.ndarray, e1: np.ndarray, ease: np.ndarray) -> np.ndarray:

@@ -109,3 +109,29 @@ def test_a_calibration_with_a_camera_range_reads_back_and_one_without_writes_as_
     write_calibrations(path, [pseudo, cam])
     assert read_calibrations(path) == [pseudo, cam]
     assert cam.prior_sha256 == SHA
+
+
+def test_a_joint_filled_by_the_prior_takes_the_calibrations_wider_model_where_it_has_one(tmp_path: Path) -> None:
+    from test_calibration import document
+
+    from zedo_cli.analysis.calibration import LEVELS, MeasureModel
+
+    doc = document(kicking_poses(3))
+    doc["params"].update(CLI)
+    doc["frames"][0]["persons"][0]["observed"][JOINTS.index("left_wrist")] = False
+    path = write_document(tmp_path / "k.zedo.json", doc)
+    wide = {lv: (20.0,) for lv in LEVELS}
+    cal = camera_calibration((0.6, 2.0))
+    cal = replace(cal, filled={n: MeasureModel(20.0, 1.0, (), wide, wide, circular=False) for n in cal.measures})
+    a = analyse(read_result(path), calibrations=[cal])
+    forearm = frame_rows(a, "symmetry_forearm_deg")
+    assert forearm[0].interval == "calibrated with a joint filled by the prior: left_wrist"
+    assert forearm[0].high_90 == pytest.approx(forearm[0].value + 20.0)
+    assert forearm[1].interval == "calibrated" and forearm[1].high_90 == pytest.approx(forearm[1].value + 8.0)
+    p = [r.value for r in a.rows if r.measure == "symmetry_forearm_probability_asymmetric"]
+    assert all(np.isfinite(p))  # the filled frame has a probability too
+    without = analyse(read_result(path), calibrations=[camera_calibration((0.6, 2.0))])  # no such model: none
+    assert frame_rows(without, "symmetry_forearm_deg")[0].interval.startswith("none: joint filled by the prior")
+    path2 = tmp_path / "m.json"
+    write_calibrations(path2, [cal])
+    assert read_calibrations(path2) == [cal]

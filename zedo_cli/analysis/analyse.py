@@ -52,6 +52,7 @@ COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value",
 SYMMETRY_NAMES = tuple(measure_name(p) for p in PAIRS)
 # The `interval` column: how low_90 / high_90 were obtained, or why they are empty.
 INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.calibration)
+INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibration's model of such cases, wider
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
 INTERVAL_SHARE = "block_bootstrap_of_frame_probabilities"  # analysis.clip_share
@@ -197,15 +198,22 @@ def calibrated_measures(
             if name not in cal.measures:
                 how[name][ok] = f"none: the measure calibration has no {name}"
                 continue
-            if not ok.any():
-                continue
-            model = cal.measures[name]
-            est = model.estimate(v[ok])
-            lo_r, hi_r = ranges[name]
-            estimates[name][ok] = np.clip(est, lo_r, hi_r)
-            for level, at_level in zip(levels, intervals, strict=True):
-                low, high = model.interval(est, v[ok], level)
-                at_level[name][0][ok], at_level[name][1][ok] = np.clip(low, lo_r, hi_r), np.clip(high, lo_r, hi_r)
+            apply = [(ok, cal.measures[name])]
+            if name in cal.filled:  # cases with a joint the prior filled: their own, wider model
+                gaps = np.isfinite(v) & filled.any(1) & (assignment.index == c)
+                how[name][gaps] = [h.replace("none: joint filled by the prior (not calibrated)", INTERVAL_FILLED)
+                                   for h in how[name][gaps]]  # fmt: skip
+                apply.append((gaps, cal.filled[name]))
+            for sel, model in apply:
+                if not sel.any():
+                    continue
+                est = model.estimate(v[sel])
+                lo_r, hi_r = ranges[name]
+                estimates[name][sel] = np.clip(est, lo_r, hi_r)
+                for level, at_level in zip(levels, intervals, strict=True):
+                    low, high = model.interval(est, v[sel], level)
+                    at_level[name][0][sel] = np.clip(low, lo_r, hi_r)
+                    at_level[name][1][sel] = np.clip(high, lo_r, hi_r)
     return raw, estimates, intervals, {k: list(v) for k, v in how.items()}
 
 
@@ -311,12 +319,14 @@ def _probabilities(a: Analysis) -> dict[str, np.ndarray]:
     assignment = a.assignment
     for name in SYMMETRY_NAMES:
         p = np.full(len(a.index), np.nan)
-        calibrated = np.array(a.interval_how[name], dtype=object) == INTERVAL_CALIBRATED
+        calibrated = np.isfinite(a.intervals[name][0])
+        filled = np.char.startswith(np.array(a.interval_how[name], dtype=str), INTERVAL_FILLED)
         if assignment is not None:
             for c, cal in enumerate(assignment.calibrations):
-                sel = calibrated & (assignment.index == c)
-                if sel.any() and name in cal.measures:
-                    p[sel] = probability_above(cal.measures[name], a.raw_values[name][sel], a.settings.threshold_deg)
+                for sel, models in ((calibrated & ~filled, cal.measures), (calibrated & filled, cal.filled)):
+                    sel = sel & (assignment.index == c)
+                    if sel.any() and name in models:
+                        p[sel] = probability_above(models[name], a.raw_values[name][sel], a.settings.threshold_deg)
         out[name] = p
     return out
 

@@ -21,8 +21,9 @@ SyRIP training poses, `benchmarks/calibrate_measures.py`), holds:
 Angles with a wrap (the hip and shoulder flexions) take their residuals and shrinkage on the circle.
 
 A calibration holds only for the prior, lifting settings, temporal mode and camera it was made
-with (`MeasureCalibration.mismatch`); a measure that uses a joint the 2D did not give (filled by
-the prior) has no calibrated interval: the calibration poses had every such joint observed.
+with (`MeasureCalibration.mismatch`). A measure that uses a joint the 2D did not give (filled by
+the prior) is calibrated apart, where the calibration has such cases (`MeasureCalibration.filled`,
+the calibrations of known cameras); otherwise it gets no interval.
 
 Cameras: a calibration made with the pseudo camera (`cameras` ("pseudo",)) holds for results lifted
 with it. One made over a range of known cameras (`cameras` ("cli", "file"): `--focal`,
@@ -187,6 +188,9 @@ class MeasureCalibration:
     measures: dict[str, MeasureModel]
     provenance: dict[str, Any] = field(default_factory=dict)
     domain: CameraDomain | None = None  # None: every pose of a result it matches
+    # measure -> the model of the cases where a joint the measure uses was filled by the prior (wider); empty: such
+    # cases get no interval
+    filled: dict[str, MeasureModel] = field(default_factory=dict)
 
     def mismatch(self, params: dict[str, Any], joints: tuple[str, ...]) -> str | None:
         """Why this calibration does not hold for a result lifted with `params` (None: it holds)."""
@@ -210,14 +214,17 @@ class MeasureCalibration:
                "measures": {k: v.to_dict() for k, v in self.measures.items()}}  # fmt: skip
         if self.domain is not None:  # absent for the pseudo camera's: those entries read and write as before
             out["domain"] = self.domain.to_dict()
+        if self.filled:
+            out["filled"] = {k: v.to_dict() for k, v in self.filled.items()}
         return out
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> MeasureCalibration:
         domain = CameraDomain.from_dict(d["domain"]) if d.get("domain") is not None else None
+        filled = {k: MeasureModel.from_dict(v) for k, v in d.get("filled", {}).items()}
         return cls(str(d["prior_sha256"]), dict(d["settings"]), str(d["temporal_mode"]), tuple(d["cameras"]),
                    tuple(d["joints"]), {k: MeasureModel.from_dict(v) for k, v in d["measures"].items()},
-                   dict(d.get("provenance", {})), domain)  # fmt: skip
+                   dict(d.get("provenance", {})), domain, filled)  # fmt: skip
 
 
 def find_calibration(
