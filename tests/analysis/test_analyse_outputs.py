@@ -47,7 +47,7 @@ def test_rows_without_a_calibration_say_so(kick: Path) -> None:
     assert list(COLUMNS[:10]) == ["frame_index", "image_id", "file_name", "person", "measure", "value", "unit",
                                   "low_90", "high_90", "call"]  # fmt: skip
     frame_rows = [r for r in rows if r["frame_index"]]
-    assert len(frame_rows) == 60 * (4 + 4 + 12)
+    assert len(frame_rows) == 60 * (4 + 4 + 4 + 12)  # angle, band and probability per pair; 12 joint angles
     assert all(r["low_90"] == "" and r["high_90"] == "" for r in rows)
     assert {r["interval"] for r in frame_rows} == {"none: no measure calibration for this prior"}
     assert {r["call"] for r in frame_rows if r["measure"].startswith("symmetry_") and r["unit"] == "deg"} == {

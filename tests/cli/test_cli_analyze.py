@@ -192,3 +192,23 @@ def test_evaluate_reads_every_result_format_through_the_shared_reader(tiny_prior
         assert result.exit_code == 0, result.output
         scores[fmt] = json.loads(result.stdout)["mpjpe_mm"]
     assert scores["csv"] == pytest.approx(scores["json"], abs=0.01) and scores["npz"] == pytest.approx(scores["json"])
+
+
+def test_a_lift_given_its_focal_length_gets_the_bundled_camera_calibration(tmp_path: Path) -> None:
+    """The bundled prior and preset, `--focal 1000` (the camera the 2D was made with, 1 m away): every
+    symmetry value gets a calibrated interval from the known cameras' calibration (issue 35)."""
+    src = write_coco(tmp_path / "kp.json", n=4)
+    out = tmp_path / "kp.zedo.json"
+    lifted = runner.invoke(app, ["lift", str(src), "--focal", "1000", "-q", "-o", str(out)])
+    assert lifted.exit_code == 0, lifted.output
+    result = runner.invoke(app, ["analyze", str(out), "-o", "-", "-q"])
+    assert result.exit_code == 0, result.output
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    sym = [r for r in rows if r["measure"].startswith("symmetry_") and r["measure"].endswith("_deg")]
+    assert len(sym) == 16 and {r["interval"] for r in sym} == {"calibrated"}
+    assert all(float(r["low_90"]) <= float(r["value"]) <= float(r["high_90"]) for r in sym)
+    far = runner.invoke(app, ["lift", str(src), "--focal", "3000", "-q", "-o", str(tmp_path / "far.zedo.json")])
+    assert far.exit_code == 0, far.output
+    table = runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "-o", "-", "-q"]).stdout
+    reasons = {r["interval"] for r in csv.DictReader(io.StringIO(table)) if r["measure"] == "symmetry_thigh_deg"}
+    assert len(reasons) >= 1 and all(x.startswith("none: camera outside the calibrated range") for x in reasons)

@@ -20,19 +20,21 @@ from typing import Any
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
+from ..data.skeleton import Skeleton, root_point
 from ..errors import ConfigError, InputFormatError, plural
 from ..formats.result_reader import ResultPoses
 from .calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,
     LEVELS,
+    Assignment,
     MeasureCalibration,
+    assign_calibrations,
     bundled_calibrations,
-    find_calibration,
     measure_joints,
 )
 from .clip_features import clip_features
+from .clip_share import block_frames, probability_above, share_interval
 from .geometry import require_joints
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
 from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
@@ -52,8 +54,10 @@ COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value",
 SYMMETRY_NAMES = tuple(measure_name(p) for p in PAIRS)
 # The `interval` column: how low_90 / high_90 were obtained, or why they are empty.
 INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.calibration)
+INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibration's model of such cases, wider
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
+INTERVAL_SHARE = "block_bootstrap_of_frame_probabilities"  # analysis.clip_share
 DEFAULT_MAX_VELOCITY_DEG_S = 500.0
 FLAG_TOO_FAST = "too_fast"
 
@@ -124,10 +128,14 @@ class Analysis:
     rows: list[Row] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
+    assignment: Assignment | None = None  # which measure calibration holds for each analysed pose
+    # symmetry measure -> (M,) the probability that the true angle exceeds the threshold (NaN: no calibration)
+    probabilities: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def uncertainty_available(self) -> bool:
-        return self.calibration_note == INTERVAL_CALIBRATED
+        """Whether any pose has calibrated intervals (`calibration_note` is "calibrated" when every pose has)."""
+        return self.calibration_note == INTERVAL_CALIBRATED or (self.assignment is not None and self.assignment.any)
 
     @property
     def is_sequence(self) -> bool:
@@ -154,21 +162,26 @@ def measure_ranges() -> dict[str, tuple[float, float]]:
 
 def calibrated_measures(
     poses: np.ndarray, observed: np.ndarray, skeleton: Skeleton, calibration: MeasureCalibration | None,
-    why_not: str, levels: tuple[float, ...],
+    why_not: str, levels: tuple[float, ...], *, assignment: Assignment | None = None,
 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], list[dict[str, tuple[np.ndarray, np.ndarray]]],
            dict[str, list[str]]]:  # fmt: skip
     """Raw measures, estimates, intervals at each of `levels` and the `interval` column of poses `(M, J, 3)`
-    (camera axes) with their observed joints `(M, J)`, under `calibration` (None: `why_not`)."""
+    (camera axes) with their observed joints `(M, J)`, under `calibration` (None: `why_not`), or pose by
+    pose under `assignment` (which then replaces both)."""
 
     def measures(p: np.ndarray) -> dict[str, np.ndarray]:
         return all_measures(p, skeleton)
 
     raw = measures(poses)
     m = len(poses)
+    if assignment is None:
+        cals = () if calibration is None else (calibration,)
+        assignment = Assignment(cals, np.full(m, 0 if cals else -1), np.full(m, "" if cals else why_not, object))
     estimates = {k: v.copy() for k, v in raw.items()}
     nan = np.full(m, np.nan)
     intervals = [{k: (nan.copy(), nan.copy()) for k in raw} for _ in levels]
-    how = {k: [f"none: {why_not}"] * m for k in raw}
+    base_how = np.where(assignment.index >= 0, INTERVAL_CALIBRATED, "none: " + assignment.why_not.astype(str))
+    how = {k: base_how.astype(object) for k in raw}
     uses = measure_joints(skeleton, measures, list(raw))
     ranges = measure_ranges()
     for name, v in raw.items():
@@ -182,19 +195,43 @@ def calibrated_measures(
                 names = [j for j, u in zip(skeleton.joints, uses[name], strict=True) if u]
                 gone = [j for j, f in zip(names, filled[k], strict=True) if f]
                 how[name][k] = "none: joint filled by the prior (not calibrated): " + ", ".join(gone)
-        if calibration is None or name not in calibration.measures:
-            continue
-        model = calibration.measures[name]
-        ok = np.isfinite(v) & ~filled.any(1)
-        est = model.estimate(v[ok])
-        lo_r, hi_r = ranges[name]
-        estimates[name][ok] = np.clip(est, lo_r, hi_r)
-        for level, at_level in zip(levels, intervals, strict=True):
-            low, high = model.interval(est, v[ok], level)
-            at_level[name][0][ok], at_level[name][1][ok] = np.clip(low, lo_r, hi_r), np.clip(high, lo_r, hi_r)
-        for k in np.flatnonzero(ok):
-            how[name][k] = INTERVAL_CALIBRATED
-    return raw, estimates, intervals, how
+        usable = np.isfinite(v) & ~filled.any(1)
+        for c, cal in enumerate(assignment.calibrations):
+            ok = usable & (assignment.index == c)
+            if name not in cal.measures:
+                how[name][ok] = f"none: the measure calibration has no {name}"
+                continue
+            apply = [(ok, cal.measures[name])]
+            if name in cal.filled:  # cases with a joint the prior filled: their own, wider model
+                gaps = np.isfinite(v) & filled.any(1) & (assignment.index == c)
+                how[name][gaps] = [h.replace("none: joint filled by the prior (not calibrated)", INTERVAL_FILLED)
+                                   for h in how[name][gaps]]  # fmt: skip
+                apply.append((gaps, cal.filled[name]))
+            for sel, model in apply:
+                if not sel.any():
+                    continue
+                est = model.estimate(v[sel])
+                lo_r, hi_r = ranges[name]
+                estimates[name][sel] = np.clip(est, lo_r, hi_r)
+                for level, at_level in zip(levels, intervals, strict=True):
+                    low, high = model.interval(est, v[sel], level)
+                    at_level[name][0][sel] = np.clip(low, lo_r, hi_r)
+                    at_level[name][1][sel] = np.clip(high, lo_r, hi_r)
+    return raw, estimates, intervals, {k: list(v) for k, v in how.items()}
+
+
+def pose_cameras(result: ResultPoses, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The root depth (metres from the camera) and focal length (pixels, the mean of fx and fy) of each
+    pose `index (M,)` of `result`; NaN where the result states neither its camera-frame position nor its camera."""
+    if result.coordinate_frame == "camera":
+        depth = root_point(result.poses[index], result.skeleton)[:, 2]
+    elif result.root_translation is not None:
+        depth = result.root_translation[index, 2]
+    else:
+        depth = np.full(len(index), np.nan)
+    cams = result.cameras
+    focal = np.array([np.nan if cams is None or cams[i] is None else (cams[i].fx + cams[i].fy) / 2 for i in index])
+    return depth, focal.reshape(-1)
 
 
 def analyse(
@@ -211,18 +248,26 @@ def analyse(
     if not len(index):
         raise InputFormatError(f"{result.source}: no lifted person in the result: nothing to analyse")
     models = bundled_calibrations() if calibrations is None else calibrations
-    calibration, note = find_calibration(models, result.params, result.skeleton.joints)
+    assignment = assign_calibrations(models, result.params, result.skeleton.joints, *pose_cameras(result, index))
+    note = assignment.note()
     raw, values, (intervals, call_intervals), how = calibrated_measures(
-        result.poses[index], result.observed[index], result.skeleton, calibration, note,
-        (settings.level, settings.call_level))  # fmt: skip
+        result.poses[index], result.observed[index], result.skeleton, None, note,
+        (settings.level, settings.call_level), assignment=assignment)  # fmt: skip
     fps, fps_source = (settings.fps, "option") if settings.fps is not None else (result.fps, "result")
     if fps is None:
         fps_source = "none"
-    a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source)
-    if calibration is None:
+    a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source,
+                 assignment=assignment)  # fmt: skip
+    if not assignment.any:
         a.notes.append(f"no calibrated intervals: {note}; every symmetry call is uncertain (no calibration backs one)")
     else:
-        data = calibration.provenance.get("data", "see the calibration file")
+        out = int((assignment.index < 0).sum())
+        if out:
+            a.notes.append(f"{out} of {len(index)} poses have no calibrated intervals ({note}); their symmetry calls "
+                           "are uncertain")  # fmt: skip
+        used = np.unique(assignment.index[assignment.index >= 0]).tolist()
+        sources = (assignment.calibrations[i].provenance.get("data", "see the calibration file") for i in used)
+        data = "; ".join(dict.fromkeys(str(x) for x in sources))
         side = (1 - settings.call_level) / 2
         a.notes.append(f"{settings.level:.0%} intervals and estimates calibrated at the level of each measure on "
                        f"held-out lifts ({data}); a call is symmetric or asymmetric only when the "
@@ -240,6 +285,7 @@ def analyse(
             bound = settings.max_velocity_deg_s
             a.notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
                            "frame: flagged too_fast and left out of the movement features")  # fmt: skip
+    a.probabilities = _probabilities(a)
     a.rows = _frame_rows(a)
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
@@ -269,6 +315,29 @@ def _too_fast(a: Analysis, fps: float) -> dict[str, np.ndarray]:
     return out
 
 
+def probability_name(name: str) -> str:
+    """`symmetry_upper_arm_probability_asymmetric` etc.: the frame row of a symmetry measure's probability."""
+    return name.removesuffix("_deg") + "_probability_asymmetric"
+
+
+def _probabilities(a: Analysis) -> dict[str, np.ndarray]:
+    """Per symmetry measure `(M,)`: each calibrated pose's probability of a true angle above the threshold."""
+    out = {}
+    assignment = a.assignment
+    for name in SYMMETRY_NAMES:
+        p = np.full(len(a.index), np.nan)
+        calibrated = np.isfinite(a.intervals[name][0])
+        filled = np.char.startswith(np.array(a.interval_how[name], dtype=str), INTERVAL_FILLED)
+        if assignment is not None:
+            for c, cal in enumerate(assignment.calibrations):
+                for sel, models in ((calibrated & ~filled, cal.measures), (calibrated & filled, cal.filled)):
+                    sel = sel & (assignment.index == c)
+                    if sel.any() and name in models:
+                        p[sel] = probability_above(models[name], a.raw_values[name][sel], a.settings.threshold_deg)
+        out[name] = p
+    return out
+
+
 def _frame_rows(a: Analysis) -> list[Row]:
     res, thr = a.result, a.settings.threshold_deg
     rows: list[Row] = []
@@ -288,6 +357,8 @@ def _frame_rows(a: Analysis) -> list[Row]:
                 band = name.replace("_deg", "_band")
                 rows.append(Row(*head, band, symmetry_band(v), "band", symmetry_band(low), symmetry_band(high), "",
                                 how, symmetry_band(raw)))  # fmt: skip
+                rows.append(Row(*head, probability_name(name), float(a.probabilities[name][k]), "probability",
+                                interval=how))  # fmt: skip
     return rows
 
 
@@ -332,7 +403,22 @@ def _clip_rows(a: Analysis) -> list[Row]:
                     INTERVAL_CLIP_MEDIAN)  # fmt: skip
             else:
                 add(f"{stem}_median_deg", median, "deg", how="none: not every frame has a calibrated interval")
+            add(f"{stem}_share_asymmetric", *_share(a, name, sel, frames, 1000 * p + SYMMETRY_NAMES.index(name)))
     return rows
+
+
+def _share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray, seed: int
+           ) -> tuple[float, str, float, float, str]:  # fmt: skip
+    """The clip row of a person's (`sel (M,)`) share of frames asymmetric in `name`: value, unit, interval, how."""
+    order = np.flatnonzero(sel)[np.argsort(frames[sel], kind="stable")]
+    p = a.probabilities[name][order]
+    known = p[np.isfinite(p)]
+    if not len(known):
+        return np.nan, "fraction", np.nan, np.nan, "none: no frame has a calibrated value"
+    share = share_interval(known, block_frames(known, float(a.fps or 0.0)), a.settings.level, seed=seed)
+    how = INTERVAL_SHARE if len(known) == len(p) else (
+        f"{INTERVAL_SHARE}: over {len(known)} of {len(p)} frames (the others have no calibrated value)")  # fmt: skip
+    return share.value, "fraction", share.low, share.high, how
 
 
 def summary(a: Analysis) -> dict[str, dict[str, float | int]]:

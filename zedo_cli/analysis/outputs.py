@@ -69,6 +69,12 @@ def measure_descriptions() -> dict[str, str]:
         "<base>_left_right_correlation": "per clip: Pearson r of the left and right series",
         "symmetry_<pair>_fraction_<call>": "per clip: share of the frames called symmetric, asymmetric or "
         "uncertain (the frame rows' calls, counted)",
+        "symmetry_<pair>_probability_asymmetric": "per frame: the probability that the true symmetry angle exceeds "
+        "the threshold, from the frame's calibrated interval (the level at which it touches the threshold); empty "
+        "without a calibrated interval",
+        "symmetry_<pair>_share_asymmetric": "per clip: the share of the frames whose true symmetry angle exceeds the "
+        "threshold, estimated as the mean of the frames' probability_asymmetric; its interval draws the frames' "
+        "truths with errors shared by neighbouring frames (a block bootstrap, docs/clinical.md), not a binomial one",
         "symmetry_<pair>_median_deg": "per clip: the median of the frames' estimates; its interval is the median "
         "of the frames' interval ends (coverage measured on synthetic clips, docs)",
         "<angle>_frames_too_fast": "per clip: frames whose angle changed faster than the bound (left out of the "
