@@ -20,6 +20,9 @@ the `fx_px` ... `camera_model`, `dist` columns (CSV) or the `K`, `camera_model`,
 `image_size` arrays (NPZ); None for a person whose file states no camera. Files written before
 `model` and `dist` existed read as pinhole cameras without distortion.
 
+2D input: `ResultPoses.keypoints_2d` `(N, J, 2)` holds the input's pixels per person and joint (JSON /
+JSONL `keypoints_2d`, CSV `u_px`, `v_px`, NPZ `keypoints_2d`), NaN where missing; None when the file has none.
+
 Keypoints that were not lifted: `zedo lift` keeps the input's keypoints outside the lifted
 skeleton (nose, eyes, ears, feet, ...) by name, 2D only, in the original image's pixels as the input
 gave them: the header's `other_keypoints.joints` with each person's `other_keypoints_2d` and
@@ -88,6 +91,8 @@ class ResultPoses:
     cameras: list[CameraModel | None] | None = None  # (N,) each person's camera (any format); None: not stated
     flags: list[list[str]] | None = None
     root_translation: np.ndarray | None = None  # (N, 3)
+    # the input's 2D keypoints in pixels (every format; None: a file without them), NaN where missing
+    keypoints_2d: np.ndarray | None = None  # (N, J, 2)
     # The input's keypoints that were not lifted (face, feet, ...), by name: original image pixels as
     # the input gave them. None: the file does not say (written before zedo kept them); names () and
     # (N, 0, 2): the input had none.
@@ -213,16 +218,6 @@ def _array(values: list[Any] | None, shape: tuple[int, ...]) -> np.ndarray:
     return np.array(values, dtype=float).reshape(shape)  # None -> nan
 
 
-def _pixels(points: list[list[float | None] | None] | None, count: int) -> np.ndarray:
-    """A validated list of `count` [u, v] points or null as `(count, 2)` floats, NaN for null; all
-    NaN for None (a person without the field)."""
-    out = np.full((count, 2), np.nan)
-    for e, point in enumerate(points or ()):
-        if point is not None:
-            out[e] = [np.nan if v is None else v for v in point]
-    return out
-
-
 class _DocumentReader:
     """The persons of validated frames, gathered into a ResultPoses."""
 
@@ -270,6 +265,7 @@ class _DocumentReader:
                      for frame, _, _ in self.persons],
             flags=[list(person.flags) for _, _, person in self.persons],
             root_translation=np.asarray(roots).reshape(-1, 3),
+            keypoints_2d=np.asarray([_pixels(person.keypoints_2d) for _, _, person in self.persons]).reshape(-1, j, 2),
             **self._others(),
         )  # fmt: skip
 
@@ -278,7 +274,7 @@ class _DocumentReader:
         if not self.has_others:
             return {}
         e = len(self.other_names)
-        xy = [_pixels(person.other_keypoints_2d, e) for _, _, person in self.persons]
+        xy = [_pixels(person.other_keypoints_2d or [None] * e) for _, _, person in self.persons]
         conf = [_array(person.other_keypoint_confidence, (e,)) for _, _, person in self.persons]
         return _other_fields(self.other_names, xy, conf)
 
@@ -294,6 +290,11 @@ def _other_fields(names: tuple[str, ...], xy: list[np.ndarray], conf: list[np.nd
         "other_keypoint_confidence": np.where(present, conf_a, 0.0),
         "other_keypoint_names": names,
     }
+
+
+def _pixels(points: list[list[float | None] | None]) -> np.ndarray:
+    """A person's validated `keypoints_2d` (a point, or null where missing) as `(J, 2)` floats, NaN for null."""
+    return np.array([[np.nan, np.nan] if p is None else p for p in points], dtype=float).reshape(-1, 2)
 
 
 def _camera(block: Any, where: str) -> CameraModel | None:
@@ -414,7 +415,7 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         if key not in order:
             order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
                           "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
-                          "points": {}, "observed": {}, "radii": {}, "other": {}}  # fmt: skip
+                          "points": {}, "observed": {}, "radii": {}, "pixels": {}, "other": {}}  # fmt: skip
         inst = order[key]
         if j is None:  # a keypoint of the input that was not lifted: 2D only
             other_names.setdefault(row["joint"])
@@ -424,6 +425,7 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
             continue
         joint_names.setdefault(j, row["joint"])
         inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
+        inst["pixels"][j] = [_cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px")]
         inst["observed"][j] = row.get("observed", "true") == "true"
         if "uncertainty_m" in row:
             inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
@@ -449,7 +451,14 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
                    [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
                    if "uncertainty_m" in columns else None, fps, coord, units,
                    cameras=[inst["camera"] for inst in order.values()])  # fmt: skip
-    return replace(out, params=_params(meta), **_csv_others(order, other_names, meta, name))
+    pixels = [[inst["pixels"][j] for j in range(skel.num_joints)] for inst in order.values()]
+    has_2d = "u_px" in columns and "v_px" in columns
+    return replace(
+        out,
+        params=_params(meta),
+        keypoints_2d=np.asarray(pixels, dtype=float).reshape(-1, skel.num_joints, 2) if has_2d else None,
+        **_csv_others(order, other_names, meta, name),
+    )
 
 
 def _csv_others(
@@ -519,6 +528,9 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
     cameras = _npz_cameras(arrays, n, name)
+    pixels = arrays.get("keypoints_2d")
+    if pixels is not None and np.shape(pixels) != (n, skel.num_joints, 2):
+        raise InputFormatError(f"{name}: keypoints_2d: expected shape ({n}, {skel.num_joints}, 2)")
     others = _npz_others(arrays, n, name)
     return ResultPoses(  # the lift's params come with the metadata
         name, "npz", skel, poses * scale, np.asarray(arrays["frame_index"], dtype=np.int64),
@@ -526,7 +538,8 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
         [str(f) or None for f in files], np.asarray(arrays.get("lifted", np.isfinite(poses).all((1, 2))), dtype=bool),
         np.asarray(arrays.get("observed", np.ones((n, skel.num_joints))), dtype=bool),
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
-        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta), cameras, **others,
+        str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta), cameras,
+        keypoints_2d=None if pixels is None else np.asarray(pixels, dtype=float), **others,
     )  # fmt: skip
 
 
