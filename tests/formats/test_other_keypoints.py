@@ -120,6 +120,17 @@ def test_csv_rows_have_no_joint_index_and_no_3d(tmp_path: Path) -> None:
     assert len(rows) == len(kp) * (SYRIP.num_joints + len(FACE))
 
 
+@pytest.mark.parametrize("fmt", RESULT_FORMATS)
+def test_an_input_without_other_keypoints_reads_back_empty(tmp_path: Path, fmt: str) -> None:
+    kp, res, mats, sources = make_case()
+    kp = dataclasses.replace(kp, other=OtherKeypoints.empty(len(kp)))
+    out = tmp_path / f"r.{fmt}"
+    write_result(out, kp, res, mats, sources, PARAMS, INPUT_INFO)
+    back = read_result(out)
+    assert back.other_keypoint_names == () and back.other_keypoints_2d is not None
+    assert back.other_keypoints_2d.shape == (len(kp), 0, 2)
+
+
 def test_results_without_the_field_still_read(tmp_path: Path) -> None:
     kp, res, mats, sources = make_case()  # a caller's own record: no other keypoints
     for fmt in RESULT_FORMATS:

@@ -282,8 +282,8 @@ class _DocumentReader:
 def _other_fields(names: tuple[str, ...], xy: list[np.ndarray], conf: list[np.ndarray]) -> dict[str, Any]:
     """The ResultPoses fields of the keypoints that were not lifted: pixels `(N, E, 2)` NaN where
     missing, confidences `(N, E)` 0 where missing (either one unknown makes the point missing)."""
-    e = len(names)
-    xy_a, conf_a = np.asarray(xy, dtype=float).reshape(-1, e, 2), np.asarray(conf, dtype=float).reshape(-1, e)
+    n, e = len(xy), len(names)
+    xy_a, conf_a = np.asarray(xy, dtype=float).reshape(n, e, 2), np.asarray(conf, dtype=float).reshape(n, e)
     present = np.isfinite(xy_a).all(-1) & np.isfinite(conf_a) & (conf_a > 0)  # (N, E)
     return {
         "other_keypoints_2d": np.where(present[..., None], xy_a, np.nan),
@@ -477,9 +477,8 @@ def _csv_others(
     else:
         return {}
     nan = [np.nan, np.nan, np.nan]
-    values = np.array([[inst["other"].get(n, nan) for n in names] for inst in order.values()]).reshape(
-        -1, len(names), 3
-    )
+    values = np.array([[inst["other"].get(n, nan) for n in names] for inst in order.values()])
+    values = values.reshape(len(order), len(names), 3)
     return _other_fields(names, list(values[..., :2]), list(values[..., 2]))
 
 
