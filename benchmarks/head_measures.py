@@ -25,7 +25,8 @@ Measured: the calls against the true yaw (frames where the nose or an eye was de
 tilt against its definition computed on the noiseless projected points, the clip shares against
 the frame rows, and the 90 % intervals' coverage of the process's long-run shares (its share of
 calls, the bootstrap's estimand, and its true share by the yaw; from 2 hours of the same
-process) for clips of 1, 3 and 10 minutes. With `--e2e-dir`, one clip also goes through
+process) for clips of 1, 3 and 10 minutes, and on the yaw process alone (no camera: the true
+categories as calls) for holds of 2, 4 and 6 s. With `--e2e-dir`, one clip also goes through
 `zedo lift` (COCO-17 with the face points) and `zedo analyze`, and the CSV's head rows are compared
 with the measure computed directly. SyRIP's terms (non-commercial research) hold for its poses.
 """
@@ -43,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from zedo_cli.analysis.block_bootstrap import share_intervals
 from zedo_cli.analysis.head import FACE_JOINTS, HeadSettings, head_clip, head_frames, head_tilt
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
@@ -273,6 +275,22 @@ def coverage(train: np.ndarray, rng: np.random.Generator, known: list[Case], sec
             "shares_agree_with_frame_calls": agree / total}  # fmt: skip
 
 
+def process_coverage(rng: np.random.Generator, seconds: float, dwell_s: float, count: int) -> dict[str, float]:
+    """Coverage of the share intervals on the yaw process alone (calls = the true categories, no
+    camera): `count` clips against 10 hours of the same process, shares 0.4 / 0.3 / 0.3."""
+    shares = (0.4, 0.3, 0.3)
+    long = true_calls(yaw_process(np.random.default_rng(int(rng.integers(1 << 31))), 30 * 36000, 30.0, shares, dwell_s))
+    ref = np.array([(long == c).mean() for c in CALLS])
+    hits, widths = [], []
+    for _ in range(count):
+        calls = true_calls(yaw_process(rng, int(30 * seconds), 30.0, shares, dwell_s))
+        ind = np.stack([(calls == c).astype(float) for c in CALLS])
+        for interval, truth in zip(share_intervals(ind, 30.0), ref, strict=True):
+            hits.append(interval.low <= truth <= interval.high)
+            widths.append(interval.high - interval.low)
+    return {"cases": float(len(hits)), "coverage": float(np.mean(hits)), "median_width": float(np.median(widths))}
+
+
 def write_coco(clip: Clip, path: Path) -> None:
     """The clip as a COCO-17 annotation file: the body from its syrip12 joints, the face points."""
     images, anns = [], []
@@ -355,6 +373,10 @@ def main() -> int:
     known = cases(train, rng, args.clips)
     for seconds in (60.0, 180.0, 600.0):
         report[f"coverage ({args.clips} clips of {seconds / 60:g} min)"] = coverage(train, rng, known, seconds)
+    for dwell in (2.0, 4.0, 6.0):
+        for seconds in (60.0, 180.0, 600.0):
+            name = f"coverage, yaw process alone (200 clips of {seconds / 60:g} min, holds of {dwell:g} s)"
+            report[name] = process_coverage(rng, seconds, dwell, 200)
     report["speed (10 min at 30 fps)"] = speed(train, rng)
     if args.e2e_dir is not None:
         report["end to end (10 s clip through zedo lift and zedo analyze)"] = end_to_end(

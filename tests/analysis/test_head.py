@@ -13,7 +13,13 @@ from analysis_results import kicking_poses, result_document, write_document
 from helpers import K_TEST
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-from zedo_cli.analysis.block_bootstrap import BootstrapSettings, block_length, median_interval, share_intervals
+from zedo_cli.analysis.block_bootstrap import (
+    BootstrapSettings,
+    block_length,
+    median_interval,
+    share_intervals,
+    taper_correction,
+)
 from zedo_cli.analysis.head import FLAG_EYES_REVERSED, HeadSettings, head_tilt, head_turn
 from zedo_cli.data.keypoints import OtherKeypoints
 from zedo_cli.formats.result_reader import read_result
@@ -170,6 +176,7 @@ def test_block_length_grows_with_the_correlation() -> None:
         ar[t] = 0.95 * ar[t - 1] + rng.normal()
     assert block_length(white) < 5.0 < block_length(ar)
     assert block_length(np.ones(100)) == 0.0
+    assert taper_correction(white, 30) < 1.1 < taper_correction(ar, 30) <= 2.0
 
 
 def test_bootstrap_intervals_hold_the_estimate_and_refuse_short_series() -> None:

@@ -6,9 +6,13 @@ hundreds of frames that say the same thing, so a binomial interval over frames t
 independent is far too narrow. The bootstrap resamples whole blocks of consecutive frames; the
 block length is chosen from the series' own autocorrelation (Politis & White 2004, with the
 correction of Patton, Politis & White 2009: the circular bootstrap's optimal block), and never
-shorter than `min_block_s` seconds of frames (so it is tied to the fps). The interval is for the
-long-run share (or median) of the process the clip was drawn from; its coverage on synthetic
-clips is measured by `benchmarks/head_measures.py` (docs/clinical.md, "Head").
+shorter than `min_block_s` seconds of frames (so it is tied to the fps): blocks of `block_factor`
+times that length, at most a quarter of the clip (`min_blocks`). The percentile interval's arms
+are widened by t(k - 1) / z for k blocks and by the blocks' taper (`taper_correction`): both
+correct the too narrow intervals of clips of few stretches of behaviour, not wholly (coverage
+below 90 % for clips of a few minutes with long holds). The interval is for the long-run share
+(or median) of the process the clip was drawn from; its coverage on synthetic clips is measured
+by `benchmarks/head_measures.py` (docs/clinical.md, "Head").
 
 Series lie on the clip's frame grid (`frame - first frame`), NaN where a frame has no value (not in
 the result, or no call): a replicate's share is the ratio of its blocks' counts, so gaps keep their
@@ -109,6 +113,24 @@ def block_length(x: np.ndarray) -> float:
     return float(min(b, 3.0 * math.sqrt(n), n / 3.0))
 
 
+def taper_correction(x: np.ndarray, block: int) -> float:
+    """How much wider a block bootstrap interval of the mean of `x (n,)` (NaN filled with the mean)
+    must be, as a factor on its standard error: blocks of b frames estimate the long-run variance
+    with Bartlett's taper, sum_{|k|<b} (1 - |k|/b) R(k), short by sum_{|k|<b} |k| R(k) / b (the
+    block bootstrap's first-order bias, Kuensch 1989); the factor is the square root of the
+    untapered sum over the tapered one, between 1 and 2."""
+    x = np.where(np.isfinite(x), x, np.nanmean(x)) if np.isfinite(x).any() else np.zeros_like(x)
+    if block < 2 or len(x) <= block:
+        return 1.0
+    acov = autocovariance(x, block - 1)
+    k = np.arange(1, block)
+    flat = acov[0] + 2.0 * acov[k].sum()
+    tapered = acov[0] + 2.0 * ((1.0 - k / block) * acov[k]).sum()
+    if not (tapered > 0 and flat > tapered):
+        return 1.0
+    return float(min(2.0, math.sqrt(flat / tapered)))
+
+
 def _starts(n: int, block: int, settings: BootstrapSettings) -> np.ndarray:
     """`(B, ceil(n / block))` random block starts on the circle of n frames."""
     rng = np.random.default_rng(settings.seed)
@@ -116,8 +138,12 @@ def _starts(n: int, block: int, settings: BootstrapSettings) -> np.ndarray:
 
 
 def _block(series: np.ndarray, fps: float, settings: BootstrapSettings) -> int:
+    """`block_factor` times the longest Politis-White length of `series (C, n)`, at most n /
+    `min_blocks` frames, and at least `min_block_s` seconds of frames (which wins)."""
     longest = max(block_length(s) for s in series)
-    return max(int(math.ceil(settings.min_block_s * fps)), int(math.ceil(settings.block_factor * longest)))
+    n = series.shape[1]
+    wanted = min(settings.block_factor * longest, n / settings.min_blocks)
+    return max(int(math.ceil(settings.min_block_s * fps)), int(math.floor(wanted)))
 
 
 def t_quantile(p: float, df: float) -> float:
@@ -129,19 +155,21 @@ def t_quantile(p: float, df: float) -> float:
     return z + sum(term / df ** (k + 1) for k, term in enumerate(terms))
 
 
-def _interval(estimate: float, replicates: np.ndarray, blocks: int, settings: BootstrapSettings) -> tuple[float, float]:
+def _interval(estimate: float, replicates: np.ndarray, blocks: int, taper: float,
+              settings: BootstrapSettings) -> tuple[float, float]:  # fmt: skip
     """The percentile interval's two arms about the estimate, each widened by t(k - 1) / z for a
-    clip of k blocks: a few blocks are a few independent stretches of behaviour, and the
-    percentile interval alone (a normal-like calibration) is too narrow for them."""
+    clip of k blocks (a few blocks are a few independent stretches of behaviour, and the
+    percentile interval alone is calibrated like a normal one) and by `taper_correction`."""
     upper = (1.0 + settings.level) / 2.0
     lo, hi = np.nanquantile(replicates, [1.0 - upper, upper])
-    widen = t_quantile(upper, blocks - 1) / NormalDist().inv_cdf(upper)
+    widen = taper * t_quantile(upper, blocks - 1) / NormalDist().inv_cdf(upper)
     return estimate - widen * (estimate - lo), estimate + widen * (hi - estimate)
 
 
 def _method(block: int, blocks: int, fps: float, settings: BootstrapSettings) -> str:
     return (f"block_bootstrap: circular, {blocks} blocks of {block} frames ({block / fps:.1f} s), "
-            f"{settings.replicates} replicates, percentile widened by t({blocks - 1})/z")  # fmt: skip
+            f"{settings.replicates} replicates, percentile widened by t({blocks - 1})/z and the blocks' "
+            "taper")  # fmt: skip
 
 
 def share_intervals(
@@ -176,7 +204,7 @@ def share_intervals(
     out = []
     for c in range(len(ind)):
         estimate = float(np.where(called, ind[c], 0.0).sum() / count)
-        lo, hi = _interval(estimate, shares[c], blocks, settings)
+        lo, hi = _interval(estimate, shares[c], blocks, taper_correction(ind[c], block), settings)
         out.append(ClipInterval(max(0.0, lo), min(1.0, hi), block, how))
     return out
 
@@ -204,5 +232,7 @@ def median_interval(values: np.ndarray, fps: float, settings: BootstrapSettings 
         idx = starts[first : first + chunk, :, None] + offsets  # (c, k, block)
         medians[first : first + chunk] = np.median(ext[idx.reshape(len(idx), -1)], axis=1)
     blocks = starts.shape[1]
-    low, high = _interval(float(np.median(known)), medians, blocks, settings)
+    median = float(np.median(known))
+    taper = taper_correction((known <= median).astype(float), block)  # the median's influence: a side of it
+    low, high = _interval(median, medians, blocks, taper, settings)
     return ClipInterval(float(low), float(high), block, _method(block, blocks, fps, settings))
