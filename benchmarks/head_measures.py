@@ -219,13 +219,14 @@ def frame_figures(clips: list[Clip]) -> dict[str, float]:
     return out
 
 
-def clip_shares(clip: Clip) -> tuple[np.ndarray, list]:
-    """The clip's shares (left, right, midline) counted from its frames' calls, and head_clip's rows."""
+def clip_shares(clip: Clip) -> tuple[np.ndarray, list, int]:
+    """The clip's shares (left, right, midline) counted from its frames' calls, head_clip's rows and
+    the number of frames with a call."""
     h = head_frames(clip.face2d, shoulders(clip.body2d))
     stats = head_clip(np.arange(len(clip.yaw)), h, clip.fps)
     calls = h.turn_call.astype(str)
     counted = np.array([(calls == c).sum() / (calls != "").sum() for c in CALLS])
-    return counted, stats
+    return counted, stats, int((calls != "").sum())
 
 
 @dataclass
@@ -253,16 +254,29 @@ def cases(train: np.ndarray, rng: np.random.Generator, count: int, hours: float 
     return out
 
 
+def reference_spread(train: np.ndarray, known: list[Case], hours: float = 2.0) -> dict[str, float]:
+    """How much the long-run reference itself varies: a second run of `hours` of each process (same
+    infant and set-up, other behaviour), the mean absolute difference of the shares of calls."""
+    diffs = []
+    for case in known:
+        other = make_clip(train, np.random.default_rng(case.setup_seed + 2), hours * 3600.0, shares=case.shares,
+                          dwell_s=case.dwell_s, setup=np.random.default_rng(case.setup_seed))  # fmt: skip
+        calls = head_frames(other.face2d, shoulders(other.body2d)).turn_call.astype(str)
+        again = np.array([(calls == c).sum() / (calls != "").sum() for c in CALLS])
+        diffs.extend(np.abs(again - case.share_of_calls).tolist())
+    return {"cases": float(len(diffs)), "mean_abs_difference": float(np.mean(diffs))}
+
+
 def coverage(train: np.ndarray, rng: np.random.Generator, known: list[Case], seconds: float) -> dict[str, float]:
     """Coverage of the 90 % share intervals of one clip of `seconds` per case (the same infant and
     set-up, another stretch of its behaviour): of the process's long-run share of calls (the
     bootstrap's estimand) and of its true share (the calls' own errors included)."""
     hit_calls = hit_truth = agree = total = 0
-    widths = []
+    widths, binomial = [], []
     for case in known:
         clip = make_clip(train, np.random.default_rng(int(rng.integers(1 << 31))), seconds, shares=case.shares,
                          dwell_s=case.dwell_s, setup=np.random.default_rng(case.setup_seed))  # fmt: skip
-        counted, stats = clip_shares(clip)
+        counted, stats, called = clip_shares(clip)
         for k, stat in enumerate(stats[:3]):
             agree += int(stat.value == counted[k])
             total += 1
@@ -270,8 +284,11 @@ def coverage(train: np.ndarray, rng: np.random.Generator, known: list[Case], sec
             hit_calls += int(lo <= case.share_of_calls[k] <= hi)
             hit_truth += int(lo <= case.true_share[k] <= hi)
             widths.append(hi - lo)
+            p = counted[k]
+            binomial.append(2 * 1.645 * math.sqrt(p * (1 - p) / called))  # frames taken as independent
     return {"cases": float(total), "coverage_of_process_share_of_calls": hit_calls / total,
             "coverage_of_process_true_share": hit_truth / total, "median_width": float(np.median(widths)),
+            "median_width_binomial_over_frames": float(np.median(binomial)),
             "shares_agree_with_frame_calls": agree / total}  # fmt: skip
 
 
@@ -371,6 +388,7 @@ def main() -> int:
         noisy = [make_clip(train, rng, 180.0, noise_px=noise) for _ in range(5)]
         report[f"frames (5 clips of 3 min, {noise:g} px noise)"] = frame_figures(noisy)
     known = cases(train, rng, args.clips)
+    report["long-run reference, a second 2-hour run (10 processes)"] = reference_spread(train, known[:10])
     for seconds in (60.0, 180.0, 600.0):
         report[f"coverage ({args.clips} clips of {seconds / 60:g} min)"] = coverage(train, rng, known, seconds)
     for dwell in (2.0, 4.0, 6.0):

@@ -12,7 +12,7 @@ import pytest
 from analysis_results import kicking_poses, result_document, write_document
 from helpers import K_TEST
 
-from zedo_cli.analysis.analyse import AnalysisSettings, analyse
+from zedo_cli.analysis.analyse import AnalysisSettings, analyse, summary
 from zedo_cli.analysis.block_bootstrap import (
     BootstrapSettings,
     block_length,
@@ -147,6 +147,8 @@ def test_clip_shares_are_the_frame_rows_calls_counted(tmp_path: Path) -> None:
     assert calls.count("right") >= 90 and calls.count("midline") >= 60
     assert clip["head_tilt_median_deg"].value == pytest.approx(0.0, abs=1e-6)
     assert not any("no head measures" in n for n in a.notes)
+    counts = summary(a)["head_turn"]
+    assert counts["count"] == sum(1 for x in calls if x) and counts["right"] == calls.count("right")
 
 
 def test_a_result_without_face_points_says_so_once(tmp_path: Path) -> None:

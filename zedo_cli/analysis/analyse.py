@@ -34,7 +34,7 @@ from .calibration import (
     measure_joints,
 )
 from .geometry import require_joints
-from .head import TILT, TURN, HeadFrames, HeadSettings, face_points, head_clip, head_frames, shoulder_points
+from .head import TILT, TURN, TURN_CALLS, HeadFrames, HeadSettings, face_points, head_clip, head_frames, shoulder_points
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
 from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
 from .symmetry import (
@@ -259,6 +259,8 @@ def _measure_head(a: Analysis) -> str | None:
     if isinstance(min_conf, int | float) and min_conf > settings.min_confidence:
         settings = replace(settings, min_confidence=float(min_conf))
     face, why = face_points(res, a.index, settings.min_confidence)
+    if why is None and res.keypoints_2d is None:
+        why = "the result does not carry the input's 2D keypoints (the shoulders')"
     a.head = head_frames(face, shoulder_points(res, a.index), settings, why)
     if why is not None:
         a.notes.append(f"no head measures: {why}")
@@ -393,6 +395,14 @@ def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
         elif name in a.too_fast:
             stats["too_fast"] = int(a.too_fast[name].sum())
         out[name] = stats
+    if a.head is not None:  # the head: tilt statistics and the turn calls counted
+        tilt = a.head.tilt_deg[np.isfinite(a.head.tilt_deg)]
+        out[TILT] = {"count": int(len(tilt))}
+        if len(tilt):
+            out[TILT].update(mean=float(tilt.mean()), median=float(np.median(tilt)), min=float(tilt.min()),
+                             max=float(tilt.max()))  # fmt: skip
+        calls = a.head.turn_call.astype(str)
+        out[TURN] = {"count": int((calls != "").sum()), **{c: int((calls == c).sum()) for c in TURN_CALLS}}
     return out
 
 
