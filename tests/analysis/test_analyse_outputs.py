@@ -46,8 +46,13 @@ def test_rows_without_a_calibration_say_so(kick: Path) -> None:
     assert list(rows[0]) == list(COLUMNS)
     assert list(COLUMNS[:10]) == ["frame_index", "image_id", "file_name", "person", "measure", "value", "unit",
                                   "low_90", "high_90", "call"]  # fmt: skip
-    frame_rows = [r for r in rows if r["frame_index"]]
+    head_rows = [r for r in rows if r["measure"].startswith("head_")]
+    frame_rows = [r for r in rows if r["frame_index"] and not r["measure"].startswith("head_")]
     assert len(frame_rows) == 60 * (4 + 4 + 4 + 12)  # angle, band and probability per pair; 12 joint angles
+    # a result written without the input's face points: empty head rows with the reason, one note
+    assert len([r for r in head_rows if r["frame_index"]]) == 60 * 2
+    assert all(r["value"] == "" and "lift it again" in r["interval"] for r in head_rows)
+    assert sum("no head measures" in n for n in a.notes) == 1
     assert all(r["low_90"] == "" and r["high_90"] == "" for r in rows)
     assert {r["interval"] for r in frame_rows} == {"none: no measure calibration for this prior"}
     assert {r["call"] for r in frame_rows if r["measure"].startswith("symmetry_") and r["unit"] == "deg"} == {

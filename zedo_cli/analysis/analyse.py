@@ -7,15 +7,17 @@
 Rows follow the CSV's columns (COLUMNS): per lifted person, the four symmetry angles
 (`symmetry_upper_arm_deg`, `symmetry_forearm_deg`, `symmetry_thigh_deg`,
 `symmetry_shank_deg`) with their call, the paper's band of each (`symmetry_<pair>_band`), and
-the twelve joint angles; then, for a sequence (an fps from the settings or the result), the
-movement features of each person's clip (frame_index, image_id and file_name empty), then its
+the twelve joint angles; then per pose the head's `head_tilt_deg` and `head_turn` (from the input's
+2D face points and shoulders, `analysis.head`); then, for a sequence (an fps from the settings or
+the result), the movement features of each person's clip (frame_index, image_id and file_name
+empty), its head-turn shares and median tilt with block bootstrap intervals, then its
 published 2D features (Chambers et al. 2020) and `3d_` features (`analysis.clip_features`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -36,6 +38,7 @@ from .calibration import (
 from .clip_features import clip_features
 from .clip_share import block_frames, probability_above, share_interval
 from .geometry import require_joints
+from .head import TILT, TURN, TURN_CALLS, HeadFrames, HeadSettings, face_points, head_clip, head_frames, shoulder_points
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
 from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
 from .symmetry import (
@@ -71,6 +74,7 @@ class AnalysisSettings:
     level: float = DEFAULT_LEVEL  # the intervals' coverage
     call_level: float = DEFAULT_CALL_LEVEL  # the symmetry calls use the interval of this level
     max_velocity_deg_s: float = DEFAULT_MAX_VELOCITY_DEG_S  # faster joint-angle changes are flagged
+    head: HeadSettings = field(default_factory=HeadSettings)  # head tilt and turn (analysis.head)
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.threshold_deg <= 180.0:
@@ -131,6 +135,7 @@ class Analysis:
     assignment: Assignment | None = None  # which measure calibration holds for each analysed pose
     # symmetry measure -> (M,) the probability that the true angle exceeds the threshold (NaN: no calibration)
     probabilities: dict[str, np.ndarray] = field(default_factory=dict)
+    head: HeadFrames | None = None  # the head measures of the analysed poses (from the input's 2D)
 
     @property
     def uncertainty_available(self) -> bool:
@@ -286,14 +291,60 @@ def analyse(
             a.notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
                            "frame: flagged too_fast and left out of the movement features")  # fmt: skip
     a.probabilities = _probabilities(a)
-    a.rows = _frame_rows(a)
+    head_why = _measure_head(a)
+    a.rows = _frame_rows(a) + _head_frame_rows(a)
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
+        a.rows += _head_clip_rows(a, head_why)
         a.rows += [
             Row(None, None, None, f.person, f.measure, f.value, f.unit, interval=f.interval)
             for f in clip_features(result, index, fps)
         ]  # the published 2D and the 3d_ features
     return a
+
+
+def _measure_head(a: Analysis) -> str | None:
+    """The head measures of the analysed poses (`a.head`) from the input's face points and shoulders,
+    the lift's --min-confidence applying to the face points too; returns why there are none (once, a note)."""
+    res = a.result
+    min_conf = res.params.get("min_confidence")
+    settings = a.settings.head
+    if isinstance(min_conf, int | float) and min_conf > settings.min_confidence:
+        settings = replace(settings, min_confidence=float(min_conf))
+    face, why = face_points(res, a.index, settings.min_confidence)
+    if why is None and res.keypoints_2d is None:
+        why = "the result does not carry the input's 2D keypoints (the shoulders')"
+    a.head = head_frames(face, shoulder_points(res, a.index), settings, why)
+    if why is not None:
+        a.notes.append(f"no head measures: {why}")
+    return why
+
+
+def _head_frame_rows(a: Analysis) -> list[Row]:
+    """`head_tilt_deg` and `head_turn` of every analysed pose (after the body's frame rows)."""
+    res, h = a.result, a.head
+    assert h is not None
+    rows: list[Row] = []
+    for k, i in enumerate(a.index):
+        head = (int(res.frame_index[i]), res.image_ids[i], res.file_names[i], int(res.person[i]))
+        rows.append(Row(*head, TILT, float(h.tilt_deg[k]), "deg", interval=h.tilt_how[k], flag=h.tilt_flag[k]))
+        rows.append(Row(*head, TURN, float(h.turn_deg[k]), "deg", call=h.turn_call[k], interval=h.turn_how[k]))
+    return rows
+
+
+def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
+    """Per person track: the head-turn shares and the median tilt, with block bootstrap intervals."""
+    assert a.head is not None and a.fps is not None
+    people, frames = a.result.person[a.index], a.result.frame_index[a.index]
+    rows: list[Row] = []
+    for p in sorted(set(people.tolist())):
+        sel = np.flatnonzero(people == p)
+        sel = sel[np.argsort(frames[sel], kind="stable")]
+        track = HeadFrames(*(getattr(a.head, f)[sel] for f in HeadFrames.__dataclass_fields__))
+        for stat in head_clip(frames[sel], track, a.fps, a.settings.head, why):
+            i = stat.interval
+            rows.append(Row(None, None, None, p, stat.measure, stat.value, stat.unit, i.low, i.high, interval=i.how))
+    return rows
 
 
 def _too_fast(a: Analysis, fps: float) -> dict[str, np.ndarray]:
@@ -437,6 +488,14 @@ def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
         elif name in a.too_fast:
             stats["too_fast"] = int(a.too_fast[name].sum())
         out[name] = stats
+    if a.head is not None:  # the head: tilt statistics and the turn calls counted
+        tilt = a.head.tilt_deg[np.isfinite(a.head.tilt_deg)]
+        out[TILT] = {"count": int(len(tilt))}
+        if len(tilt):
+            out[TILT].update(mean=float(tilt.mean()), median=float(np.median(tilt)), min=float(tilt.min()),
+                             max=float(tilt.max()))  # fmt: skip
+        calls = a.head.turn_call.astype(str)
+        out[TURN] = {"count": int((calls != "").sum()), **{c: int((calls == c).sum()) for c in TURN_CALLS}}
     return out
 
 

@@ -20,6 +20,10 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
     image_ids              (N,)      int64 when every id is an integer within int64's range, else str
     file_names             (N,)      str      "" where the input has none
     joint_names            (J,) str, bones (B, 2) int64
+    other_keypoints_2d     (N, E, 2) float64  the input's keypoints that were not lifted (face, feet, ...), original
+                                              image pixels as the input gave them; NaN where missing
+    other_keypoint_confidence (N, E) float64  their input confidences; NaN where missing
+    other_keypoint_names   (E,) str           their names (E = 0: the input had none)
     uncertainty_m          (N, J)    float64  only when calibrated: 90 % radius in metres; NaN where not lifted
     hypotheses             (N, K, J, 3) float64  only with --save-hypotheses: root-relative, metres, camera axes
     units, coordinate_frame  0-d str; axes (3,) str: the directions of x, y, z
@@ -101,7 +105,20 @@ def npz_arrays(
         "axes": np.asarray([AXES["x"], AXES["y"], AXES["z"]], dtype=np.str_),
         # json.dumps(metadata)'s text, made piece by piece: `metadata["frames"]` may be an iterator
         "metadata": np.asarray("".join(json_pieces(metadata.items(), indent=None))),
+        **_other_arrays(kp),
         **_uncertainty_arrays(res),
+    }
+
+
+def _other_arrays(kp: Keypoints2D) -> dict[str, np.ndarray]:
+    """The input's keypoints outside the skeleton, when the record carries them (`kp.other`)."""
+    if kp.other is None:
+        return {}
+    conf = kp.other.confidence
+    return {
+        "other_keypoints_2d": kp.other.xy.astype(np.float64),
+        "other_keypoint_confidence": np.where(conf > 0, conf, np.nan),
+        "other_keypoint_names": np.asarray(kp.other.names, dtype=np.str_).reshape(-1),
     }
 
 
