@@ -37,7 +37,12 @@ def test_lift_then_analyze_every_format(tiny_prior_path: Path, tmp_path: Path, f
     result = runner.invoke(app, ["analyze", str(tmp_path / f"kp.zedo.{fmt}"), "-q"])
     assert result.exit_code == 0, result.output
     table = rows((tmp_path / "kp.analysis.csv").read_text())
-    assert len(table) == 3 * 20 and {r["file_name"] for r in table} == {"img0.jpg", "img1.jpg", "img2.jpg"}
+    # per frame: 4 symmetry angles, their bands and probabilities, 12 joint angles, head tilt and turn
+    assert len(table) == 3 * (4 + 4 + 4 + 12 + 2) and {r["file_name"] for r in table} == {
+        "img0.jpg",
+        "img1.jpg",
+        "img2.jpg",
+    }
     doc = json.loads((tmp_path / "kp.analysis.json").read_text())
     assert doc["input"]["format"] == fmt and doc["input"]["units_in_file"] == "mm"
     assert len(doc["rows"]) == len(table)
