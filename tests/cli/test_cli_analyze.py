@@ -43,6 +43,8 @@ def test_lift_then_analyze_every_format(tiny_prior_path: Path, tmp_path: Path, f
         "img1.jpg",
         "img2.jpg",
     }
+    head = [r for r in table if r["measure"].startswith("head_")]  # the face at v = 0: no head, and why
+    assert len(head) == 3 * 2 and all(r["value"] == "" and r["interval"].startswith("none: ") for r in head)
     doc = json.loads((tmp_path / "kp.analysis.json").read_text())
     assert doc["input"]["format"] == fmt and doc["input"]["units_in_file"] == "mm"
     assert len(doc["rows"]) == len(table)
@@ -57,7 +59,7 @@ def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert lift.wait(timeout=300) == 0
     assert done.returncode == 0, done.stderr
     table = rows(done.stdout)
-    assert len(table) == 2 * 20 and table[0]["measure"] == "symmetry_upper_arm_deg"
+    assert len(table) == 2 * (20 + 2) and table[0]["measure"] == "symmetry_upper_arm_deg"  # and the head's two
     assert table[0]["interval"] == "none: no measure calibration for this prior"
 
 

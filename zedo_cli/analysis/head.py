@@ -46,6 +46,7 @@ TURN_CALLS = ("left", "right", "midline")
 TILT = "head_tilt_deg"
 TURN = "head_turn"
 FLAG_EYES_REVERSED = "eye_line_reversed"
+BASES = ("nose between the ears", "nose between the eyes", "eyes between the ears")  # head_turn's pairs
 _NOSE, _LEYE, _REYE, _LEAR, _REAR = range(5)
 NO_FACE_RESULT = (
     "the result does not carry the input's face points (written before zedo kept them): lift it again for the head"
@@ -199,18 +200,14 @@ def head_turn(face: np.ndarray, shoulders: np.ndarray, settings: HeadSettings | 
     known = np.isfinite(face).all(-1)  # (N, 5)
     nose, leye, reye, lear, rear = (face[:, j] for j in range(5))
     eye_mid = 0.5 * (leye + reye)
-    bases = [  # (name, anterior point, left, right, c)
-        ("nose between the ears", nose, lear, rear, model.nose_over_ears),
-        ("nose between the eyes", nose, leye, reye, model.nose_over_eyes),
+    bases = [  # BASES' order: (anterior point, left, right, c)
+        (nose, lear, rear, model.nose_over_ears),
+        (nose, leye, reye, model.nose_over_eyes),
+        (eye_mid, lear, rear, model.eyes_over_ears),
     ]
-    yaws, weights = zip(*(_pair_yaw(a, lt, rt, x_hat, c) for _, a, lt, rt, c in bases), strict=True)
-    w = np.stack(weights, axis=1)  # (N, 2)
-    no_nose = w.sum(1) == 0
-    eyes_ears, w_ee = _pair_yaw(eye_mid, lear, rear, x_hat, model.eyes_over_ears)  # only without the nose
-    w_ee = np.where(no_nose, w_ee, 0.0)
-    y = np.concatenate([np.stack(yaws, axis=1), eyes_ears[:, None]], axis=1)  # (N, 3)
-    w = np.concatenate([w, w_ee[:, None]], axis=1)
-    total = w.sum(1)
+    y, w = (np.stack(v, axis=1) for v in zip(*(_pair_yaw(a, lt, rt, x_hat, c) for a, lt, rt, c in bases), strict=True))
+    w[:, 2] = np.where(w[:, :2].sum(1) == 0, w[:, 2], 0.0)  # the eyes between the ears only without the nose
+    total = w.sum(1)  # (N,)
     with np.errstate(invalid="ignore", divide="ignore"):
         yaw = np.where(usable & (total > 0), (y * w).sum(1) / total, np.nan)
     call = np.full(n, "", dtype=object)
@@ -218,7 +215,7 @@ def head_turn(face: np.ndarray, shoulders: np.ndarray, settings: HeadSettings | 
     call[yaw > settings.midline_deg] = "left"
     call[yaw < -settings.midline_deg] = "right"
     how = np.full(n, "", dtype=object)
-    names = np.array(["nose between the ears", "nose between the eyes", "eyes between the ears"], dtype=object)
+    names = np.array(BASES, dtype=object)
     used = w > 0  # (N, 3)
     for pattern in np.unique(used[np.isfinite(yaw)], axis=0):
         rows = np.isfinite(yaw) & (used == pattern).all(1)
