@@ -59,7 +59,7 @@ def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert lift.wait(timeout=300) == 0
     assert done.returncode == 0, done.stderr
     table = rows(done.stdout)
-    assert len(table) == 2 * (20 + 2) and table[0]["measure"] == "symmetry_upper_arm_deg"  # and the head's two
+    assert len(table) == 2 * (4 + 4 + 4 + 12 + 2) and table[0]["measure"] == "symmetry_upper_arm_deg"
     assert table[0]["interval"] == "none: no measure calibration for this prior"
 
 
