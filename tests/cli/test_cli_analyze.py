@@ -37,7 +37,7 @@ def test_lift_then_analyze_every_format(tiny_prior_path: Path, tmp_path: Path, f
     result = runner.invoke(app, ["analyze", str(tmp_path / f"kp.zedo.{fmt}"), "-q"])
     assert result.exit_code == 0, result.output
     table = rows((tmp_path / "kp.analysis.csv").read_text())
-    assert len(table) == 3 * 20 and {r["file_name"] for r in table} == {"img0.jpg", "img1.jpg", "img2.jpg"}
+    assert len(table) == 3 * 24 and {r["file_name"] for r in table} == {"img0.jpg", "img1.jpg", "img2.jpg"}
     doc = json.loads((tmp_path / "kp.analysis.json").read_text())
     assert doc["input"]["format"] == fmt and doc["input"]["units_in_file"] == "mm"
     assert len(doc["rows"]) == len(table)
@@ -52,7 +52,7 @@ def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert lift.wait(timeout=300) == 0
     assert done.returncode == 0, done.stderr
     table = rows(done.stdout)
-    assert len(table) == 2 * 20 and table[0]["measure"] == "symmetry_upper_arm_deg"
+    assert len(table) == 2 * 24 and table[0]["measure"] == "symmetry_upper_arm_deg"
     assert table[0]["interval"] == "none: no measure calibration for this prior"
 
 
