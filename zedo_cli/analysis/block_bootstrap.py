@@ -169,7 +169,8 @@ def _interval(estimate: float, replicates: np.ndarray, blocks: int, taper: float
 def _method(block: int, blocks: int, fps: float, settings: BootstrapSettings) -> str:
     return (f"block_bootstrap: circular, {blocks} blocks of {block} frames ({block / fps:.1f} s), "
             f"{settings.replicates} replicates, percentile widened by t({blocks - 1})/z and the blocks' "
-            "taper")  # fmt: skip
+            f"taper; nominal {settings.level:.0%}, measured coverage 78-84 % on synthetic 1-10 min clips "
+            "(docs/clinical.md, Head)")  # fmt: skip
 
 
 def share_intervals(
