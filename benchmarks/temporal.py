@@ -49,9 +49,15 @@ def _rotation(yaw: np.ndarray, roll: np.ndarray) -> np.ndarray:
 
 def make_sequences(
     poses: np.ndarray, rng: np.random.Generator, *, count: int, keyposes: int, transition_s: float, fps: float,
-    noise_px: float, drop: float, gap: int,
+    noise_px: float, drop: float, gap: int, depth_m: float = 1.0, drift_scale: float = 1.0,
 ) -> dict[str, np.ndarray]:  # fmt: skip
-    """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels."""
+    """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels.
+
+    `depth_m` and `drift_scale` place the body: about `depth_m` in front of the camera, its random
+    offset and drift scaled by `drift_scale`. The defaults (1 m, 1) are the calibration clips'
+    geometry (benchmarks/calibrate_measures.py), which overfills a 1280x720 frame; the demo clip
+    (benchmarks/demo_clip.py) stands further back and drifts less, to stay inside it. The random
+    draws are the same whatever the two values."""
     frames = int(round(transition_s * fps))
     rel_all, cam_all, tracks = [], [], []
     for track in range(count):
@@ -64,7 +70,8 @@ def make_sequences(
         yaw = rng.uniform(-0.4, 0.4) + rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
         roll = rng.uniform(-0.2, 0.2) + rng.uniform(-0.1, 0.1) * t
         rel = seq @ _rotation(yaw, roll).transpose(0, 2, 1)
-        root = np.array([0.0, 0.0, 1.0]) + rng.normal(0, [0.05, 0.05, 0.1]) + rng.uniform(-0.05, 0.05, 3) * t[:, None]
+        offset, drift = rng.normal(0, [0.05, 0.05, 0.1]), rng.uniform(-0.05, 0.05, 3)
+        root = np.array([0.0, 0.0, depth_m]) + drift_scale * offset + drift_scale * drift * t[:, None]
         rel_all.append(rel)
         cam_all.append(rel + root[:, None])
         tracks.append(np.full(len(seq), track))
