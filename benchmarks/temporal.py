@@ -75,7 +75,7 @@ def _eased_error(e0: np.ndarray, e1: np.ndarray, ease: np.ndarray) -> np.ndarray
 def make_sequences(
     poses: np.ndarray, rng: np.random.Generator, *, count: int, keyposes: int, transition_s: float, fps: float,
     noise_px: float, drop: float, gap: int, place: Placement | None = None, key_noise: np.ndarray | None = None,
-    noise_rel: float = 0.0,
+    noise_rel: float = 0.0, depth_m: float = 1.0, drift_scale: float = 1.0,
 ) -> dict[str, np.ndarray]:  # fmt: skip
     """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels.
 
@@ -83,7 +83,13 @@ def make_sequences(
     (its K and root points; the root drifts up to 2 cm/s about its place there). `key_noise (P, J, 2)`:
     a detector's error of each pose of `poses`, relative to the pose's 2D size (`scale_2d`; NaN: the
     joint was missed), eased from key pose to key pose like the poses and scaled to each frame's 2D
-    size. `noise_rel`: Gaussian pixel noise as a fraction of the frame's 2D size, on top of `noise_px`."""
+    size. `noise_rel`: Gaussian pixel noise as a fraction of the frame's 2D size, on top of `noise_px`.
+
+    `depth_m` and `drift_scale` place the body before the pseudo camera: about `depth_m` in front of it,
+    its random offset and drift scaled by `drift_scale`. The defaults (1 m, 1) are the calibration clips'
+    geometry (benchmarks/calibrate_measures.py), which overfills a 1280x720 frame; the demo clip
+    (benchmarks/demo_clip.py) stands further back and drifts less, to stay inside it. The random
+    draws are the same whatever the two values."""
     frames = int(round(transition_s * fps))
     rel_all, cam_all, tracks, k_all, err_all = [], [], [], [], []
     for track in range(count):
@@ -101,9 +107,8 @@ def make_sequences(
         roll = rng.uniform(-0.2, 0.2) + rng.uniform(-0.1, 0.1) * t
         rel = seq @ _rotation(yaw, roll).transpose(0, 2, 1)
         if place is None:
-            root = (
-                np.array([0.0, 0.0, 1.0]) + rng.normal(0, [0.05, 0.05, 0.1]) + rng.uniform(-0.05, 0.05, 3) * t[:, None]
-            )
+            offset, drift = rng.normal(0, [0.05, 0.05, 0.1]), rng.uniform(-0.05, 0.05, 3)
+            root = np.array([0.0, 0.0, depth_m]) + drift_scale * offset + drift_scale * drift * t[:, None]
             k_all.append(np.repeat(Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()[None], len(seq), 0))
         else:
             kmat, root = place(rng, rel, rng.uniform(-0.02, 0.02, 3) * (t - t.mean())[:, None])

@@ -4,8 +4,9 @@ The json module keeps the last value of a repeated key without a word, so `{"fx"
 would be read as fx = 20 whichever value its writer meant. Every JSON file zedo reads (keypoint
 inputs, result files, calibration and intrinsics files, weights metadata) is decoded through
 `DECODER`, whose `object_pairs_hook` raises `DuplicateKeyError` naming the key. The C scanner
-still does the parsing; the hook builds each object from its pairs (about 15 % more time than
-plain `json.loads` on a 25 MB COCO file: 0.62 s against 0.54 s).
+still does the parsing; the hook builds each object from its pairs: decoding a 25 MB COCO-style
+document of 60,000 annotations took 0.62 s against plain `json.JSONDecoder().decode`'s 0.54 s
+here (one run each, on the shared 2-core machine), about 15 % more for the decoding alone.
 """
 
 from __future__ import annotations
