@@ -83,7 +83,8 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
         names = sorted(raw[0])
         flat_names = sorted(flat[0])
         np.savez(args.cases / f"fold{k}-3d-clips.npz", names=np.array(names), flat_names=np.array(flat_names),
-                 raw=np.array([[r[n] for n in names] for r in raw]), truth=np.array([[t[n] for n in names] for t in true]),
+                 raw=np.array([[r[n] for n in names] for r in raw]),
+                 truth=np.array([[t[n] for n in names] for t in true]),
                  flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps)  # fmt: skip
         print(f"fold {k}: {len(raw)} clips of {int(at.sum())} frames, {int(res.lifted.sum())}/{len(res.lifted)} "
               "frames lifted", flush=True)  # fmt: skip
@@ -185,8 +186,7 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
     """Fit on every fold's clips; add the clip-scope calibration of the shipped prior to `--out` (the others stay)."""
     from calibrate_measures import CLIP_SETTINGS
 
-    from zedo_cli.analysis.calibration import (MeasureCalibration, bundled_path, read_calibrations,
-                                               write_calibrations)  # fmt: skip
+    from zedo_cli.analysis.calibration import MeasureCalibration, bundled_path, read_calibrations, write_calibrations
     from zedo_cli.lifting.config import DEFAULT_PRESET, calibration_settings, get_preset
     from zedo_cli.prior.weights import load_prior, resolve_prior_path
 

@@ -29,7 +29,8 @@ INTERVAL_PUBLISHED = "none: published 2D feature"
 INTERVAL_CALIBRATED = "calibrated"
 # the mean angle's range per part (the angle conventions of features_3d)
 _MEAN_ANGLE = {"Elbow": (0.0, 180.0), "Knee": (0.0, 180.0), "HipAbduction": (-90.0, 90.0),
-               "ShoulderAbduction": (-90.0, 90.0), "HipFlexion": (-90.0, 270.0), "ShoulderFlexion": (-90.0, 270.0)}  # fmt: skip
+               "ShoulderAbduction": (-90.0, 90.0), "HipFlexion": (-90.0, 270.0),
+               "ShoulderFlexion": (-90.0, 270.0)}  # fmt: skip
 _NON_NEGATIVE = ("stdev_angle", "median_vel_angle", "IQR_vel_angle", "IQR_acc_angle", "mean_dispersion")
 
 
