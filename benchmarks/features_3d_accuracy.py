@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -48,12 +49,184 @@ def clip_errors(xy: np.ndarray, lifted: np.ndarray, truth: np.ndarray, fps: floa
     return out
 
 
+# the calibration's clips (--cases): more and longer clips than the accuracy table's, for split conformal
+CASE_CLIPS = {"count": 56, "keyposes": 15}  # 56 clips of 14 s a fold
+
+
+def lift_clip_cases(args: argparse.Namespace) -> None:
+    """Per fold prior: CASE_CLIPS clips of the fold's held-out poses lifted by its prior (`--temporal smooth`,
+    the default preset); per clip every `3d_` feature of the lifted poses (`raw`) and of the true 3D
+    (`truth`), and the published 2D features (`flat`). One npz a fold in `--cases`."""
+    import torch
+    from calibrate_measures import CLIP_SETTINGS
+    from folds import fold_priors
+    from temporal import IMAGE_H, IMAGE_W, make_sequences
+
+    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
+    from zedo_cli.lifting.temporal import lift_sequence
+
+    cfg = get_preset(DEFAULT_PRESET)
+    size = np.array([IMAGE_W, IMAGE_H], dtype=float)
+    fps = float(CLIP_SETTINGS["fps"])
+    args.cases.mkdir(parents=True, exist_ok=True)
+    for k, prior, truth, _ in fold_priors(args.folds, args.weights, args.syrip_dir):
+        torch.manual_seed(k)
+        clips = make_sequences(truth.poses, np.random.default_rng(300 + k), **{**CLIP_SETTINGS, **CASE_CLIPS})
+        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode="smooth", tracks=clips["tracks"])
+        lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
+        raw, true, flat = [], [], []
+        for track in np.unique(clips["tracks"]):
+            at = clips["tracks"] == track
+            raw.append(features_3d(lifted[at], SKELETON, fps).values)
+            true.append(features_3d(clips["rel"][at], SKELETON, fps).values)
+            flat.append(published_features(clips["xy"][at], SKELETON, fps, size).values)
+        names = sorted(raw[0])
+        flat_names = sorted(flat[0])
+        np.savez(args.cases / f"fold{k}-3d-clips.npz", names=np.array(names), flat_names=np.array(flat_names),
+                 raw=np.array([[r[n] for n in names] for r in raw]),
+                 truth=np.array([[t[n] for n in names] for t in true]),
+                 flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps)  # fmt: skip
+        print(f"fold {k}: {len(raw)} clips of {int(at.sum())} frames, {int(res.lifted.sum())}/{len(res.lifted)} "
+              "frames lifted", flush=True)  # fmt: skip
+
+
+BINS = 2  # bins of the measured value per feature (56 clips a fold)
+MIN_PER_BIN = 20  # the 95 % conformal quantile (each end of the 90 % interval) needs 19 cases a bin
+
+
+def load_clip_cases(folder: Path) -> dict[int, dict[str, np.ndarray]]:
+    out = {}
+    for path in sorted(folder.glob("fold*-3d-clips.npz")):
+        with np.load(path) as z:
+            out[int(path.name[4 : path.name.index("-")])] = {k: z[k] for k in z.files}
+    return out
+
+
+def family(name: str) -> str:
+    """`3d_mean_angle_LKnee` -> `mean_angle`; `3d_lrCorr_angle_Knee` -> `lrCorr_angle`."""
+    return name.removeprefix("3d_").rsplit("_", 1)[0]
+
+
+def fit_features(raw: np.ndarray, truth: np.ndarray, names: np.ndarray) -> dict[str, Any]:
+    """Per feature, a MeasureModel fitted on clips `raw, truth (C, F)` (fewer bins where few clips have it)."""
+    from zedo_cli.analysis.calibration import fit_measure
+
+    models = {}
+    for i, n in enumerate(names):
+        ok = int((np.isfinite(raw[:, i]) & np.isfinite(truth[:, i])).sum())
+        if ok >= MIN_PER_BIN:
+            bins = max(1, min(BINS, ok // MIN_PER_BIN))
+            models[str(n)] = fit_measure(raw[:, i], truth[:, i], circular=False, bins=bins)
+    return models
+
+
+def score(models: dict[str, Any], case: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Held-out clips `case`: per feature the calibrated estimate, the 90 % interval's hits (NaN: no case)."""
+    from zedo_cli.analysis.clip_features import feature_range
+
+    est = np.full(case["raw"].shape, np.nan)
+    hit = np.full(case["raw"].shape, np.nan)
+    for i, n in enumerate(case["names"]):
+        m, v, t = models.get(str(n)), case["raw"][:, i], case["truth"][:, i]
+        ok = np.isfinite(v) & np.isfinite(t)
+        if m is None or not ok.any():
+            continue
+        lo_r, hi_r = feature_range(str(n))
+        e = m.estimate(v[ok])
+        low, high = (np.clip(x, lo_r, hi_r) for x in m.interval(e, v[ok], 0.9))
+        est[ok, i] = np.clip(e, lo_r, hi_r)
+        hit[ok, i] = (t[ok] >= low) & (t[ok] <= high)
+    return {"est": est, "hit": hit}
+
+
+def calibrate(args: argparse.Namespace) -> int:
+    """Cross-fitted figures on the clip cases of `--cases`, and with `--write` the calibration of the shipped prior."""
+    cases = load_clip_cases(args.cases)
+    if len(cases) < 2:
+        print(f"need the clip cases of two folds in {args.cases} (--lift)", file=sys.stderr)
+        return 1
+    names = cases[min(cases)]["names"]
+    hits, mae = {}, {}
+    for k, case in cases.items():  # fit on the other folds' clips, score fold k's
+        others = [c for j, c in cases.items() if j != k]
+        models = fit_features(np.concatenate([c["raw"] for c in others]),
+                              np.concatenate([c["truth"] for c in others]), names)  # fmt: skip
+        s = score(models, case)
+        for i, n in enumerate(names):
+            hits.setdefault(family(str(n)), []).append(s["hit"][:, i])
+        flat = dict(zip(case["flat_names"].tolist(), case["flat"].T, strict=True))
+        for f in FEATURES:
+            for j in JOINTS:
+                i = names.tolist().index(f"3d_{f}_{j}")
+                t = case["truth"][:, i]
+                mae.setdefault(f, []).append(np.stack([abs(s["est"][:, i] - t), abs(case["raw"][:, i] - t),
+                                                       abs(flat[f"{f}_{j}"] - t)], 1))  # fmt: skip
+    print(f"\n### cross-fitted over folds {sorted(cases)}: held-out coverage of the 90 % intervals")
+    print("| family | (clip, feature) cases | coverage |\n| --- | --- | --- |")
+    every = []
+    for fam, h in hits.items():
+        h = np.concatenate(h)
+        h = h[np.isfinite(h)]
+        every.append(h)
+        print(f"| {fam} | {len(h)} | {h.mean():.1%} |")
+    every = np.concatenate(every)
+    print(f"| **all** | {len(every)} | **{every.mean():.1%}** |")
+    print("\n### MAE against the 3D truth, (clip, side, joint) cases of both folds held out")
+    print("| feature | calibrated 3d_ | raw 3d_ | 2D (published) | calibrated / 2D | raw / 2D |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for f, e in mae.items():
+        cal, raw, flat = np.nanmean(np.concatenate(e), axis=0)
+        print(f"| {f} | {cal:.2f} | {raw:.2f} | {flat:.2f} | **{cal / flat:.2f}** | {raw / flat:.2f} |")
+    if args.write:
+        write_calibration(args, cases, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()})
+    return 0
+
+
+def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, coverage: dict[str, float]) -> None:
+    """Fit on every fold's clips; add the clip-scope calibration of the shipped prior to `--out` (the others stay)."""
+    from calibrate_measures import CLIP_SETTINGS
+
+    from zedo_cli.analysis.calibration import MeasureCalibration, bundled_path, read_calibrations, write_calibrations
+    from zedo_cli.lifting.config import DEFAULT_PRESET, calibration_settings, get_preset
+    from zedo_cli.prior.weights import load_prior, resolve_prior_path
+
+    shipped = load_prior(resolve_prior_path(None))
+    models = fit_features(np.concatenate([c["raw"] for c in cases.values()]),
+                          np.concatenate([c["truth"] for c in cases.values()]), names)  # fmt: skip
+    provenance = {
+        "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), as synthetic 30 fps clips of "
+        "each fold's held-out poses lifted by its prior; never Test100 or the synthetic rows",
+        "recipe": "benchmarks/features_3d_accuracy.py --cases",
+        "folds": sorted(cases),
+        "cases": int(sum(len(c["raw"]) for c in cases.values())),
+        "fps": float(CLIP_SETTINGS["fps"]),
+        "clips": {**CLIP_SETTINGS, **CASE_CLIPS},
+        "cross_fitted_coverage_90": {k: round(v, 4) for k, v in coverage.items()},
+    }
+    cal = MeasureCalibration(shipped.sha256, calibration_settings(get_preset(DEFAULT_PRESET)), "smooth", ("pseudo",),
+                             shipped.skeleton.joints, models, provenance, scope="clips")  # fmt: skip
+    out = args.out or bundled_path()
+    old = read_calibrations(out) if out.exists() else []
+    keep = [c for c in old if (c.prior_sha256, c.temporal_mode, c.cameras, c.domain, c.scope)
+            != (cal.prior_sha256, cal.temporal_mode, cal.cameras, cal.domain, cal.scope)]  # fmt: skip
+    write_calibrations(out, [*keep, cal])
+    print(f"\nwrote {out}: {len(keep) + 1} calibrations ({len(models)} 3d_ features in the new one)")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--syrip-dir", required=True)
     ap.add_argument("--folds", type=Path, required=True)
     ap.add_argument("--weights", default="", help="suffix of the fold priors' files (fold<k><weights>.safetensors)")
+    ap.add_argument("--cases", type=Path, default=None, help="calibrate: the folds' clip cases' folder")
+    ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
+    ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
+    ap.add_argument("--out", type=Path, default=None, help="--write: calibration file (default: the package's)")
     args = ap.parse_args()
+    if args.cases is not None:
+        if args.lift:
+            lift_clip_cases(args)
+        return calibrate(args)
 
     import torch
     from calibrate_measures import CLIP_SETTINGS

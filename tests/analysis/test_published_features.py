@@ -155,7 +155,7 @@ def test_analyze_emits_them_as_clip_rows(tmp_path: Path) -> None:
     assert "left_knee_flexion_range_deg" in clip  # the existing features stay
     assert clip["Knee_mean_angle"].interval == "none: published 2D feature" and clip["Knee_mean_angle"].unit == "deg"
     assert clip["mean_angle_RKnee"].value == pytest.approx(180.0, abs=1e-3)  # a straight leg, seen from the front
-    assert clip["3d_mean_angle_RKnee"].interval == "none: 3d_ features are not calibrated yet"
+    assert clip["3d_mean_angle_RKnee"].interval.startswith("none: no measure calibration")  # not the shipped prior
     assert np.isnan(clip["3d_mean_angle_RKnee"].low_90) and np.isnan(clip["3d_mean_angle_RKnee"].high_90)
     text = csv_text(a)
     assert "\n,,,0,Ankle_medianx," in text and "\n,,,0,3d_mean_dispersion_LAnkle," in text

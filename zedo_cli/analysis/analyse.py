@@ -33,6 +33,7 @@ from .calibration import (
     MeasureCalibration,
     assign_calibrations,
     bundled_calibrations,
+    find_calibration,
     measure_joints,
 )
 from .clip_features import clip_features
@@ -296,9 +297,22 @@ def analyse(
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
         a.rows += _head_clip_rows(a, head_why)
+        clip_cal, clip_why = find_calibration(models, result.params, result.skeleton.joints, scope="clips")
         a.rows += [
-            Row(None, None, None, f.person, f.measure, f.value, f.unit, interval=f.interval)
-            for f in clip_features(result, index, fps)
+            Row(
+                None,
+                None,
+                None,
+                f.person,
+                f.measure,
+                f.value,
+                f.unit,
+                f.low,
+                f.high,
+                interval=f.interval,
+                raw_value=f.raw_value,
+            )
+            for f in clip_features(result, index, fps, clip_cal, clip_why, settings.level)
         ]  # the published 2D and the 3d_ features
     return a
 

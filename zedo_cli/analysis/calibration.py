@@ -31,6 +31,11 @@ with it. One made over a range of known cameras (`cameras` ("cli", "file"): `--f
 metres and the focal length in pixels it was calibrated over) and holds, pose by pose, for the poses
 inside it (`assign_calibrations`); a pose outside says so in each measure's `interval` column.
 The bundled file is `zedo_cli/weights/measures.json`.
+
+Scope: a calibration's models are of frame measures (`scope` "frames", one case a pose) or of clip
+features (`scope` "clips", one case a person's clip, e.g. the `3d_` features of `clip_features`, fitted
+on clips of `provenance["fps"]` frames a second); `find_calibration` and `assign_calibrations` look only
+at calibrations of the scope asked for.
 """
 
 from __future__ import annotations
@@ -191,6 +196,7 @@ class MeasureCalibration:
     # measure -> the model of the cases where a joint the measure uses was filled by the prior (wider); empty: such
     # cases get no interval
     filled: dict[str, MeasureModel] = field(default_factory=dict)
+    scope: str = "frames"  # "frames": models of frame measures; "clips": of clip features (a case a clip)
 
     def mismatch(self, params: dict[str, Any], joints: tuple[str, ...]) -> str | None:
         """Why this calibration does not hold for a result lifted with `params` (None: it holds)."""
@@ -216,6 +222,8 @@ class MeasureCalibration:
             out["domain"] = self.domain.to_dict()
         if self.filled:
             out["filled"] = {k: v.to_dict() for k, v in self.filled.items()}
+        if self.scope != "frames":  # absent for frame measures: those entries read and write as before
+            out["scope"] = self.scope
         return out
 
     @classmethod
@@ -224,13 +232,14 @@ class MeasureCalibration:
         filled = {k: MeasureModel.from_dict(v) for k, v in d.get("filled", {}).items()}
         return cls(str(d["prior_sha256"]), dict(d["settings"]), str(d["temporal_mode"]), tuple(d["cameras"]),
                    tuple(d["joints"]), {k: MeasureModel.from_dict(v) for k, v in d["measures"].items()},
-                   dict(d.get("provenance", {})), domain, filled)  # fmt: skip
+                   dict(d.get("provenance", {})), domain, filled, str(d.get("scope", "frames")))  # fmt: skip
 
 
 def find_calibration(
-    calibrations: Sequence[MeasureCalibration], params: dict[str, Any], joints: tuple[str, ...]
+    calibrations: Sequence[MeasureCalibration], params: dict[str, Any], joints: tuple[str, ...], scope: str = "frames"
 ) -> tuple[MeasureCalibration | None, str]:
-    """The calibration that holds for a result lifted with `params`, or None and why none does."""
+    """The calibration of `scope` that holds for a result lifted with `params`, or None and why none does."""
+    calibrations = [c for c in calibrations if c.scope == scope]
     if not params:
         return None, "the result records no lifting parameters: no measure calibration applies"
     reasons = []
@@ -274,9 +283,10 @@ def assign_calibrations(
 ) -> Assignment:  # fmt: skip
     """Per pose of a result lifted with `params` (root depths `depth_m (M,)` in metres and focal lengths
     `focal_px (M,)` in pixels, NaN where the result does not state them): the first calibration that
-    matches the result (`MeasureCalibration.mismatch`) and whose camera domain holds the pose."""
+    matches the result (`MeasureCalibration.mismatch`) and whose camera domain holds the pose (frame scope)."""
     m = len(depth_m)
     index = np.full(m, -1)
+    calibrations = [c for c in calibrations if c.scope == "frames"]
     matching = [c for c in calibrations if params and c.mismatch(params, joints) is None]
     if not matching:
         _, why = find_calibration(calibrations, params, joints)

@@ -2,6 +2,11 @@
 keypoints, and the `3d_` features (`features_3d`) from the lifted poses, as named values with the
 `interval` column's text (docs/movement.md).
 
+The `3d_` features take a shrinkage estimate and a 90 % interval from a clip-scope measure calibration
+(`calibration.MeasureCalibration`, scope "clips", fitted on held-out clips by benchmarks/
+features_3d_accuracy.py) where one holds for the result; the raw feature goes in `raw_value`, and where
+none holds the reason goes in `interval`.
+
 A track's frames are its rows' `frame_index`; a frame without the person is a gap (interpolated, as a
 missed detection is). The frames run from the track's first to its last: the published pipeline starts at
 frame 0, which changes no feature (the frames before a track's first are unknown, and the statistics skip
@@ -11,16 +16,34 @@ unknown frames).
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..formats.result_reader import ResultPoses
-from .features_3d import features_3d
+from .calibration import DEFAULT_LEVEL, MeasureCalibration
+from .features_3d import PREFIX, features_3d
 from .published_features import ClipFeatures, published_features
 
 INTERVAL_PUBLISHED = "none: published 2D feature"
-INTERVAL_3D = "none: 3d_ features are not calibrated yet"
+INTERVAL_CALIBRATED = "calibrated"
+# the mean angle's range per part (the angle conventions of features_3d)
+_MEAN_ANGLE = {"Elbow": (0.0, 180.0), "Knee": (0.0, 180.0), "HipAbduction": (-90.0, 90.0),
+               "ShoulderAbduction": (-90.0, 90.0), "HipFlexion": (-90.0, 270.0),
+               "ShoulderFlexion": (-90.0, 270.0)}  # fmt: skip
+_NON_NEGATIVE = ("stdev_angle", "median_vel_angle", "IQR_vel_angle", "IQR_acc_angle", "mean_dispersion")
+
+
+def feature_range(name: str) -> tuple[float, float]:
+    """The values a `3d_` feature (e.g. `3d_mean_angle_LKnee`) can take: estimates and intervals stay in them."""
+    stem = name.removeprefix(PREFIX)
+    if stem.startswith("lrCorr_"):
+        return -1.0, 1.0
+    if stem.startswith("mean_angle_"):
+        return _MEAN_ANGLE.get(stem.removeprefix("mean_angle_")[1:], (-np.inf, np.inf))  # the part, past L / R
+    if stem.startswith(_NON_NEGATIVE):
+        return 0.0, np.inf
+    return -np.inf, np.inf
 
 
 @dataclass(frozen=True)
@@ -31,7 +54,10 @@ class ClipFeature:
     measure: str
     value: float
     unit: str
-    interval: str  # why the row has no 90 % interval, or why its value is empty
+    interval: str  # "calibrated", why the row has no 90 % interval, or why its value is empty
+    raw_value: float = np.nan  # a calibrated feature's measured value (`value`: the shrinkage estimate)
+    low: float = np.nan  # the calibrated interval's ends
+    high: float = np.nan
 
 
 def _track(frames: np.ndarray, values: np.ndarray, first: int, length: int) -> np.ndarray:
@@ -62,8 +88,31 @@ def _rows(person: int, features: ClipFeatures, interval: str) -> Iterator[ClipFe
         yield ClipFeature(person, name, value, features.units[name], how)
 
 
-def clip_features(result: ResultPoses, index: np.ndarray, fps: float) -> list[ClipFeature]:
-    """The published 2D and the `3d_` features of every person track among the analysed rows `index`."""
+def _calibrated(
+    person: int, features: ClipFeatures, calibration: MeasureCalibration | None, why_not: str, level: float
+) -> Iterator[ClipFeature]:
+    """The `3d_` rows of one track: estimate and interval at `level` where `calibration` has the feature's model."""
+    for f in _rows(person, features, f"none: {why_not}"):
+        model = None if calibration is None else calibration.measures.get(f.measure)
+        if not np.isfinite(f.value) or calibration is None:
+            yield f
+        elif model is None:
+            yield replace(f, interval=f"none: the measure calibration has no {f.measure}")
+        else:
+            lo_r, hi_r = feature_range(f.measure)
+            est = model.estimate(np.array([f.value]))  # (1,)
+            low, high = (float(np.clip(x[0], lo_r, hi_r)) for x in model.interval(est, np.array([f.value]), level))
+            yield replace(f, value=float(np.clip(est[0], lo_r, hi_r)), raw_value=f.value, low=low, high=high,
+                          interval=INTERVAL_CALIBRATED)  # fmt: skip
+
+
+def clip_features(
+    result: ResultPoses, index: np.ndarray, fps: float, calibration: MeasureCalibration | None = None,
+    why_not: str = "no measure calibration installed", level: float = DEFAULT_LEVEL,
+) -> list[ClipFeature]:  # fmt: skip
+    """The published 2D and the `3d_` features of every person track among the analysed rows `index`; the
+    `3d_` ones calibrated under `calibration` (a clip-scope one, `find_calibration(..., scope="clips")`),
+    None: uncalibrated, with `why_not` in their `interval`."""
     out: list[ClipFeature] = []
     skel = result.skeleton
     for p in sorted(set(result.person[index].tolist())):
@@ -81,5 +130,5 @@ def clip_features(result: ResultPoses, index: np.ndarray, fps: float) -> list[Cl
             sizes = np.where(np.isfinite(sizes), sizes, np.nanmedian(sizes, axis=0))  # frames without the person
             out += _rows(p, published_features(xy, skel, fps, sizes), INTERVAL_PUBLISHED)
         poses = _track(result.frame_index[lifted], result.poses[lifted], first, length)  # (T, J, 3)
-        out += _rows(p, features_3d(poses, skel, fps), INTERVAL_3D)
+        out += _calibrated(p, features_3d(poses, skel, fps), calibration, why_not, level)
     return out

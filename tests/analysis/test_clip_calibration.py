@@ -1,0 +1,86 @@
+"""Clip-scope measure calibrations of the `3d_` clip features (issue 35, part 2): a calibrated feature
+gets a shrinkage estimate and its interval, an uncalibrated one the reason; clip calibrations leave the
+frame measures alone."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from analysis_results import kicking_poses, write_document
+from test_calibration import JOINTS, PARAMS, SHA, calibration, document
+
+from zedo_cli.analysis.analyse import AnalysisSettings, analyse
+from zedo_cli.analysis.calibration import (
+    LEVELS,
+    MeasureCalibration,
+    MeasureModel,
+    assign_calibrations,
+    find_calibration,
+    read_calibrations,
+    write_calibrations,
+)
+from zedo_cli.analysis.clip_features import feature_range
+from zedo_cli.formats.result_reader import read_result
+from zedo_cli.lifting.config import LiftConfig, calibration_settings
+
+KNEE = "3d_mean_angle_RKnee"
+
+
+def clip_calibration(temporal: str = "smooth", width: float = 4.0, weight: float = 0.5) -> MeasureCalibration:
+    q = {lv: (width, 2 * width) for lv in LEVELS}  # two bins of the measured value, split at 100 degrees
+    models = {KNEE: MeasureModel(120.0, weight, (100.0,), q, q, circular=False)}
+    return MeasureCalibration(SHA, calibration_settings(LiftConfig()), temporal, ("pseudo",), JOINTS, models,
+                              {"data": "test", "fps": 30.0}, scope="clips")  # fmt: skip
+
+
+def clip_rows(tmp_path: Path, calibrations: list[MeasureCalibration], temporal: str = "smooth") -> dict:
+    doc = document(kicking_poses(90), fps=30.0, temporal=temporal)
+    a = analyse(read_result(write_document(tmp_path / "k.zedo.json", doc)), AnalysisSettings(),
+                calibrations=calibrations)  # fmt: skip
+    return {r.measure: r for r in a.rows if r.frame_index is None}
+
+
+def test_a_calibrated_3d_feature_gets_its_estimate_and_interval(tmp_path: Path) -> None:
+    rows = clip_rows(tmp_path, [calibration("smooth"), clip_calibration()])
+    knee = rows[KNEE]
+    assert knee.interval == "calibrated"
+    raw = knee.raw_value
+    assert raw == pytest.approx(180.0, abs=1e-3)  # a straight leg
+    assert knee.value == pytest.approx(120.0 + 0.5 * (raw - 120.0))  # shrunk half-way to the centre
+    assert (knee.low_90, knee.high_90) == pytest.approx((knee.value - 8.0, knee.value + 8.0))  # the upper bin's
+    # a feature the calibration has no model of says so; the published 2D ones stay uncalibrated
+    assert rows["3d_mean_angle_LElbow"].interval == "none: the measure calibration has no 3d_mean_angle_LElbow"
+    assert np.isnan(rows["3d_mean_angle_LElbow"].low_90) and np.isnan(rows["3d_mean_angle_LElbow"].raw_value)
+    assert rows["mean_angle_RKnee"].interval == "none: published 2D feature"
+
+
+def test_intervals_stay_in_the_features_range(tmp_path: Path) -> None:
+    rows = clip_rows(tmp_path, [clip_calibration(width=30.0, weight=1.0)])
+    assert rows[KNEE].high_90 == 180.0 and rows[KNEE].low_90 == pytest.approx(rows[KNEE].value - 60.0)
+    assert feature_range("3d_lrCorr_angle_Knee") == (-1.0, 1.0)
+    assert feature_range("3d_mean_angle_LHipFlexion") == (-90.0, 270.0)
+    assert feature_range("3d_median_vel_angle_LKnee") == (0.0, np.inf)
+
+
+def test_an_uncalibrated_3d_feature_gets_the_reason(tmp_path: Path) -> None:
+    none = clip_rows(tmp_path, [calibration("smooth")])  # only frame calibrations
+    assert none[KNEE].interval == "none: no measure calibration installed" and np.isnan(none[KNEE].low_90)
+    other_mode = clip_rows(tmp_path, [clip_calibration("none")])  # calibrated on smooth lifts only
+    assert other_mode[KNEE].interval == "none: no measure calibration for temporal mode smooth"
+    assert np.isnan(other_mode[KNEE].high_90) and np.isfinite(other_mode[KNEE].value)
+
+
+def test_clip_calibrations_leave_frame_measures_alone(tmp_path: Path) -> None:
+    frames = calibration("smooth")
+    clips = clip_calibration()
+    params = {**PARAMS, "temporal": {"mode": "smooth"}}
+    assert find_calibration([clips, frames], params, JOINTS) == (frames, "calibrated")
+    assert find_calibration([clips, frames], params, JOINTS, scope="clips") == (clips, "calibrated")
+    got = assign_calibrations([clips, frames], params, JOINTS, np.full(2, np.nan), np.full(2, np.nan))
+    assert got.calibrations == (frames,) and (got.index == 0).all()
+    path = tmp_path / "m.json"
+    write_calibrations(path, [frames, clips])
+    assert read_calibrations(path) == [frames, clips]
+    assert path.read_text().count('"scope"') == 1  # a frame calibration's entry reads and writes as before
