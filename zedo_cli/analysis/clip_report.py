@@ -26,7 +26,6 @@ from .plain_words import describe, has_words
 MAX_POINTS = 1500  # per plotted series: the clip decimated to at most this many time steps
 MAX_REVIEW = 8
 FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
-UNDECIDED_SHADE = "#ffe08a"  # frames with an uncertain symmetry call
 _TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
 
 
@@ -88,6 +87,11 @@ def summary_section(a: Analysis) -> str:
                        for c in TURN_CALLS)  # fmt: skip
         turn_cells = "".join(_share_cell(rows.get((p, f"head_turn_fraction_{c}")), level) for c in TURN_CALLS)
         tilt = rows.get((p, "head_tilt_median_deg"))
+        turn_rows = [rows.get((p, f"head_turn_fraction_{c}")) for c in TURN_CALLS]
+        if all(r is None or not np.isfinite(r.value) for r in [*turn_rows, tilt]):
+            why = next((r.interval.removeprefix("none: ") for r in [tilt, *turn_rows] if r is not None), "")
+            out.append(f"<p class=meta><b>Head{who}</b>: not measured ({_esc(why or 'no head rows')}).</p>")
+            continue
         if tilt is not None and np.isfinite(tilt.value):
             band = (f" <small>{level} interval {tilt.low_90:.1f}° – {tilt.high_90:.1f}°</small>"
                     if np.isfinite(tilt.low_90) else "")  # fmt: skip
@@ -128,12 +132,11 @@ def comparison_block(a: Analysis) -> str:
 
 @dataclass(frozen=True)
 class Decimated:
-    """One person's poses on a coarser time grid: every `step`-th pose, masks OR-ed over each step."""
+    """One person's poses on a coarser time grid: every `step`-th pose, the flag OR-ed over each step."""
 
     take: np.ndarray  # (T',) positions in a.index
     t: np.ndarray  # (T',) seconds
     flagged: np.ndarray  # (T',) bool: any too-fast frame in the step
-    undecided: np.ndarray  # (T',) bool: any uncertain call in the step
 
 
 def decimate(a: Analysis, person: int, max_points: int = MAX_POINTS) -> Decimated:
@@ -148,23 +151,29 @@ def decimate(a: Analysis, person: int, max_points: int = MAX_POINTS) -> Decimate
 
     take = pos[::step]
     t = res.frame_index[a.index][take] / float(a.fps or 1.0)
-    return Decimated(take, t, any_in_step(too_fast(a)), any_in_step(uncertain(a) > 0))
+    return Decimated(take, t, any_in_step(too_fast(a)))
 
 
 def _shade(ax, d: Decimated) -> None:  # noqa: ANN001 (matplotlib Axes, imported lazily)
-    trans = ax.get_xaxis_transform()
-    ax.fill_between(d.t, 0, 1, where=d.undecided, step="mid", color=UNDECIDED_SHADE, alpha=0.45, lw=0, transform=trans)
-    ax.fill_between(d.t, 0, 1, where=d.flagged, step="mid", color=FLAG_SHADE, alpha=0.6, lw=0, transform=trans)
+    ax.fill_between(d.t, 0, 1, where=d.flagged, step="mid", color=FLAG_SHADE, alpha=0.6, lw=0,
+                    transform=ax.get_xaxis_transform())  # fmt: skip
+
+
+def _empty(ax, text: str) -> None:  # noqa: ANN001
+    ax.text(0.5, 0.5, text, ha="center", va="center", fontsize=9, color="0.4", transform=ax.transAxes, wrap=True)
+    ax.set_yticks([])
 
 
 def time_series_figure(a: Analysis, person: int) -> str:
-    """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, and the
-    head turn as a strip of colours; frames with an uncertain call (yellow) or too fast (red) shaded."""
+    """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
+    turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red."""
     from .report import _figure, _svg
 
     d = decimate(a, person)
-    fig = _figure(11.5, 10.5)
-    axes = fig.subplots(4, 2, sharex=True).ravel()
+    fig = _figure(11.5, 11.5)
+    grid = fig.add_gridspec(5, 2, height_ratios=[1, 1, 1, 0.8, 0.45])
+    axes = [fig.add_subplot(grid[r, c]) for r in range(4) for c in range(2)]
+    axes.append(fig.add_subplot(grid[4, :]))
     for ax, base in zip(axes[:6], ANGLE_BASES, strict=True):
         _shade(ax, d)
         for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
@@ -174,20 +183,31 @@ def time_series_figure(a: Analysis, person: int) -> str:
             ax.plot(d.t, a.values[name][d.take], color=colour, lw=1.1, label=side)
         ax.set_title(base.replace("_", " ") + " (deg; band: interval)", fontsize=10)
         ax.legend(fontsize=8, loc="upper right")
-    tilt_ax, turn_ax = axes[6], axes[7]
+    tilt_ax, turn_ax, calls_ax = axes[6], axes[7], axes[8]
     _shade(tilt_ax, d)
-    if a.head is not None:
-        tilt_ax.plot(d.t, a.head.tilt_deg[d.take], color="#444444", lw=1.1)
-        calls = a.head.turn_call[d.take].astype(str)
+    tilt = a.head.tilt_deg[d.take] if a.head is not None else np.full(len(d.t), np.nan)
+    turn = a.head.turn_call[d.take].astype(str) if a.head is not None else np.full(len(d.t), "")
+    if np.isfinite(tilt).any():
+        tilt_ax.plot(d.t, tilt, color="#444444", lw=1.1)
+    else:
+        _empty(tilt_ax, "no head tilt: the input has no usable face points")
+    if (turn != "").any():
         for c in TURN_CALLS:
-            turn_ax.fill_between(d.t, 0, 1, where=calls == c, step="mid", color=_TURN_COLOURS[c], lw=0, label=c)
+            turn_ax.fill_between(d.t, 0, 1, where=turn == c, step="mid", color=_TURN_COLOURS[c], lw=0, label=c)
         turn_ax.legend(fontsize=8, loc="upper right", ncol=3)
+        turn_ax.set_ylim(0, 1.35)
+        turn_ax.set_yticks([])
+    else:
+        _empty(turn_ax, "no head turn: the input has no usable face points")
     tilt_ax.set_title("head tilt (deg)", fontsize=10)
     turn_ax.set_title("head turn (white: no call)", fontsize=10)
-    turn_ax.set_ylim(0, 1.35)
-    turn_ax.set_yticks([])
+    calls_ax.fill_between(d.t, 0, uncertain(a)[d.take], step="mid", color="#e0b000", alpha=0.7, lw=0)
+    calls_ax.set_ylim(0, 4)
+    calls_ax.set_yticks([0, 2, 4])
+    calls_ax.set_title("symmetry calls uncertain in the frame (of 4: upper arm, forearm, thigh, shank)", fontsize=10)
     for ax in axes:
         ax.grid(True, lw=0.4, alpha=0.5)
+        ax.set_xlim(d.t[0], d.t[-1]) if len(d.t) > 1 else None
     for ax in axes[6:]:
         ax.set_xlabel("time (s)", fontsize=9)
     return _svg(fig)
@@ -202,9 +222,10 @@ def time_series_section(a: Analysis) -> str:
     which = f" Person {person}, the longest track." if len(people) > 1 else ""
     thin = f" Every {step}th frame is drawn (shading covers every frame)." if step > 1 else ""
     return ("<h2>Over time</h2><p class=meta>Joint angles left (blue) and right (orange), each with its interval "
-            f"as a band; shaded: frames with an <b style='background:{UNDECIDED_SHADE}'>uncertain symmetry "
-            f"call</b> and frames <b style='background:{FLAG_SHADE}'>flagged too fast</b> (a joint angle changing "
-            f"faster than {a.settings.max_velocity_deg_s:g} deg/s, likely a detection error).{which}{thin}</p>"
+            f"as a band; shaded: frames <b style='background:{FLAG_SHADE}'>flagged too fast</b> (a joint angle "
+            f"changing faster than {a.settings.max_velocity_deg_s:g} deg/s, likely a detection error). The bottom "
+            "strip counts the frame's uncertain symmetry calls: where it is high, the 2D view leaves the "
+            f"posture open (the frames to review, below).{which}{thin}</p>"
             f"<div class=figs>{time_series_figure(a, person)}</div>")  # fmt: skip
 
 
