@@ -59,7 +59,7 @@ td.sym,li.sym{background:#e3f4e6} td.asym,li.asym{background:#fbe1df} td.unc,li.
 small{color:#666;white-space:nowrap} th small{font-weight:normal} p.rule{font-size:14.5px}
 table.wide{font-size:11.5px} .scroll{overflow-x:auto}
 .thumbs{display:flex;flex-wrap:wrap;gap:10px} figure.thumb{margin:0;width:270px;font-size:12.5px}
-figure.thumb img{width:270px;border:1px solid #ccc}
+figure.thumb img{width:270px;border:1px solid #ccc} figure.thumb small{white-space:normal}
 """
 
 

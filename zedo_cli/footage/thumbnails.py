@@ -17,6 +17,7 @@ from ..formats.result_reader import ResultPoses
 from .render import Painter, RenderSettings, _check_size, _rows_by_frame, list_images, match_images
 from .video_check import VideoMismatchError
 
+MARGIN = 0.25  # of the persons' extent, around them in a thumbnail
 THUMB_WIDTH = 360  # pixels: the report shows them at 270 px, sharp on a high-density screen
 
 
@@ -45,6 +46,7 @@ def _painter(result: ResultPoses) -> Painter | None:
 def _png(frame: np.ndarray) -> bytes:
     import cv2
 
+    frame = np.ascontiguousarray(frame)
     h, w = frame.shape[:2]
     small = cv2.resize(frame, (THUMB_WIDTH, max(1, round(h * THUMB_WIDTH / w))), interpolation=cv2.INTER_AREA)
     ok, data = cv2.imencode(".png", small)
@@ -74,7 +76,28 @@ def cut_thumbnails(result: ResultPoses, frames: list[int], *, video: str | Path 
                 decoded[f] = img
     out = {}
     for f, frame in decoded.items():
+        rows = by_frame.get(f, [])
         if painter is not None:
-            frame = painter.paint(frame, by_frame.get(f, []), f, result.fps)
+            frame = painter.paint(frame, rows, f, result.fps)
+            frame = _around(frame, [p for r in rows if (p := painter.persons[r].px) is not None])
         out[f] = _png(frame)
     return out
+
+
+def _around(frame: np.ndarray, pixels: list[np.ndarray]) -> np.ndarray:
+    """The part of `frame` around the drawn persons (`(J, 2)` pixels each) with a margin of MARGIN of
+    their extent, in the frame's aspect, at least a third of its width, moved inside the frame (persons
+    partly outside it stay at its edge); the whole frame when none is drawn."""
+    pts = np.concatenate(pixels) if pixels else np.empty((0, 2))
+    pts = pts[np.isfinite(pts).all(-1)]
+    if not len(pts):
+        return frame
+    h, w = frame.shape[:2]
+    lo, hi = pts.min(0), pts.max(0)  # (2,) x, y
+    half = (hi - lo) * (0.5 + MARGIN)
+    half_w = min(max(half[0], half[1] * w / h, w / 6), w / 2)
+    half_h = half_w * h / w
+    cx = float(np.clip((lo[0] + hi[0]) / 2, half_w, w - half_w))
+    cy = float(np.clip((lo[1] + hi[1]) / 2, half_h, h - half_h))
+    x0, y0 = int(round(cx - half_w)), int(round(cy - half_h))
+    return frame[y0 : y0 + int(round(2 * half_h)), x0 : x0 + int(round(2 * half_w))]
