@@ -114,3 +114,14 @@ def test_analyze_refuses_footage_that_does_not_fit_in_one_line(clip: tuple[Path,
     assert not (tmp_path / "a.csv").exists()
     out = CliRunner().invoke(app, ["analyze", str(clip[0]), "--video", str(short)])
     assert out.exit_code != 0 and "--report" in out.output
+
+
+def test_plain_words_for_the_comparisons_other_features() -> None:
+    assert describe("asym_logratio_3d_median_vel_angle_Elbow", 2.5) == (
+        "elbows (3D), left against right: on the left, moves faster (relative to the right) than typical (z = +2.5)"
+    )
+    assert describe("left_knee_flexion_range_deg", -2.3) == (
+        "left knee flexion: moves through a smaller range than typical (z = -2.3)"
+    )
+    assert describe("symmetry_thigh_share_asymmetric", 3.0).startswith("thigh symmetry: asymmetric in more frames")
+    assert describe("head_turn_fraction_left", -1.0).startswith("head: head turned left in fewer frames")

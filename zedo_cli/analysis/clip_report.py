@@ -19,11 +19,12 @@ import numpy as np
 from ..formats.colours import LEFT_HEX, RIGHT_HEX
 from .analyse import SYMMETRY_NAMES, Analysis, Row
 from .compare import furthest_from_typical
+from .figures import _figure, _svg
 from .head import TURN_CALLS
 from .joint_angles import ANGLE_BASES, SIDES, angle_name
 from .plain_words import describe, has_words
 
-MAX_POINTS = 1500  # per plotted series: the clip decimated to at most this many time steps
+MAX_POINTS = 600  # per plotted series: the clip decimated to at most this many time steps (a panel is ~500 px wide)
 MAX_REVIEW = 8
 FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
 _TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
@@ -76,10 +77,16 @@ def summary_section(a: Analysis) -> str:
     out = ["<h2>Summary of the recording</h2>"]
     for p in people:
         who = f" (person {p})" if len(people) > 1 else ""
+        shares = [rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")) for n in SYMMETRY_NAMES]
+        if all(r is None or not np.isfinite(r.value) for r in shares):
+            why = next((r.interval.removeprefix("none: ") for r in shares if r is not None), "not measured")
+            out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: not estimated ({_esc(why)}; "
+                       "the shares need the calibrated intervals of the frames).</p>")  # fmt: skip
         head = "".join(f"<th>{_pair(n)}</th>" for n in SYMMETRY_NAMES)
         cells = "".join(_share_cell(rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")), level)
                         for n in SYMMETRY_NAMES)  # fmt: skip
-        out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: the estimated share of frames in "
+        if not all(r is None or not np.isfinite(r.value) for r in shares):
+            out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: the estimated share of frames in "
                    f"which the pair's true symmetry angle is above {a.settings.threshold_deg:g}°, with its {level} "
                    "interval (block bootstrap over correlated frames).</p>"
                    f"<table><tr>{head}</tr><tr>{cells}</tr></table>")  # fmt: skip
@@ -101,7 +108,8 @@ def summary_section(a: Analysis) -> str:
             tilt_cell = f"<td>– <small>({_esc(why)})</small></td>"
         out.append(f"<p class=meta><b>Head{who}</b>: the share of the frames with a turn call, and the median "
                    "tilt (from the input's 2D face points and shoulders).</p>"
-                   f"<table><tr>{turn}<th>median head tilt</th></tr><tr>{turn_cells}{tilt_cell}</tr></table>")  # fmt: skip
+                   f"<table><tr>{turn}<th>median head tilt</th></tr>"
+                   f"<tr>{turn_cells}{tilt_cell}</tr></table>")  # fmt: skip
     out.append(comparison_block(a))
     return "".join(out)
 
@@ -115,15 +123,19 @@ def comparison_block(a: Analysis) -> str:
     for pc in a.comparisons:
         c = pc.comparison
         who = f" (person {pc.person})" if len(a.comparisons) > 1 else ""
-        scores = "".join(f"<tr><td class=l>{kind} features ({s.features})</td><td>{s.z:+.2f}</td><td>{s.p:.3g}</td></tr>"
-                         for kind, s in (("published", c.published), ("extended", c.extended)))  # fmt: skip
-        far = [describe(n, z) for n, z in furthest_from_typical(c) if has_words(n)]
+        kinds = (("published", c.published), ("extended", c.extended))
+        scores = "".join(f"<tr><td class=l>{kind} features ({s.features})</td><td>{s.z:+.2f}</td>"
+                         f"<td>{s.p:.3g}</td></tr>" for kind, s in kinds)  # fmt: skip
+        far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
+               for n, z in furthest_from_typical(c)]  # fmt: skip
         items = "".join(f"<li>{_esc(t)}</li>" for t in far)
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
-                   "reference (z of the summed surprise; p: the share of typical clips at least as surprising). "
-                   "A large z says the movements differ from the reference, not why.</p>"
+                   "reference: z compares the clip's summed log-likelihood under the reference with the typical "
+                   "clips' own sums (negative: less typical), p is its two-sided normal p-value. A large |z| says "
+                   "the movements differ from the reference, not why.</p>"
                    f"<table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>{scores}</table>"
-                   f"<p class=meta>Furthest from typical:</p><ul>{items}</ul>")  # fmt: skip
+                   "<p class=meta>Furthest from typical (the largest |z| of single features):</p>"
+                   f"<ul class=far>{items}</ul>")  # fmt: skip
     return "".join(out)
 
 
@@ -167,8 +179,6 @@ def _empty(ax, text: str) -> None:  # noqa: ANN001
 def time_series_figure(a: Analysis, person: int) -> str:
     """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
     turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red."""
-    from .report import _figure, _svg
-
     d = decimate(a, person)
     fig = _figure(11.5, 11.5)
     grid = fig.add_gridspec(5, 2, height_ratios=[1, 1, 1, 0.8, 0.45])
@@ -245,9 +255,12 @@ class Review:
 
 def review_picks(a: Analysis, count: int = MAX_REVIEW) -> list[Review]:
     """Up to `count` poses to look at: those with an uncertain call or a too-fast angle, one from each of
-    `count` equal stretches of the candidates (spread over the clip), most undecided first."""
+    `count` equal stretches of the candidates (spread over the clip), most undecided first. Without a
+    measure calibration only the flagged frames are candidates."""
     res = a.result
-    unc, fast = uncertain(a), too_fast(a)
+    fast = too_fast(a)
+    # without a calibration every call is uncertain by default, not because the view leaves it open
+    unc = uncertain(a) if a.uncertainty_available else np.zeros(len(a.index), int)
     closeness = np.zeros(len(a.index))  # how near each call's probability is to a coin toss, summed
     for n in SYMMETRY_NAMES:
         prob = a.probabilities.get(n)
@@ -295,6 +308,8 @@ def review_section(a: Analysis, picks: list[Review], thumbnails: dict[int, bytes
         return f"{intro}</p><div class=thumbs>{''.join(cards)}</div>"
     rows = "".join(f"<tr><td>{r.frame_index}</td><td>{r.time_s:.2f}</td><td>{r.person}</td>"
                    f"<td class=l>{_esc(_why(r))}</td></tr>" for r in picks)  # fmt: skip
-    hint = footage_note or "Give the footage with <code>--video FILE</code> or <code>--images DIR</code> for thumbnails."
+    hint = (
+        footage_note or "Give the footage with <code>--video FILE</code> or <code>--images DIR</code> for thumbnails."
+    )
     return (f"{intro} {hint}</p><table><tr><th>frame</th><th>time (s)</th><th>person</th>"
             f"<th class=l>why</th></tr>{rows}</table>")  # fmt: skip

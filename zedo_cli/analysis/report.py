@@ -17,7 +17,6 @@ matplotlib is imported inside the functions: `zedo analyze` without `--report` n
 from __future__ import annotations
 
 import html
-import io
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -28,15 +27,15 @@ import numpy as np
 from ..files import write_text_atomic
 from ..formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
 from ..version import __version__
-from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
 from .analyse import SYMMETRY_NAMES, Analysis, poses_counted, summary
+from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
+from .figures import _figure, _svg
 from .geometry import joint, reflect, unit
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
 from .symmetry import BAND_EDGES_DEG, PAIRS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
 
     from ..data.skeleton import Skeleton
 
@@ -60,6 +59,7 @@ small{color:#666;white-space:nowrap} th small{font-weight:normal} p.rule{font-si
 table.wide{font-size:11.5px} .scroll{overflow-x:auto}
 .thumbs{display:flex;flex-wrap:wrap;gap:10px} figure.thumb{margin:0;width:270px;font-size:12.5px}
 figure.thumb img{width:270px;border:1px solid #ccc} figure.thumb small{white-space:normal}
+ul.far{font-size:14px;margin-top:2px}
 """
 
 
@@ -69,25 +69,6 @@ def _esc(value: Any) -> str:
 
 def _fmt(value: float, digits: int = 1) -> str:
     return f"{value:.{digits}f}" if np.isfinite(value) else "–"
-
-
-def _svg(fig: Figure) -> str:
-    buf = io.StringIO()
-    fig.savefig(buf, format="svg")
-    text = buf.getvalue()
-    return text[text.index("<svg") :]  # drop the XML prolog and doctype: inline SVG
-
-
-def _figure(width: float, height: float) -> Figure:
-    import matplotlib
-
-    matplotlib.rcParams["svg.fonttype"] = "none"  # text as text: smaller files, crisp labels
-    from matplotlib.backends.backend_svg import FigureCanvasSVG
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width, height), dpi=72, layout="constrained")
-    FigureCanvasSVG(fig)
-    return fig
 
 
 def _skeleton_frames(a: Analysis) -> list[int]:
@@ -448,7 +429,9 @@ def report_html(a: Analysis, footage: Footage | None = None) -> str:
     """The whole report as one HTML string."""
     head = (f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8><title>zedo analyze: "
             f"{_esc(Path(a.result.source).name)}</title><style>{_CSS}</style></head><body>")  # fmt: skip
-    foot = "<p class=meta>Self-contained page (no network): figures are inline SVG, thumbnails inline PNG.</p></body></html>"
+    foot = (
+        "<p class=meta>Self-contained page (no network): figures inline SVG, thumbnails inline PNG.</p></body></html>"
+    )
     return "\n".join([head, *report_sections(a, footage), foot]) + "\n"
 
 

@@ -266,8 +266,10 @@ def analyze_command(
     ] = None,
     video: Annotated[
         Optional[Path],
-        typer.Option(help="The clip's video (with --report): thumbnails of the frames to review, the skeleton "
-                     "drawn over them. A video that does not fit the result (frames, size) is refused."),  # fmt: skip
+        typer.Option(
+            help="The clip's video (with --report): thumbnails of the frames to review, the skeleton "
+            "drawn over them. A video that does not fit the result (frames, size) is refused."
+        ),  # fmt: skip
     ] = None,
     images: Annotated[
         Optional[Path],
