@@ -141,8 +141,8 @@ def test_the_report_is_self_contained(kick_calibrated: tuple[Path, list], tmp_pa
     out = write_report(a, tmp_path / "r.html")
     page = out.read_text()
     assert page.index("Decisions") < page.index("Skeleton views")  # the calls lead
-    assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 3 + 1  # 3 skeleton views, 1 time series
-    for needle in ("Decisions", "Symmetry per frame", "Joint angles per frame", "Time series", "Movement features",
+    assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 3 + 2  # 3 skeleton views, 2 time series
+    for needle in ("Decisions", "Symmetry per frame", "Joint angles per frame", "over time", "Movement features",
                    "zedo calls a pair <b>symmetric</b> only when the whole 80 % interval"):  # fmt: skip
         assert needle in page
     # nothing to fetch: no scripts, no external stylesheet, image or font

@@ -87,7 +87,7 @@ def test_summary_report_and_overwrite(kick: Path, tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     assert "no calibrated intervals" in result.stderr and "shank" in result.stderr
     page = (report / "kick.report.html").read_text()
-    assert "Time series" in page and "symmetric at ≤ 20°" in page
+    assert "over time" in page and "symmetric at ≤ 20°" in page
     again = runner.invoke(app, ["analyze", str(kick), "--report", str(report)])
     assert again.exit_code == 2 and "already exists" in again.stderr and "--overwrite" in again.stderr
     assert runner.invoke(app, ["analyze", str(kick), "--report", str(report), "--overwrite", "-q"]).exit_code == 0

@@ -17,7 +17,7 @@ matplotlib is imported inside the functions: `zedo analyze` without `--report` n
 from __future__ import annotations
 
 import html
-import io
+from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -28,13 +28,14 @@ from ..files import write_text_atomic
 from ..formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
 from ..version import __version__
 from .analyse import SYMMETRY_NAMES, Analysis, poses_counted, summary
+from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
+from .figures import _figure, _svg
 from .geometry import joint, reflect, unit
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
 from .symmetry import BAND_EDGES_DEG, PAIRS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
 
     from ..data.skeleton import Skeleton
 
@@ -56,6 +57,9 @@ td.sym,li.sym{background:#e3f4e6} td.asym,li.asym{background:#fbe1df} td.unc,li.
 .figs{display:flex;flex-wrap:wrap;gap:8px} .figs svg{height:auto;max-width:100%}
 small{color:#666;white-space:nowrap} th small{font-weight:normal} p.rule{font-size:14.5px}
 table.wide{font-size:11.5px} .scroll{overflow-x:auto}
+.thumbs{display:flex;flex-wrap:wrap;gap:10px} figure.thumb{margin:0;width:270px;font-size:12.5px}
+figure.thumb img{width:270px;border:1px solid #ccc} figure.thumb small{white-space:normal}
+ul.far{font-size:14px;margin-top:2px}
 """
 
 
@@ -65,25 +69,6 @@ def _esc(value: Any) -> str:
 
 def _fmt(value: float, digits: int = 1) -> str:
     return f"{value:.{digits}f}" if np.isfinite(value) else "–"
-
-
-def _svg(fig: Figure) -> str:
-    buf = io.StringIO()
-    fig.savefig(buf, format="svg")
-    text = buf.getvalue()
-    return text[text.index("<svg") :]  # drop the XML prolog and doctype: inline SVG
-
-
-def _figure(width: float, height: float) -> Figure:
-    import matplotlib
-
-    matplotlib.rcParams["svg.fonttype"] = "none"  # text as text: smaller files, crisp labels
-    from matplotlib.backends.backend_svg import FigureCanvasSVG
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(width, height), dpi=72, layout="constrained")
-    FigureCanvasSVG(fig)
-    return fig
 
 
 def _skeleton_frames(a: Analysis) -> list[int]:
@@ -164,11 +149,14 @@ def time_series(a: Analysis) -> str:
     res = a.result
     fig = _figure(11.5, 9.0)
     axes = fig.subplots(4, 2).ravel()
+    step = max(1, -(-len(a.index) // MAX_POINTS))  # a long clip drawn decimated: the figure stays small
     t_of = res.frame_index[a.index] / float(a.fps or 1.0)
     people = res.person[a.index]
+    thin = np.zeros(len(a.index), bool)
+    thin[::step] = True
     tracks = sorted(set(people.tolist()))
     for p, style in zip(tracks, ["-", "--", ":", "-."] * len(tracks), strict=False):
-        sel = people == p
+        sel = (people == p) & thin
         suffix = f" (person {p})" if len(tracks) > 1 else ""
         for k, n in enumerate(SYMMETRY_NAMES):
             axes[k // 2].plot(t_of[sel], a.values[n][sel], color=PAIR_COLOURS[k % 2], ls=style, lw=1.3,
@@ -331,7 +319,7 @@ def _skeleton_section(a: Analysis) -> str:
 
 
 def _time_series_section(a: Analysis) -> str:
-    return f"<h2>Time series</h2><div class=figs>{time_series(a)}</div>"
+    return f"<h2>Symmetry angles and joint angles over time</h2><div class=figs>{time_series(a)}</div>"
 
 
 def _movement_section(a: Analysis) -> str:
@@ -414,23 +402,40 @@ def _angle_frames_section(a: Analysis) -> str:
             f"<div class=scroll><table class=wide>{head}</tr>{rows}</table></div>{more}")  # fmt: skip
 
 
-def report_sections(a: Analysis) -> list[str]:
-    """The page's sections in order, each the HTML of one small function of `a`."""
-    parts = [_title(a), research_notice(), _decisions(a), _notes(a), _symmetry_section(a), _skeleton_section(a)]
-    if a.is_sequence:
-        parts += [_time_series_section(a), _movement_section(a)]
-    return parts + [_symmetry_frames_section(a), _angle_frames_section(a)]
+@dataclass(frozen=True)
+class Footage:
+    """For a clip: the frames to review and their thumbnails (PNG bytes by frame number) cut from the
+    footage by the CLI (footage.thumbnails), or why there are none."""
+
+    picks: list[Review]
+    thumbnails: dict[int, bytes] = field(default_factory=dict)
+    note: str = ""
 
 
-def report_html(a: Analysis) -> str:
+def report_sections(a: Analysis, footage: Footage | None = None) -> list[str]:
+    """The page's sections in order, each the HTML of one small function of `a`. A clip (fps) leads with
+    its summary, the time series and the frames to review (clip_report)."""
+    if not a.is_sequence:
+        return [_title(a), research_notice(), _decisions(a), _notes(a), _symmetry_section(a), _skeleton_section(a),
+                _symmetry_frames_section(a), _angle_frames_section(a)]  # fmt: skip
+    footage = footage or Footage(review_picks(a))
+    return [_title(a), research_notice(), summary_section(a), time_series_section(a),
+            review_section(a, footage.picks, footage.thumbnails, footage.note), _decisions(a), _notes(a),
+            _symmetry_section(a), _time_series_section(a), _movement_section(a), _skeleton_section(a),
+            _symmetry_frames_section(a), _angle_frames_section(a)]  # fmt: skip
+
+
+def report_html(a: Analysis, footage: Footage | None = None) -> str:
     """The whole report as one HTML string."""
     head = (f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8><title>zedo analyze: "
             f"{_esc(Path(a.result.source).name)}</title><style>{_CSS}</style></head><body>")  # fmt: skip
-    foot = "<p class=meta>Self-contained page (no network): figures are inline SVG.</p></body></html>"
-    return "\n".join([head, *report_sections(a), foot]) + "\n"
+    foot = (
+        "<p class=meta>Self-contained page (no network): figures inline SVG, thumbnails inline PNG.</p></body></html>"
+    )
+    return "\n".join([head, *report_sections(a, footage), foot]) + "\n"
 
 
-def write_report(a: Analysis, out: str | Path, *, overwrite: bool = False) -> Path:
+def write_report(a: Analysis, out: str | Path, *, overwrite: bool = False, footage: Footage | None = None) -> Path:
     """Write the report to `out` atomically; an existing file only with `overwrite`."""
-    write_text_atomic(out, report_html(a), overwrite=overwrite)
+    write_text_atomic(out, report_html(a, footage), overwrite=overwrite)
     return Path(out)

@@ -99,6 +99,25 @@ def iter_frames(path: str | Path) -> Iterator[np.ndarray]:
         cap.release()
 
 
+def read_frames(path: str | Path, wanted: set[int]) -> dict[int, np.ndarray]:
+    """The frames numbered `wanted` (0-based), decoded in order: every frame is grabbed (seeking is
+    unreliable in several codecs), only the wanted ones are decoded, and reading stops after the last."""
+    cap = _open(path)
+    out: dict[int, np.ndarray] = {}
+    last = max(wanted, default=-1)
+    try:
+        for i in range(last + 1):
+            if not cap.grab():
+                break
+            if i in wanted:
+                ok, frame = cap.retrieve()
+                if ok and frame is not None:
+                    out[i] = frame
+    finally:
+        cap.release()
+    return out
+
+
 def evenly_spaced(total: int, count: int) -> list[int]:
     """`count` frame indices spread evenly over `total` frames (all of them when fewer)."""
     if total <= count:

@@ -47,6 +47,7 @@ from .lift_plan import STDIN, expand_inputs, output_stem
 
 if TYPE_CHECKING:
     from ..analysis.norms import Norms
+    from ..analysis.report import Footage
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
     from ..lifting.solver import LiftProgress
 
@@ -149,9 +150,15 @@ def _summary_table(a: Analysis) -> Table:
 
 
 def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSettings, *, overwrite: bool,
-                 quiet: bool, comparison: Reference | None = None) -> Analysis:  # fmt: skip
+                 quiet: bool, comparison: Reference | None = None, video: Path | None = None,
+                 images: Path | None = None) -> Analysis:  # fmt: skip
     """Read, analyse and write one result (errors are raised; the batch loop isolates them)."""
-    a = analyse(read_result(source), settings)
+    res = read_result(source)
+    if video is not None:
+        from ..footage.thumbnails import check_video_fits
+
+        check_video_fits(res, video)  # refused before anything is written
+    a = analyse(res, settings)
     if comparison is not None:
         from ..analysis.compare import add_comparison
 
@@ -163,7 +170,7 @@ def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSet
     if plan["report"]:
         from ..analysis.report import write_report  # matplotlib loads only when a report is asked for
 
-        write_report(a, plan["report"], overwrite=overwrite)
+        write_report(a, plan["report"], overwrite=overwrite, footage=_footage(a, video, images))
     if not quiet:
         print_table(_summary_table(a))
         for note in a.notes:
@@ -172,6 +179,22 @@ def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSet
         if written:
             err_console.print(f"wrote {', '.join(written)}", markup=False, soft_wrap=True)
     return a
+
+
+def _footage(a: Analysis, video: Path | None, images: Path | None) -> Footage | None:
+    """For a clip's report: the frames to review, with thumbnails when the footage is given."""
+    if not a.is_sequence:
+        return None
+    from ..analysis.clip_report import review_picks
+    from ..analysis.report import Footage
+
+    picks = review_picks(a)
+    if video is None and images is None:
+        return Footage(picks)
+    from ..footage.thumbnails import cut_thumbnails
+
+    thumbs = cut_thumbnails(a.result, [r.frame_index for r in picks], video=video, images=images)
+    return Footage(picks, thumbs)
 
 
 @error_boundary
@@ -241,6 +264,17 @@ def analyze_command(
     age_weeks: Annotated[
         Optional[float], typer.Option(help="The infant's age in weeks, for a reference split by age (--norms).")
     ] = None,
+    video: Annotated[
+        Optional[Path],
+        typer.Option(
+            help="The clip's video (with --report): thumbnails of the frames to review, the skeleton "
+            "drawn over them. A video that does not fit the result (frames, size) is refused."
+        ),  # fmt: skip
+    ] = None,
+    images: Annotated[
+        Optional[Path],
+        typer.Option(help="The clip's frames as a folder of images (with --report), instead of --video."),
+    ] = None,
     overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No summary on stderr.")] = False,
 ) -> None:
@@ -292,11 +326,19 @@ def analyze_command(
         output = csv_out
     comparison = _reference(norms, age_weeks)
     sources = expand_results(results)
+    if video is not None or images is not None:
+        if report is None:
+            raise ConfigError("--video / --images give the report its thumbnails: give them with --report DIR")
+        if video is not None and images is not None:
+            raise ConfigError("give the footage as --video FILE or as --images DIR, not both")
+        if len(sources) != 1:
+            raise ConfigError("--video / --images are the footage of one result: give one input")
     plans = plan_outputs(sources, output, output_dir, report, as_json, overwrite)
     if report is not None:
         make_output_folder(report)
     if len(sources) == 1:
-        analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet, comparison=comparison)
+        analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet, comparison=comparison,
+                     video=video, images=images)  # fmt: skip
         return
     codes = []
     for source, plan in zip(sources, plans, strict=True):

@@ -1,0 +1,315 @@
+"""The clip report's own sections (a result with fps): the recording's summary first, then decimated
+time series with their bands and flagged frames shaded, then the frames a person should review.
+
+`review_picks(a)` chooses the frames to review (undecided symmetry calls, frames flagged too fast),
+spread over the clip, most undecided first; the CLI cuts their thumbnails from the footage
+(`footage.thumbnails`) and hands them to `report.write_report` as PNG bytes by frame number.
+Everything per frame is vectorised: an 18,000-frame clip's plots draw at most MAX_POINTS points
+per series. matplotlib is imported inside the functions (through `report._figure`).
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..formats.colours import LEFT_HEX, RIGHT_HEX
+from .analyse import SYMMETRY_NAMES, Analysis, Row
+from .compare import furthest_from_typical
+from .figures import _figure, _svg
+from .head import TURN_CALLS
+from .joint_angles import ANGLE_BASES, SIDES, angle_name
+from .plain_words import describe, has_words
+
+MAX_POINTS = 600  # per plotted series: the clip decimated to at most this many time steps (a panel is ~500 px wide)
+MAX_REVIEW = 8
+FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
+_TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
+
+
+def _esc(value: object) -> str:
+    return html.escape(str(value))
+
+
+def _pct(value: float) -> str:
+    return f"{100 * value:.0f} %" if np.isfinite(value) else "–"
+
+
+def _clip_rows(a: Analysis) -> dict[tuple[int, str], Row]:
+    return {(r.person, r.measure): r for r in a.rows if r.frame_index is None}
+
+
+def _share_cell(r: Row | None, level: str) -> str:
+    if r is None or not np.isfinite(r.value):
+        why = r.interval.removeprefix("none: ") if r is not None and r.interval else "not measured"
+        return f"<td>– <small>({_esc(why)})</small></td>"
+    if np.isfinite(r.low_90) and np.isfinite(r.high_90):
+        return f"<td><b>{_pct(r.value)}</b> <small>{level} interval {_pct(r.low_90)} – {_pct(r.high_90)}</small></td>"
+    return f"<td><b>{_pct(r.value)}</b> <small>(no interval)</small></td>"
+
+
+def _pair(name: str) -> str:
+    return name.removeprefix("symmetry_").removesuffix("_deg").replace("_", " ")
+
+
+def uncertain(a: Analysis) -> np.ndarray:
+    """`(M,)` how many of the four symmetry calls of each analysed pose are uncertain."""
+    calls = {(r.frame_index, r.person, r.measure): r.call for r in a.rows if r.measure in SYMMETRY_NAMES}
+    res = a.result
+    keys = list(zip(res.frame_index[a.index].tolist(), res.person[a.index].tolist(), strict=True))
+    return np.array([sum(calls.get((f, p, n)) == "uncertain" for n in SYMMETRY_NAMES) for f, p in keys])
+
+
+def too_fast(a: Analysis) -> np.ndarray:
+    """`(M,)` whether any joint angle of the pose was flagged too fast."""
+    m = len(a.index)
+    return np.any(np.stack([np.asarray(v, bool) for v in a.too_fast.values()] or [np.zeros(m, bool)]), axis=0)
+
+
+def summary_section(a: Analysis) -> str:
+    """The recording in a few lines: shares asymmetric, head, and the comparison with typical infants."""
+    rows = _clip_rows(a)
+    level = f"{a.settings.level:.0%}".replace("%", " %")
+    people = sorted({p for p, _ in rows}) or sorted(set(a.result.person[a.index].tolist()))
+    out = ["<h2>Summary of the recording</h2>"]
+    for p in people:
+        who = f" (person {p})" if len(people) > 1 else ""
+        shares = [rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")) for n in SYMMETRY_NAMES]
+        if all(r is None or not np.isfinite(r.value) for r in shares):
+            why = next((r.interval.removeprefix("none: ") for r in shares if r is not None), "not measured")
+            out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: not estimated ({_esc(why)}; "
+                       "the shares need the calibrated intervals of the frames).</p>")  # fmt: skip
+        head = "".join(f"<th>{_pair(n)}</th>" for n in SYMMETRY_NAMES)
+        cells = "".join(_share_cell(rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")), level)
+                        for n in SYMMETRY_NAMES)  # fmt: skip
+        if not all(r is None or not np.isfinite(r.value) for r in shares):
+            out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: the estimated share of frames in "
+                   f"which the pair's true symmetry angle is above {a.settings.threshold_deg:g}°, with its {level} "
+                   "interval (block bootstrap over correlated frames).</p>"
+                   f"<table><tr>{head}</tr><tr>{cells}</tr></table>")  # fmt: skip
+        turn = "".join(f"<th>head turned {c}</th>" if c != "midline" else "<th>head at the midline</th>"
+                       for c in TURN_CALLS)  # fmt: skip
+        turn_cells = "".join(_share_cell(rows.get((p, f"head_turn_fraction_{c}")), level) for c in TURN_CALLS)
+        tilt = rows.get((p, "head_tilt_median_deg"))
+        turn_rows = [rows.get((p, f"head_turn_fraction_{c}")) for c in TURN_CALLS]
+        if all(r is None or not np.isfinite(r.value) for r in [*turn_rows, tilt]):
+            why = next((r.interval.removeprefix("none: ") for r in [tilt, *turn_rows] if r is not None), "")
+            out.append(f"<p class=meta><b>Head{who}</b>: not measured ({_esc(why or 'no head rows')}).</p>")
+            continue
+        if tilt is not None and np.isfinite(tilt.value):
+            band = (f" <small>{level} interval {tilt.low_90:.1f}° – {tilt.high_90:.1f}°</small>"
+                    if np.isfinite(tilt.low_90) else "")  # fmt: skip
+            tilt_cell = f"<td><b>{tilt.value:.1f}°</b>{band}</td>"
+        else:
+            why = tilt.interval.removeprefix("none: ") if tilt is not None else "not measured"
+            tilt_cell = f"<td>– <small>({_esc(why)})</small></td>"
+        out.append(f"<p class=meta><b>Head{who}</b>: the share of the frames with a turn call, and the median "
+                   "tilt (from the input's 2D face points and shoulders).</p>"
+                   f"<table><tr>{turn}<th>median head tilt</th></tr>"
+                   f"<tr>{turn_cells}{tilt_cell}</tr></table>")  # fmt: skip
+    out.append(comparison_block(a))
+    return "".join(out)
+
+
+def comparison_block(a: Analysis) -> str:
+    """With --norms: the published and extended surprise, and the features furthest from typical in words."""
+    if not a.comparisons:
+        return ("<p class=meta>No comparison with typical infants: give a reference from <code>zedo norms</code> "
+                "with <code>--norms</code>.</p>")  # fmt: skip
+    out = []
+    for pc in a.comparisons:
+        c = pc.comparison
+        who = f" (person {pc.person})" if len(a.comparisons) > 1 else ""
+        kinds = (("published", c.published), ("extended", c.extended))
+        scores = "".join(f"<tr><td class=l>{kind} features ({s.features})</td><td>{s.z:+.2f}</td>"
+                         f"<td>{s.p:.3g}</td></tr>" for kind, s in kinds)  # fmt: skip
+        far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
+               for n, z in furthest_from_typical(c)]  # fmt: skip
+        items = "".join(f"<li>{_esc(t)}</li>" for t in far)
+        out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
+                   "reference: z compares the clip's summed log-likelihood under the reference with the typical "
+                   "clips' own sums (negative: less typical), p is its two-sided normal p-value. A large |z| says "
+                   "the movements differ from the reference, not why.</p>"
+                   f"<table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>{scores}</table>"
+                   "<p class=meta>Furthest from typical (the largest |z| of single features):</p>"
+                   f"<ul class=far>{items}</ul>")  # fmt: skip
+    return "".join(out)
+
+
+# --- time series ------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Decimated:
+    """One person's poses on a coarser time grid: every `step`-th pose, the flag OR-ed over each step."""
+
+    take: np.ndarray  # (T',) positions in a.index
+    t: np.ndarray  # (T',) seconds
+    flagged: np.ndarray  # (T',) bool: any too-fast frame in the step
+
+
+def decimate(a: Analysis, person: int, max_points: int = MAX_POINTS) -> Decimated:
+    res = a.result
+    pos = np.flatnonzero(res.person[a.index] == person)  # (T,)
+    pos = pos[np.argsort(res.frame_index[a.index][pos], kind="stable")]
+    step = max(1, -(-len(pos) // max_points))
+    pad = (-len(pos)) % step
+
+    def any_in_step(mask: np.ndarray) -> np.ndarray:
+        return np.pad(mask[pos], (0, pad)).reshape(-1, step).any(axis=1)  # (T',)
+
+    take = pos[::step]
+    t = res.frame_index[a.index][take] / float(a.fps or 1.0)
+    return Decimated(take, t, any_in_step(too_fast(a)))
+
+
+def _shade(ax, d: Decimated) -> None:  # noqa: ANN001 (matplotlib Axes, imported lazily)
+    ax.fill_between(d.t, 0, 1, where=d.flagged, step="mid", color=FLAG_SHADE, alpha=0.6, lw=0,
+                    transform=ax.get_xaxis_transform())  # fmt: skip
+
+
+def _empty(ax, text: str) -> None:  # noqa: ANN001
+    ax.text(0.5, 0.5, text, ha="center", va="center", fontsize=9, color="0.4", transform=ax.transAxes, wrap=True)
+    ax.set_yticks([])
+
+
+def time_series_figure(a: Analysis, person: int) -> str:
+    """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
+    turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red."""
+    d = decimate(a, person)
+    fig = _figure(11.5, 11.5)
+    grid = fig.add_gridspec(5, 2, height_ratios=[1, 1, 1, 0.8, 0.45])
+    axes = [fig.add_subplot(grid[r, c]) for r in range(4) for c in range(2)]
+    axes.append(fig.add_subplot(grid[4, :]))
+    for ax, base in zip(axes[:6], ANGLE_BASES, strict=True):
+        _shade(ax, d)
+        for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
+            name = angle_name(side, base)
+            low, high = (x[d.take] for x in a.intervals[name])
+            ax.fill_between(d.t, low, high, color=colour, alpha=0.18, lw=0)
+            ax.plot(d.t, a.values[name][d.take], color=colour, lw=1.1, label=side)
+        ax.set_title(base.replace("_", " ") + " (deg; band: interval)", fontsize=10)
+        ax.legend(fontsize=8, loc="upper right")
+    tilt_ax, turn_ax, calls_ax = axes[6], axes[7], axes[8]
+    _shade(tilt_ax, d)
+    tilt = a.head.tilt_deg[d.take] if a.head is not None else np.full(len(d.t), np.nan)
+    turn = a.head.turn_call[d.take].astype(str) if a.head is not None else np.full(len(d.t), "")
+    if np.isfinite(tilt).any():
+        tilt_ax.plot(d.t, tilt, color="#444444", lw=1.1)
+    else:
+        _empty(tilt_ax, "no head tilt: the input has no usable face points")
+    if (turn != "").any():
+        for c in TURN_CALLS:
+            turn_ax.fill_between(d.t, 0, 1, where=turn == c, step="mid", color=_TURN_COLOURS[c], lw=0, label=c)
+        turn_ax.legend(fontsize=8, loc="upper right", ncol=3)
+        turn_ax.set_ylim(0, 1.35)
+        turn_ax.set_yticks([])
+    else:
+        _empty(turn_ax, "no head turn: the input has no usable face points")
+    tilt_ax.set_title("head tilt (deg)", fontsize=10)
+    turn_ax.set_title("head turn (white: no call)", fontsize=10)
+    calls_ax.fill_between(d.t, 0, uncertain(a)[d.take], step="mid", color="#e0b000", alpha=0.7, lw=0)
+    calls_ax.set_ylim(0, 4)
+    calls_ax.set_yticks([0, 2, 4])
+    calls_ax.set_title("symmetry calls uncertain in the frame (of 4: upper arm, forearm, thigh, shank)", fontsize=10)
+    for ax in axes:
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.set_xlim(d.t[0], d.t[-1]) if len(d.t) > 1 else None
+    for ax in axes[6:]:
+        ax.set_xlabel("time (s)", fontsize=9)
+    return _svg(fig)
+
+
+def time_series_section(a: Analysis) -> str:
+    res = a.result
+    people, counts = np.unique(res.person[a.index], return_counts=True)
+    person = int(people[np.argmax(counts)])
+    n = int(counts.max())
+    step = max(1, -(-n // MAX_POINTS))
+    which = f" Person {person}, the longest track." if len(people) > 1 else ""
+    thin = f" Every {step}th frame is drawn (shading covers every frame)." if step > 1 else ""
+    return ("<h2>Over time</h2><p class=meta>Joint angles left (blue) and right (orange), each with its interval "
+            f"as a band; shaded: frames <b style='background:{FLAG_SHADE}'>flagged too fast</b> (a joint angle "
+            f"changing faster than {a.settings.max_velocity_deg_s:g} deg/s, likely a detection error). The bottom "
+            "strip counts the frame's uncertain symmetry calls: where it is high, the 2D view leaves the "
+            f"posture open (the frames to review, below).{which}{thin}</p>"
+            f"<div class=figs>{time_series_figure(a, person)}</div>")  # fmt: skip
+
+
+# --- frames to review -------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Review:
+    position: int  # in a.index
+    frame_index: int
+    person: int
+    time_s: float
+    uncertain: int  # symmetry calls uncertain (of 4)
+    flagged: bool  # a joint angle too fast
+    score: float  # how undecided: higher first
+
+
+def review_picks(a: Analysis, count: int = MAX_REVIEW) -> list[Review]:
+    """Up to `count` poses to look at: those with an uncertain call or a too-fast angle, one from each of
+    `count` equal stretches of the candidates (spread over the clip), most undecided first. Without a
+    measure calibration only the flagged frames are candidates."""
+    res = a.result
+    fast = too_fast(a)
+    # without a calibration every call is uncertain by default, not because the view leaves it open
+    unc = uncertain(a) if a.uncertainty_available else np.zeros(len(a.index), int)
+    closeness = np.zeros(len(a.index))  # how near each call's probability is to a coin toss, summed
+    for n in SYMMETRY_NAMES:
+        prob = a.probabilities.get(n)
+        if prob is not None:
+            closeness += np.nan_to_num(1.0 - 2.0 * np.abs(prob - 0.5), nan=0.0)
+    score = unc + closeness / len(SYMMETRY_NAMES) + 0.5 * fast
+    cand = np.flatnonzero((unc > 0) | fast)
+    if not len(cand):
+        return []
+    cand = cand[np.argsort(res.frame_index[a.index][cand], kind="stable")]
+    picks = [int(part[np.argmax(score[part])]) for part in np.array_split(cand, min(count, len(cand)))]
+    picks.sort(key=lambda k: -score[k])
+    fps = float(a.fps or 1.0)
+    return [Review(k, int(res.frame_index[a.index[k]]), int(res.person[a.index[k]]),
+                   float(res.frame_index[a.index[k]]) / fps, int(unc[k]), bool(fast[k]), float(score[k]))
+            for k in picks]  # fmt: skip
+
+
+def _why(r: Review) -> str:
+    parts = []
+    if r.uncertain:
+        parts.append(f"{r.uncertain} of 4 symmetry calls uncertain")
+    if r.flagged:
+        parts.append("a joint angle flagged too fast")
+    return "; ".join(parts)
+
+
+def review_section(a: Analysis, picks: list[Review], thumbnails: dict[int, bytes] | None = None,
+                   footage_note: str = "") -> str:  # fmt: skip
+    """The frames to review: thumbnails cut from the footage where given, else a list of frames and times."""
+    if not picks:
+        return ("<h2>Frames to review</h2><p class=meta>None: every symmetry call is decided and no joint angle "
+                "was flagged too fast.</p>")  # fmt: skip
+    thumbnails = thumbnails or {}
+    intro = (f"<h2>Frames to review</h2><p class=meta>{len(picks)} frames spread over the clip, the most "
+             "undecided first: the footage settles what the 2D keypoints could not.")  # fmt: skip
+    if thumbnails:
+        cards = []
+        for r in picks:
+            png = thumbnails.get(r.frame_index)
+            img = (f"<img alt='frame {r.frame_index}' src='data:image/png;base64,{base64.b64encode(png).decode()}'>"
+                   if png else "<div class=meta>(not in the footage)</div>")  # fmt: skip
+            cards.append(f"<figure class=thumb>{img}<figcaption>frame {r.frame_index} · {r.time_s:.2f} s · "
+                         f"person {r.person}<br><small>{_esc(_why(r))}</small></figcaption></figure>")  # fmt: skip
+        return f"{intro}</p><div class=thumbs>{''.join(cards)}</div>"
+    rows = "".join(f"<tr><td>{r.frame_index}</td><td>{r.time_s:.2f}</td><td>{r.person}</td>"
+                   f"<td class=l>{_esc(_why(r))}</td></tr>" for r in picks)  # fmt: skip
+    hint = (
+        footage_note or "Give the footage with <code>--video FILE</code> or <code>--images DIR</code> for thumbnails."
+    )
+    return (f"{intro} {hint}</p><table><tr><th>frame</th><th>time (s)</th><th>person</th>"
+            f"<th class=l>why</th></tr>{rows}</table>")  # fmt: skip
