@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -34,13 +34,16 @@ def held_out_names(folder: Path, fold: int) -> list[str]:
     return json.loads((folder / f"fold{fold}-held-out.json").read_text())
 
 
-def fold_priors(folder: Path, weights: str, syrip_dir: str | Path) -> Iterator[tuple[int, Any, Any, dict]]:
-    """For each fold whose prior `fold<k><weights>.safetensors` exists in `folder`: the fold, its
-    prior, the ground truth of its held-out poses and their 2D inputs ("gt", "detected")."""
+def fold_priors(
+    folder: Path, weights: str, syrip_dir: str | Path, only: Sequence[int] | None = None
+) -> Iterator[tuple[int, Any, Any, dict]]:
+    """For each fold (of `only`, default all) whose prior `fold<k><weights>.safetensors` exists in
+    `folder`: the fold, its prior, the ground truth of its held-out poses and their 2D inputs
+    ("gt", "detected")."""
     from zedo_cli.evaluation.syrip_benchmark import load_syrip_train_inputs
     from zedo_cli.prior.weights import load_prior
 
-    for k in range(FOLDS):
+    for k in range(FOLDS) if only is None else only:
         path = folder / f"fold{k}{weights}.safetensors"
         if path.exists():
             truth, inputs = load_syrip_train_inputs(syrip_dir, held_out_names(folder, k))

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -47,31 +48,78 @@ def _rotation(yaw: np.ndarray, roll: np.ndarray) -> np.ndarray:
     return rz @ ry
 
 
+# A camera placement for one synthetic clip: (rng, root-relative camera-frame poses (T, J, 3), their
+# root's drift (T, 3) about its mean) -> (K (3, 3), root points (T, 3) in the camera frame).
+Placement = Callable[[np.random.Generator, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def scale_2d(xy: np.ndarray) -> np.ndarray:
+    """The size of 2D poses `(..., J, 2)` in pixels `(...,)`: the RMS distance of the known joints from their mean."""
+    known = np.isfinite(xy).all(-1)  # (..., J)
+    count = known.sum(-1, keepdims=True)  # a pose without a known joint has no size (NaN)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = np.where(known[..., None], xy, 0.0).sum(-2, keepdims=True) / count[..., None]
+        d2 = np.where(known, ((xy - c) ** 2).sum(-1), 0.0)
+        return np.sqrt(d2.sum(-1) / count[..., 0])
+
+
+def _eased_error(e0: np.ndarray, e1: np.ndarray, ease: np.ndarray) -> np.ndarray:
+    """A detector's relative error `(T, J, 2)` eased from key pose e0 `(J, 2)` to e1; a joint missed at
+    the nearer key pose is missed (NaN)."""
+    mix = (1 - ease)[:, None, None] * np.nan_to_num(e0) + ease[:, None, None] * np.nan_to_num(e1)
+    missed = np.where(ease[:, None] < 0.5, np.isnan(e0).any(-1), np.isnan(e1).any(-1))  # (T, J)
+    mix[missed] = np.nan
+    return mix
+
+
 def make_sequences(
     poses: np.ndarray, rng: np.random.Generator, *, count: int, keyposes: int, transition_s: float, fps: float,
-    noise_px: float, drop: float, gap: int,
+    noise_px: float, drop: float, gap: int, place: Placement | None = None, key_noise: np.ndarray | None = None,
+    noise_rel: float = 0.0,
 ) -> dict[str, np.ndarray]:  # fmt: skip
-    """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels."""
+    """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels.
+
+    By default about 1 m in front of the pseudo camera. `place` puts each clip before another camera
+    (its K and root points; the root drifts up to 2 cm/s about its place there). `key_noise (P, J, 2)`:
+    a detector's error of each pose of `poses`, relative to the pose's 2D size (`scale_2d`; NaN: the
+    joint was missed), eased from key pose to key pose like the poses and scaled to each frame's 2D
+    size. `noise_rel`: Gaussian pixel noise as a fraction of the frame's 2D size, on top of `noise_px`."""
     frames = int(round(transition_s * fps))
-    rel_all, cam_all, tracks = [], [], []
+    rel_all, cam_all, tracks, k_all, err_all = [], [], [], [], []
     for track in range(count):
-        keys = poses[rng.choice(len(poses), keyposes, replace=False)]
+        picked = rng.choice(len(poses), keyposes, replace=False)
+        keys = poses[picked]
         u = np.arange(frames) / frames
         ease = (1.0 - np.cos(np.pi * u)) / 2.0  # zero velocity at every key pose: smooth motion
         seq = np.concatenate([(1 - ease)[:, None, None] * keys[i] + ease[:, None, None] * keys[i + 1]
                               for i in range(keyposes - 1)])  # fmt: skip
+        if key_noise is not None:
+            err_all.append(np.concatenate([_eased_error(key_noise[picked[i]], key_noise[picked[i + 1]], ease)
+                                           for i in range(keyposes - 1)]))  # fmt: skip
         t = np.arange(len(seq)) / fps
         yaw = rng.uniform(-0.4, 0.4) + rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
         roll = rng.uniform(-0.2, 0.2) + rng.uniform(-0.1, 0.1) * t
         rel = seq @ _rotation(yaw, roll).transpose(0, 2, 1)
-        root = np.array([0.0, 0.0, 1.0]) + rng.normal(0, [0.05, 0.05, 0.1]) + rng.uniform(-0.05, 0.05, 3) * t[:, None]
+        if place is None:
+            root = (
+                np.array([0.0, 0.0, 1.0]) + rng.normal(0, [0.05, 0.05, 0.1]) + rng.uniform(-0.05, 0.05, 3) * t[:, None]
+            )
+            k_all.append(np.repeat(Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()[None], len(seq), 0))
+        else:
+            kmat, root = place(rng, rel, rng.uniform(-0.02, 0.02, 3) * (t - t.mean())[:, None])
+            k_all.append(np.repeat(kmat[None], len(seq), 0))
         rel_all.append(rel)
         cam_all.append(rel + root[:, None])
         tracks.append(np.full(len(seq), track))
-    rel, cam, track = np.concatenate(rel_all), np.concatenate(cam_all), np.concatenate(tracks)
-    k = np.repeat(Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()[None], len(cam), 0)
-    xy = project(torch.tensor(cam), torch.tensor(k)).numpy() + rng.normal(0.0, noise_px, cam.shape[:2] + (2,))
-    conf = np.ones(xy.shape[:2])
+    rel, cam, track, k = np.concatenate(rel_all), np.concatenate(cam_all), np.concatenate(tracks), np.concatenate(k_all)
+    xy = project(torch.tensor(cam), torch.tensor(k)).numpy()
+    size = scale_2d(xy)[:, None, None]  # (T, 1, 1) px
+    if key_noise is not None:
+        xy = xy + np.concatenate(err_all) * size  # NaN (a missed joint) stays NaN: confidence 0 below
+    xy = xy + rng.normal(0.0, noise_px, cam.shape[:2] + (2,))
+    if noise_rel:
+        xy = xy + rng.normal(0.0, 1.0, cam.shape[:2] + (2,)) * noise_rel * size
+    conf = np.where(np.isfinite(xy).all(-1), 1.0, 0.0)
     conf[rng.random(conf.shape) < drop] = 0.0
     for tr in range(count):  # one short gap per sequence: two joints only, not liftable
         idx = np.flatnonzero(track == tr)

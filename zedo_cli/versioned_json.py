@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from .errors import WeightsError
+from .strict_json import loads
 
 T = TypeVar("T")
 
@@ -17,7 +18,7 @@ def read_items(path: str | Path, fmt: str, version: int, key: str, what: str) ->
     """The items under `key` of a `fmt` version `version` file; WeightsError naming `what` otherwise."""
     path = Path(path)
     try:
-        doc = json.loads(path.read_text())
+        doc = loads(path.read_text())
         if not isinstance(doc, dict) or doc.get("format") != fmt or doc.get("format_version") != version:
             raise WeightsError(f"{path}: not a {fmt} version {version} file")
         items = doc[key]

@@ -46,8 +46,13 @@ def test_rows_without_a_calibration_say_so(kick: Path) -> None:
     assert list(rows[0]) == list(COLUMNS)
     assert list(COLUMNS[:10]) == ["frame_index", "image_id", "file_name", "person", "measure", "value", "unit",
                                   "low_90", "high_90", "call"]  # fmt: skip
-    frame_rows = [r for r in rows if r["frame_index"]]
-    assert len(frame_rows) == 60 * (4 + 4 + 12)
+    head_rows = [r for r in rows if r["measure"].startswith("head_")]
+    frame_rows = [r for r in rows if r["frame_index"] and not r["measure"].startswith("head_")]
+    assert len(frame_rows) == 60 * (4 + 4 + 4 + 12)  # angle, band and probability per pair; 12 joint angles
+    # a result written without the input's face points: empty head rows with the reason, one note
+    assert len([r for r in head_rows if r["frame_index"]]) == 60 * 2
+    assert all(r["value"] == "" and "lift it again" in r["interval"] for r in head_rows)
+    assert sum("no head measures" in n for n in a.notes) == 1
     assert all(r["low_90"] == "" and r["high_90"] == "" for r in rows)
     assert {r["interval"] for r in frame_rows} == {"none: no measure calibration for this prior"}
     assert {r["call"] for r in frame_rows if r["measure"].startswith("symmetry_") and r["unit"] == "deg"} == {
@@ -138,12 +143,53 @@ def test_the_report_is_self_contained(kick_calibrated: tuple[Path, list], tmp_pa
     assert page.index("Decisions") < page.index("Skeleton views")  # the calls lead
     assert page.startswith("<!DOCTYPE html>") and page.count("<svg") == 3 + 1  # 3 skeleton views, 1 time series
     for needle in ("Decisions", "Symmetry per frame", "Joint angles per frame", "Time series", "Movement features",
-                   "<b>Uncertain</b>: that interval includes 28°", "80% interval"):  # fmt: skip
+                   "zedo calls a pair <b>symmetric</b> only when the whole 80 % interval"):  # fmt: skip
         assert needle in page
     # nothing to fetch: no scripts, no external stylesheet, image or font
     assert "<script" not in page and "<link" not in page and "<img" not in page
     assert not re.search(r"""(src|href)\s*=\s*["']?(https?:)?//""", page)
     assert "@import" not in page and not re.search(r"url\((?!#)", page)  # only the SVGs' own clip paths
+
+
+def test_the_report_prints_beside_each_call_the_interval_that_decides_it(
+    kick_calibrated: tuple[Path, list],
+) -> None:
+    from dataclasses import replace
+
+    from zedo_cli.analysis.report import report_html
+
+    cal = kick_calibrated[1][0]  # widths that grow with the level: 3 degrees at 70 %, 9 at 90 %
+    widths = {level: (3.0 if level <= 0.7 else 9.0,) for level in cal.measures["symmetry_thigh_deg"].q_low}
+    models = {n: replace(m, q_low=widths, q_high=widths) for n, m in cal.measures.items()}
+    a = analyse(read_result(kick_calibrated[0]), AnalysisSettings(level=0.9, call_level=0.7),
+                calibrations=[replace(cal, measures=models)])  # fmt: skip
+    page = report_html(a)
+    table = page[page.index("<h2>Symmetry per frame</h2>") : page.index("<h2>Joint angles per frame</h2>")]
+    assert "70 % interval that decides the call" in table and table.count("deg [70 %] call") == 4
+    rows = [r for r in a.rows if r.measure.startswith("symmetry_") and r.unit == "deg" and r.frame_index is not None]
+    assert rows and all(np.isfinite(r.call_low) and (r.call_low, r.call_high) != (r.low_90, r.high_90) for r in rows)
+    for r in rows[:8]:  # each call's cell holds the 70 % interval, never the 90 % one
+        cell = f"[{r.call_low:.1f}, {r.call_high:.1f}]</small> <small>{r.call}</small>"
+        assert cell in table, cell
+        assert f"[{r.low_90:.1f}, {r.high_90:.1f}]</small> <small>{r.call}" not in table
+
+
+def test_the_report_opens_with_the_research_notice_and_shows_bands_as_the_papers(
+    kick_calibrated: tuple[Path, list],
+) -> None:
+    from zedo_cli.analysis.report import report_html
+    from zedo_cli.footage.draw import LEFT, RIGHT
+    from zedo_cli.formats.colours import LEFT_HEX, LEFT_RGB, RIGHT_HEX, RIGHT_RGB, bgr
+
+    page = report_html(analyse(read_result(kick_calibrated[0]), calibrations=kick_calibrated[1]))
+    notice = page.index("For research; not a diagnosis.")
+    assert page.index("</h1>") < notice < page.index("<h2>Decisions</h2>")
+    assert "research / non-commercial use only" in page
+    symmetry = page[page.index("<h2>Symmetry</h2>") : page.index("<h2>Skeleton views</h2>")]
+    assert "poses per band of Huang et al. (not the call)" in symmetry and "symmetric</th>" not in symmetry
+    assert (bgr(LEFT_RGB), bgr(RIGHT_RGB)) == (LEFT, RIGHT)  # zedo render's colours are the report's
+    assert f"color:{LEFT_HEX}'>blue</b> = left" in page and f"color:{RIGHT_HEX}'>orange</b> = right" in page
+    assert page.count(f"stroke: {LEFT_HEX}") > 0 and page.count(f"stroke: {RIGHT_HEX}") > 0  # the figures too
 
 
 def test_no_calibration_is_stated_in_the_report(kick: Path, tmp_path: Path) -> None:

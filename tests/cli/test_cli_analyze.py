@@ -37,7 +37,14 @@ def test_lift_then_analyze_every_format(tiny_prior_path: Path, tmp_path: Path, f
     result = runner.invoke(app, ["analyze", str(tmp_path / f"kp.zedo.{fmt}"), "-q"])
     assert result.exit_code == 0, result.output
     table = rows((tmp_path / "kp.analysis.csv").read_text())
-    assert len(table) == 3 * 20 and {r["file_name"] for r in table} == {"img0.jpg", "img1.jpg", "img2.jpg"}
+    # per frame: 4 symmetry angles, their bands and probabilities, 12 joint angles, head tilt and turn
+    assert len(table) == 3 * (4 + 4 + 4 + 12 + 2) and {r["file_name"] for r in table} == {
+        "img0.jpg",
+        "img1.jpg",
+        "img2.jpg",
+    }
+    head = [r for r in table if r["measure"].startswith("head_")]  # the face at v = 0: no head, and why
+    assert len(head) == 3 * 2 and all(r["value"] == "" and r["interval"].startswith("none: ") for r in head)
     doc = json.loads((tmp_path / "kp.analysis.json").read_text())
     assert doc["input"]["format"] == fmt and doc["input"]["units_in_file"] == "mm"
     assert len(doc["rows"]) == len(table)
@@ -52,7 +59,7 @@ def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert lift.wait(timeout=300) == 0
     assert done.returncode == 0, done.stderr
     table = rows(done.stdout)
-    assert len(table) == 2 * 20 and table[0]["measure"] == "symmetry_upper_arm_deg"
+    assert len(table) == 2 * (4 + 4 + 4 + 12 + 2) and table[0]["measure"] == "symmetry_upper_arm_deg"
     assert table[0]["interval"] == "none: no measure calibration for this prior"
 
 
@@ -192,3 +199,23 @@ def test_evaluate_reads_every_result_format_through_the_shared_reader(tiny_prior
         assert result.exit_code == 0, result.output
         scores[fmt] = json.loads(result.stdout)["mpjpe_mm"]
     assert scores["csv"] == pytest.approx(scores["json"], abs=0.01) and scores["npz"] == pytest.approx(scores["json"])
+
+
+def test_a_lift_given_its_focal_length_gets_the_bundled_camera_calibration(tmp_path: Path) -> None:
+    """The bundled prior and preset, `--focal 1000` (the camera the 2D was made with, 1 m away): every
+    symmetry value gets a calibrated interval from the known cameras' calibration (issue 35)."""
+    src = write_coco(tmp_path / "kp.json", n=4)
+    out = tmp_path / "kp.zedo.json"
+    lifted = runner.invoke(app, ["lift", str(src), "--focal", "1000", "-q", "-o", str(out)])
+    assert lifted.exit_code == 0, lifted.output
+    result = runner.invoke(app, ["analyze", str(out), "-o", "-", "-q"])
+    assert result.exit_code == 0, result.output
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    sym = [r for r in rows if r["measure"].startswith("symmetry_") and r["measure"].endswith("_deg")]
+    assert len(sym) == 16 and {r["interval"] for r in sym} == {"calibrated"}
+    assert all(float(r["low_90"]) <= float(r["value"]) <= float(r["high_90"]) for r in sym)
+    far = runner.invoke(app, ["lift", str(src), "--focal", "3000", "-q", "-o", str(tmp_path / "far.zedo.json")])
+    assert far.exit_code == 0, far.output
+    table = runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "-o", "-", "-q"]).stdout
+    reasons = {r["interval"] for r in csv.DictReader(io.StringIO(table)) if r["measure"] == "symmetry_thigh_deg"}
+    assert len(reasons) >= 1 and all(x.startswith("none: camera outside the calibrated range") for x in reasons)

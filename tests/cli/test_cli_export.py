@@ -37,13 +37,14 @@ def export(*args: str, code: int = 0) -> str:
 
 @pytest.fixture(scope="module")
 def lifted(tiny_prior_path: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The clip lifted once into every format (`direct/x.<fmt>`); the JSON as `clip.zedo.json`."""
+    """The clip lifted once into every format (`direct/x.<fmt>`); its JSON also as `clip.zedo.json`,
+    the result exported."""
     root = tmp_path_factory.mktemp("export")
     src = write_two_people(root / "clip.jsonl")
     (root / "direct").mkdir()
     for fmt in FORMATS:
         lift(tiny_prior_path, src, root / "direct" / f"x.{fmt}")
-    lift(tiny_prior_path, src, root / "clip.zedo.json")
+    (root / "clip.zedo.json").write_bytes((root / "direct" / "x.json").read_bytes())
     return root
 
 

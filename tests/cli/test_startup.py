@@ -13,7 +13,7 @@ from pathlib import Path
 
 import typer
 
-from zedo_cli.cli import COMMANDS, app
+from zedo_cli.cli import COMMANDS, PANELS, app
 
 HEAVY = ("torch", "matplotlib", "scipy", "cv2", "safetensors")
 # What the list of commands must not import: each of these takes tens to hundreds of milliseconds.
@@ -84,12 +84,13 @@ def test_a_command_imports_only_its_own_module() -> None:
 def test_the_summaries_are_the_docstrings_first_lines() -> None:
     group = typer.main.get_command(app)
     ctx = group.make_context("zedo", ["--help"], resilient_parsing=True)
-    assert group.list_commands(ctx) == list(COMMANDS)
+    assert group.list_commands(ctx) == list(COMMANDS) == [name for panel in PANELS.values() for name in panel]
     for name, entry in COMMANDS.items():
         function = entry.load()
         assert entry.summary == inspect.getdoc(function).splitlines()[0], name
         command = group.get_command(ctx, name)  # what `zedo --help` showed when it imported every command
         assert command.name == name
+        assert command.rich_help_panel == group.commands.panel(name), name
         assert entry.summary == command.get_short_help_str(limit=300), name
     assert group.get_command(ctx, "no-such-command") is None
 

@@ -274,3 +274,30 @@ def test_cli_skeleton_option(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert json.loads(result.stdout)["input"]["source_skeleton"]["reason"].startswith("--skeleton")
     result = runner.invoke(app, [*base, "--skeleton", "bogus"])
     assert result.exit_code == 2 and "unknown skeleton 'bogus'" in result.output
+
+
+def _twelve_joint_inputs() -> dict[str, Any]:
+    """Issue 36: one 12-joint input (SyRIP's syrip12, unnamed) in every layout that counts joints."""
+    from format_fixtures import alphapose, jsonl_records, mmpose_image
+
+    coco = coco_annotations()
+    coco["annotations"][0]["keypoints"] = [v if k % 3 < 2 else 2 for k, v in enumerate(flat(12, 1.0))]
+    del coco["categories"][0]["keypoints"]
+    results = coco_results()
+    results[0]["keypoints"] = flat(12, 1.0)
+    ap = alphapose(12)
+    line = jsonl_records(12)[0]
+    mm = mmpose_image()
+    for inst in mm:
+        inst["keypoints"], inst["keypoint_scores"] = inst["keypoints"][:12], inst["keypoint_scores"][:12]
+    return {"coco.json": coco, "results.json": results, "ap.json": ap, "s.jsonl": line, "mm.json": mm}
+
+
+@pytest.mark.parametrize("name", ["coco.json", "results.json", "ap.json", "s.jsonl", "mm.json"])
+def test_an_unsupported_joint_count_names_the_skeleton_option(name: str) -> None:
+    from zedo_cli.formats import read_keypoints_text
+
+    text = json.dumps(_twelve_joint_inputs()[name])
+    with pytest.raises(InputFormatError, match=r"unsupported joint count 12 .*--skeleton syrip12"):
+        read_keypoints_text(text, name)
+    assert len(read_keypoints_text(text, name, skeleton="syrip12")) >= 1  # and with it, the input reads

@@ -30,6 +30,7 @@ from zedo_cli.errors import InputFormatError
 from zedo_cli.formats import read_keypoints, read_keypoints_text, read_parsed
 from zedo_cli.formats.jsondoc import JsonArray, scan_document
 from zedo_cli.formats.source import parse_document, parse_json
+from zedo_cli.strict_json import DuplicateKeyError
 
 
 def _plain(value: Any) -> Any:
@@ -61,14 +62,16 @@ def test_top_level_arrays_are_decoded_as_read() -> None:
     assert isinstance(doc["a"], JsonArray) and isinstance(doc["a2"], JsonArray)
     assert len(doc["a"]) == 2 and doc["a"][1] == {"b": [2]} and doc["a"][-1] == {"b": [2]} and doc["a"][:1] == [1]
     assert doc["c"] == {"d": [3]} and not doc["a2"]  # deeper values are plain, as json.loads makes them
-    assert scan_document('{"a": [1], "a": [2]}')["a"][0] == 2  # a repeated key: the last value, as json.loads
+    for text in ('{"a": [1], "a": [2]}', '{"a": [{"b": 1, "b": 2}]}'):  # a repeated key: refused, at any depth
+        with pytest.raises(DuplicateKeyError, match="duplicate key '(a|b)'"):
+            scan_document(text)
 
 
 @pytest.mark.parametrize(
     "text",
     ["[1,]", "[1 2]", '{"a": [1 2]}', '{"a" 1}', '{"a": 1,}', '{"a": [1], }', "[1] x", '{"a": [1]} ]', "[", "{",
      '{"a": [1, {"b": }]}', '{1: 2}', '["\x01"]', "[NaN, Infinity, -Infinity, 1e999]", "[" * 100_000 + "]" * 100_000,
-     "[" + "9" * 5000 + "]", '{"a": [1]}\n{"b": 2}', "[]", "{}", "  7  "],
+     "[" + "9" * 5000 + "]", '{"a": [1]}\n{"b": 2}', "[]", "{}", "  7  ", '{"a": 1, "a": 2}', '[{"a": 1, "a": 2}]'],
 )  # fmt: skip
 def test_invalid_text_fails_as_json_loads_says(text: str) -> None:
     try:

@@ -22,6 +22,13 @@ MARKERS = [marker_name(j) for j in get_skeleton("syrip12").joints]  # in the ske
 assert sorted(MARKERS) == sorted(POSE2SIM_COCO)
 
 
+@pytest.fixture(autouse=True)
+def _temporary_cwd(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """OpenSim writes `opensim.log` into the working directory when it loads (and Pose2Sim imports
+    it): each test runs in its own temporary folder, so nothing lands in the checkout."""
+    monkeypatch.chdir(tmp_path)
+
+
 @pytest.fixture(scope="module")
 def clip(tiny_prior_path: Path, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return lift_clip(tiny_prior_path, tmp_path_factory.mktemp("interop"))

@@ -1,6 +1,7 @@
 """Clinical measures of lifted poses (`zedo analyze`): postural symmetry (Huang et al. 2022),
 joint angles in a trunk frame, movement features of sequences, measure-level estimates with
-calibrated intervals (`analysis.calibration`), the tidy CSV / JSON outputs and the HTML report
+calibrated intervals (`analysis.calibration`), a clip's share of frames asymmetric with its
+interval (`analysis.clip_share`), the tidy CSV / JSON outputs and the HTML report
 (`analysis.report`, not imported here so that matplotlib loads only when a report is asked for).
 
 Builds on `formats` (reading zedo results), `data` (joint sets by name) and `files`.
@@ -25,6 +26,14 @@ __getattr__, __dir__, __all__ = lazy_exports(
             "symmetry_band",
             "symmetry_call",
         ],
-        ".calibration": ["MeasureCalibration", "MeasureModel", "bundled_calibrations", "find_calibration"],
+        ".calibration": [
+            "CameraDomain",
+            "MeasureCalibration",
+            "MeasureModel",
+            "assign_calibrations",
+            "bundled_calibrations",
+            "find_calibration",
+        ],
+        ".clip_share": ["Share", "probability_above", "share_interval"],
     },
 )

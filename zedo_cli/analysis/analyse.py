@@ -7,33 +7,38 @@
 Rows follow the CSV's columns (COLUMNS): per lifted person, the four symmetry angles
 (`symmetry_upper_arm_deg`, `symmetry_forearm_deg`, `symmetry_thigh_deg`,
 `symmetry_shank_deg`) with their call, the paper's band of each (`symmetry_<pair>_band`), and
-the twelve joint angles; then, for a sequence (an fps from the settings or the result), the
-movement features of each person's clip (frame_index, image_id and file_name empty), then its
+the twelve joint angles; then per pose the head's `head_tilt_deg` and `head_turn` (from the input's
+2D face points and shoulders, `analysis.head`); then, for a sequence (an fps from the settings or
+the result), the movement features of each person's clip (frame_index, image_id and file_name
+empty), its head-turn shares and median tilt with block bootstrap intervals, then its
 published 2D features (Chambers et al. 2020) and `3d_` features (`analysis.clip_features`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
+from ..data.skeleton import Skeleton, root_point
 from ..errors import ConfigError, InputFormatError, plural
 from ..formats.result_reader import ResultPoses
 from .calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,
     LEVELS,
+    Assignment,
     MeasureCalibration,
+    assign_calibrations,
     bundled_calibrations,
-    find_calibration,
     measure_joints,
 )
 from .clip_features import clip_features
+from .clip_share import block_frames, probability_above, share_interval
 from .geometry import require_joints
+from .head import TILT, TURN, TURN_CALLS, HeadFrames, HeadSettings, face_points, head_clip, head_frames, shoulder_points
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
 from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
 from .symmetry import (
@@ -52,8 +57,10 @@ COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value",
 SYMMETRY_NAMES = tuple(measure_name(p) for p in PAIRS)
 # The `interval` column: how low_90 / high_90 were obtained, or why they are empty.
 INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.calibration)
+INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibration's model of such cases, wider
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
+INTERVAL_SHARE = "block_bootstrap_of_frame_probabilities"  # analysis.clip_share
 DEFAULT_MAX_VELOCITY_DEG_S = 500.0
 FLAG_TOO_FAST = "too_fast"
 
@@ -67,6 +74,7 @@ class AnalysisSettings:
     level: float = DEFAULT_LEVEL  # the intervals' coverage
     call_level: float = DEFAULT_CALL_LEVEL  # the symmetry calls use the interval of this level
     max_velocity_deg_s: float = DEFAULT_MAX_VELOCITY_DEG_S  # faster joint-angle changes are flagged
+    head: HeadSettings = field(default_factory=HeadSettings)  # head tilt and turn (analysis.head)
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.threshold_deg <= 180.0:
@@ -124,10 +132,15 @@ class Analysis:
     rows: list[Row] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
+    assignment: Assignment | None = None  # which measure calibration holds for each analysed pose
+    # symmetry measure -> (M,) the probability that the true angle exceeds the threshold (NaN: no calibration)
+    probabilities: dict[str, np.ndarray] = field(default_factory=dict)
+    head: HeadFrames | None = None  # the head measures of the analysed poses (from the input's 2D)
 
     @property
     def uncertainty_available(self) -> bool:
-        return self.calibration_note == INTERVAL_CALIBRATED
+        """Whether any pose has calibrated intervals (`calibration_note` is "calibrated" when every pose has)."""
+        return self.calibration_note == INTERVAL_CALIBRATED or (self.assignment is not None and self.assignment.any)
 
     @property
     def is_sequence(self) -> bool:
@@ -154,21 +167,26 @@ def measure_ranges() -> dict[str, tuple[float, float]]:
 
 def calibrated_measures(
     poses: np.ndarray, observed: np.ndarray, skeleton: Skeleton, calibration: MeasureCalibration | None,
-    why_not: str, levels: tuple[float, ...],
+    why_not: str, levels: tuple[float, ...], *, assignment: Assignment | None = None,
 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], list[dict[str, tuple[np.ndarray, np.ndarray]]],
            dict[str, list[str]]]:  # fmt: skip
     """Raw measures, estimates, intervals at each of `levels` and the `interval` column of poses `(M, J, 3)`
-    (camera axes) with their observed joints `(M, J)`, under `calibration` (None: `why_not`)."""
+    (camera axes) with their observed joints `(M, J)`, under `calibration` (None: `why_not`), or pose by
+    pose under `assignment` (which then replaces both)."""
 
     def measures(p: np.ndarray) -> dict[str, np.ndarray]:
         return all_measures(p, skeleton)
 
     raw = measures(poses)
     m = len(poses)
+    if assignment is None:
+        cals = () if calibration is None else (calibration,)
+        assignment = Assignment(cals, np.full(m, 0 if cals else -1), np.full(m, "" if cals else why_not, object))
     estimates = {k: v.copy() for k, v in raw.items()}
     nan = np.full(m, np.nan)
     intervals = [{k: (nan.copy(), nan.copy()) for k in raw} for _ in levels]
-    how = {k: [f"none: {why_not}"] * m for k in raw}
+    base_how = np.where(assignment.index >= 0, INTERVAL_CALIBRATED, "none: " + assignment.why_not.astype(str))
+    how = {k: base_how.astype(object) for k in raw}
     uses = measure_joints(skeleton, measures, list(raw))
     ranges = measure_ranges()
     for name, v in raw.items():
@@ -182,19 +200,43 @@ def calibrated_measures(
                 names = [j for j, u in zip(skeleton.joints, uses[name], strict=True) if u]
                 gone = [j for j, f in zip(names, filled[k], strict=True) if f]
                 how[name][k] = "none: joint filled by the prior (not calibrated): " + ", ".join(gone)
-        if calibration is None or name not in calibration.measures:
-            continue
-        model = calibration.measures[name]
-        ok = np.isfinite(v) & ~filled.any(1)
-        est = model.estimate(v[ok])
-        lo_r, hi_r = ranges[name]
-        estimates[name][ok] = np.clip(est, lo_r, hi_r)
-        for level, at_level in zip(levels, intervals, strict=True):
-            low, high = model.interval(est, v[ok], level)
-            at_level[name][0][ok], at_level[name][1][ok] = np.clip(low, lo_r, hi_r), np.clip(high, lo_r, hi_r)
-        for k in np.flatnonzero(ok):
-            how[name][k] = INTERVAL_CALIBRATED
-    return raw, estimates, intervals, how
+        usable = np.isfinite(v) & ~filled.any(1)
+        for c, cal in enumerate(assignment.calibrations):
+            ok = usable & (assignment.index == c)
+            if name not in cal.measures:
+                how[name][ok] = f"none: the measure calibration has no {name}"
+                continue
+            apply = [(ok, cal.measures[name])]
+            if name in cal.filled:  # cases with a joint the prior filled: their own, wider model
+                gaps = np.isfinite(v) & filled.any(1) & (assignment.index == c)
+                how[name][gaps] = [h.replace("none: joint filled by the prior (not calibrated)", INTERVAL_FILLED)
+                                   for h in how[name][gaps]]  # fmt: skip
+                apply.append((gaps, cal.filled[name]))
+            for sel, model in apply:
+                if not sel.any():
+                    continue
+                est = model.estimate(v[sel])
+                lo_r, hi_r = ranges[name]
+                estimates[name][sel] = np.clip(est, lo_r, hi_r)
+                for level, at_level in zip(levels, intervals, strict=True):
+                    low, high = model.interval(est, v[sel], level)
+                    at_level[name][0][sel] = np.clip(low, lo_r, hi_r)
+                    at_level[name][1][sel] = np.clip(high, lo_r, hi_r)
+    return raw, estimates, intervals, {k: list(v) for k, v in how.items()}
+
+
+def pose_cameras(result: ResultPoses, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The root depth (metres from the camera) and focal length (pixels, the mean of fx and fy) of each
+    pose `index (M,)` of `result`; NaN where the result states neither its camera-frame position nor its camera."""
+    if result.coordinate_frame == "camera":
+        depth = root_point(result.poses[index], result.skeleton)[:, 2]
+    elif result.root_translation is not None:
+        depth = result.root_translation[index, 2]
+    else:
+        depth = np.full(len(index), np.nan)
+    cams = result.cameras
+    focal = np.array([np.nan if cams is None or cams[i] is None else (cams[i].fx + cams[i].fy) / 2 for i in index])
+    return depth, focal.reshape(-1)
 
 
 def analyse(
@@ -211,18 +253,26 @@ def analyse(
     if not len(index):
         raise InputFormatError(f"{result.source}: no lifted person in the result: nothing to analyse")
     models = bundled_calibrations() if calibrations is None else calibrations
-    calibration, note = find_calibration(models, result.params, result.skeleton.joints)
+    assignment = assign_calibrations(models, result.params, result.skeleton.joints, *pose_cameras(result, index))
+    note = assignment.note()
     raw, values, (intervals, call_intervals), how = calibrated_measures(
-        result.poses[index], result.observed[index], result.skeleton, calibration, note,
-        (settings.level, settings.call_level))  # fmt: skip
+        result.poses[index], result.observed[index], result.skeleton, None, note,
+        (settings.level, settings.call_level), assignment=assignment)  # fmt: skip
     fps, fps_source = (settings.fps, "option") if settings.fps is not None else (result.fps, "result")
     if fps is None:
         fps_source = "none"
-    a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source)
-    if calibration is None:
+    a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source,
+                 assignment=assignment)  # fmt: skip
+    if not assignment.any:
         a.notes.append(f"no calibrated intervals: {note}; every symmetry call is uncertain (no calibration backs one)")
     else:
-        data = calibration.provenance.get("data", "see the calibration file")
+        out = int((assignment.index < 0).sum())
+        if out:
+            a.notes.append(f"{out} of {len(index)} poses have no calibrated intervals ({note}); their symmetry calls "
+                           "are uncertain")  # fmt: skip
+        used = np.unique(assignment.index[assignment.index >= 0]).tolist()
+        sources = (assignment.calibrations[i].provenance.get("data", "see the calibration file") for i in used)
+        data = "; ".join(dict.fromkeys(str(x) for x in sources))
         side = (1 - settings.call_level) / 2
         a.notes.append(f"{settings.level:.0%} intervals and estimates calibrated at the level of each measure on "
                        f"held-out lifts ({data}); a call is symmetric or asymmetric only when the "
@@ -240,14 +290,61 @@ def analyse(
             bound = settings.max_velocity_deg_s
             a.notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
                            "frame: flagged too_fast and left out of the movement features")  # fmt: skip
-    a.rows = _frame_rows(a)
+    a.probabilities = _probabilities(a)
+    head_why = _measure_head(a)
+    a.rows = _frame_rows(a) + _head_frame_rows(a)
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
+        a.rows += _head_clip_rows(a, head_why)
         a.rows += [
             Row(None, None, None, f.person, f.measure, f.value, f.unit, interval=f.interval)
             for f in clip_features(result, index, fps)
         ]  # the published 2D and the 3d_ features
     return a
+
+
+def _measure_head(a: Analysis) -> str | None:
+    """The head measures of the analysed poses (`a.head`) from the input's face points and shoulders,
+    the lift's --min-confidence applying to the face points too; returns why there are none (once, a note)."""
+    res = a.result
+    min_conf = res.params.get("min_confidence")
+    settings = a.settings.head
+    if isinstance(min_conf, int | float) and min_conf > settings.min_confidence:
+        settings = replace(settings, min_confidence=float(min_conf))
+    face, why = face_points(res, a.index, settings.min_confidence)
+    if why is None and res.keypoints_2d is None:
+        why = "the result does not carry the input's 2D keypoints (the shoulders')"
+    a.head = head_frames(face, shoulder_points(res, a.index), settings, why)
+    if why is not None:
+        a.notes.append(f"no head measures: {why}")
+    return why
+
+
+def _head_frame_rows(a: Analysis) -> list[Row]:
+    """`head_tilt_deg` and `head_turn` of every analysed pose (after the body's frame rows)."""
+    res, h = a.result, a.head
+    assert h is not None
+    rows: list[Row] = []
+    for k, i in enumerate(a.index):
+        head = (int(res.frame_index[i]), res.image_ids[i], res.file_names[i], int(res.person[i]))
+        rows.append(Row(*head, TILT, float(h.tilt_deg[k]), "deg", interval=h.tilt_how[k], flag=h.tilt_flag[k]))
+        rows.append(Row(*head, TURN, float(h.turn_deg[k]), "deg", call=h.turn_call[k], interval=h.turn_how[k]))
+    return rows
+
+
+def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
+    """Per person track: the head-turn shares and the median tilt, with block bootstrap intervals."""
+    assert a.head is not None and a.fps is not None
+    people, frames = a.result.person[a.index], a.result.frame_index[a.index]
+    rows: list[Row] = []
+    for p in sorted(set(people.tolist())):
+        sel = np.flatnonzero(people == p)
+        sel = sel[np.argsort(frames[sel], kind="stable")]
+        track = HeadFrames(*(getattr(a.head, f)[sel] for f in HeadFrames.__dataclass_fields__))
+        for stat in head_clip(frames[sel], track, a.fps, a.settings.head, why):
+            i = stat.interval
+            rows.append(Row(None, None, None, p, stat.measure, stat.value, stat.unit, i.low, i.high, interval=i.how))
+    return rows
 
 
 def _too_fast(a: Analysis, fps: float) -> dict[str, np.ndarray]:
@@ -266,6 +363,29 @@ def _too_fast(a: Analysis, fps: float) -> dict[str, np.ndarray]:
             speed = np.abs(angular_velocity(frames[known], a.values[name][known], fps))
             flags[known[1:]] = speed > a.settings.max_velocity_deg_s
         out[name] = flags
+    return out
+
+
+def probability_name(name: str) -> str:
+    """`symmetry_upper_arm_probability_asymmetric` etc.: the frame row of a symmetry measure's probability."""
+    return name.removesuffix("_deg") + "_probability_asymmetric"
+
+
+def _probabilities(a: Analysis) -> dict[str, np.ndarray]:
+    """Per symmetry measure `(M,)`: each calibrated pose's probability of a true angle above the threshold."""
+    out = {}
+    assignment = a.assignment
+    for name in SYMMETRY_NAMES:
+        p = np.full(len(a.index), np.nan)
+        calibrated = np.isfinite(a.intervals[name][0])
+        filled = np.char.startswith(np.array(a.interval_how[name], dtype=str), INTERVAL_FILLED)
+        if assignment is not None:
+            for c, cal in enumerate(assignment.calibrations):
+                for sel, models in ((calibrated & ~filled, cal.measures), (calibrated & filled, cal.filled)):
+                    sel = sel & (assignment.index == c)
+                    if sel.any() and name in models:
+                        p[sel] = probability_above(models[name], a.raw_values[name][sel], a.settings.threshold_deg)
+        out[name] = p
     return out
 
 
@@ -288,6 +408,8 @@ def _frame_rows(a: Analysis) -> list[Row]:
                 band = name.replace("_deg", "_band")
                 rows.append(Row(*head, band, symmetry_band(v), "band", symmetry_band(low), symmetry_band(high), "",
                                 how, symmetry_band(raw)))  # fmt: skip
+                rows.append(Row(*head, probability_name(name), float(a.probabilities[name][k]), "probability",
+                                interval=how))  # fmt: skip
     return rows
 
 
@@ -332,7 +454,22 @@ def _clip_rows(a: Analysis) -> list[Row]:
                     INTERVAL_CLIP_MEDIAN)  # fmt: skip
             else:
                 add(f"{stem}_median_deg", median, "deg", how="none: not every frame has a calibrated interval")
+            add(f"{stem}_share_asymmetric", *_share(a, name, sel, frames, 1000 * p + SYMMETRY_NAMES.index(name)))
     return rows
+
+
+def _share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray, seed: int
+           ) -> tuple[float, str, float, float, str]:  # fmt: skip
+    """The clip row of a person's (`sel (M,)`) share of frames asymmetric in `name`: value, unit, interval, how."""
+    order = np.flatnonzero(sel)[np.argsort(frames[sel], kind="stable")]
+    p = a.probabilities[name][order]
+    known = p[np.isfinite(p)]
+    if not len(known):
+        return np.nan, "fraction", np.nan, np.nan, "none: no frame has a calibrated value"
+    share = share_interval(known, block_frames(known, float(a.fps or 0.0)), a.settings.level, seed=seed)
+    how = INTERVAL_SHARE if len(known) == len(p) else (
+        f"{INTERVAL_SHARE}: over {len(known)} of {len(p)} frames (the others have no calibrated value)")  # fmt: skip
+    return share.value, "fraction", share.low, share.high, how
 
 
 def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
@@ -351,6 +488,14 @@ def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
         elif name in a.too_fast:
             stats["too_fast"] = int(a.too_fast[name].sum())
         out[name] = stats
+    if a.head is not None:  # the head: tilt statistics and the turn calls counted
+        tilt = a.head.tilt_deg[np.isfinite(a.head.tilt_deg)]
+        out[TILT] = {"count": int(len(tilt))}
+        if len(tilt):
+            out[TILT].update(mean=float(tilt.mean()), median=float(np.median(tilt)), min=float(tilt.min()),
+                             max=float(tilt.max()))  # fmt: skip
+        calls = a.head.turn_call.astype(str)
+        out[TURN] = {"count": int((calls != "").sum()), **{c: int((calls == c).sum()) for c in TURN_CALLS}}
     return out
 
 

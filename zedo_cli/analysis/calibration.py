@@ -21,8 +21,15 @@ SyRIP training poses, `benchmarks/calibrate_measures.py`), holds:
 Angles with a wrap (the hip and shoulder flexions) take their residuals and shrinkage on the circle.
 
 A calibration holds only for the prior, lifting settings, temporal mode and camera it was made
-with (`MeasureCalibration.mismatch`); a measure that uses a joint the 2D did not give (filled by
-the prior) has no calibrated interval: the calibration poses had every such joint observed.
+with (`MeasureCalibration.mismatch`). A measure that uses a joint the 2D did not give (filled by
+the prior) is calibrated apart, where the calibration has such cases (`MeasureCalibration.filled`,
+the calibrations of known cameras); otherwise it gets no interval.
+
+Cameras: a calibration made with the pseudo camera (`cameras` ("pseudo",)) holds for results lifted
+with it. One made over a range of known cameras (`cameras` ("cli", "file"): `--focal`,
+`--principal-point` or `--intrinsics`) states that range (`CameraDomain`: the infant's root depth in
+metres and the focal length in pixels it was calibrated over) and holds, pose by pose, for the poses
+inside it (`assign_calibrations`); a pose outside says so in each measure's `interval` column.
 The bundled file is `zedo_cli/weights/measures.json`.
 """
 
@@ -140,8 +147,38 @@ def fit_measure(value: np.ndarray, truth: np.ndarray, *, circular: bool, bins: i
 
 
 @dataclass(frozen=True)
+class CameraDomain:
+    """The camera set-ups a calibration over known cameras was made with, pose by pose: the infant's
+    root depth (metres from the camera) and the focal length (pixels) of each pose lifted."""
+
+    root_depth_m: tuple[float, float]
+    focal_px: tuple[float, float]
+
+    def describe(self) -> str:
+        (d0, d1), (f0, f1) = self.root_depth_m, self.focal_px
+        return f"root depth {d0:g}-{d1:g} m, focal length {f0:g}-{f1:g} px"
+
+    def contains(self, depth_m: np.ndarray, focal_px: np.ndarray) -> np.ndarray:
+        """`(M,)` bool: the poses of root depths and focal lengths `(M,)` inside the domain (NaN: not inside)."""
+        (d0, d1), (f0, f1) = self.root_depth_m, self.focal_px
+        with np.errstate(invalid="ignore"):
+            return (depth_m >= d0) & (depth_m <= d1) & (focal_px >= f0) & (focal_px <= f1)
+
+    def to_dict(self) -> dict[str, list[float]]:
+        return {"root_depth_m": [round(x, 4) for x in self.root_depth_m],
+                "focal_px": [round(x, 2) for x in self.focal_px]}  # fmt: skip
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> CameraDomain:
+        d0, d1 = (float(x) for x in d["root_depth_m"])
+        f0, f1 = (float(x) for x in d["focal_px"])
+        return cls((d0, d1), (f0, f1))
+
+
+@dataclass(frozen=True)
 class MeasureCalibration:
-    """Models of every measure for one prior, lifting settings, temporal mode and camera."""
+    """Models of every measure for one prior, lifting settings, temporal mode and camera (with
+    `domain`, the range of known cameras it holds for, pose by pose)."""
 
     prior_sha256: str
     settings: dict[str, Any]  # lifting.config.calibration_settings of the lift
@@ -150,6 +187,10 @@ class MeasureCalibration:
     joints: tuple[str, ...]
     measures: dict[str, MeasureModel]
     provenance: dict[str, Any] = field(default_factory=dict)
+    domain: CameraDomain | None = None  # None: every pose of a result it matches
+    # measure -> the model of the cases where a joint the measure uses was filled by the prior (wider); empty: such
+    # cases get no interval
+    filled: dict[str, MeasureModel] = field(default_factory=dict)
 
     def mismatch(self, params: dict[str, Any], joints: tuple[str, ...]) -> str | None:
         """Why this calibration does not hold for a result lifted with `params` (None: it holds)."""
@@ -168,15 +209,22 @@ class MeasureCalibration:
         return None
 
     def to_dict(self) -> dict[str, Any]:
-        return {"prior_sha256": self.prior_sha256, "settings": self.settings, "temporal_mode": self.temporal_mode,
-                "cameras": list(self.cameras), "joints": list(self.joints), "provenance": self.provenance,
-                "measures": {k: v.to_dict() for k, v in self.measures.items()}}  # fmt: skip
+        out = {"prior_sha256": self.prior_sha256, "settings": self.settings, "temporal_mode": self.temporal_mode,
+               "cameras": list(self.cameras), "joints": list(self.joints), "provenance": self.provenance,
+               "measures": {k: v.to_dict() for k, v in self.measures.items()}}  # fmt: skip
+        if self.domain is not None:  # absent for the pseudo camera's: those entries read and write as before
+            out["domain"] = self.domain.to_dict()
+        if self.filled:
+            out["filled"] = {k: v.to_dict() for k, v in self.filled.items()}
+        return out
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> MeasureCalibration:
+        domain = CameraDomain.from_dict(d["domain"]) if d.get("domain") is not None else None
+        filled = {k: MeasureModel.from_dict(v) for k, v in d.get("filled", {}).items()}
         return cls(str(d["prior_sha256"]), dict(d["settings"]), str(d["temporal_mode"]), tuple(d["cameras"]),
                    tuple(d["joints"]), {k: MeasureModel.from_dict(v) for k, v in d["measures"].items()},
-                   dict(d.get("provenance", {})))  # fmt: skip
+                   dict(d.get("provenance", {})), domain, filled)  # fmt: skip
 
 
 def find_calibration(
@@ -196,6 +244,61 @@ def find_calibration(
     # the most specific reason: one of a calibration that got furthest
     order = ("camera", "settings", "temporal", "prior")
     return None, min(reasons, key=lambda r: order.index(next((w for w in order if w in r), "prior")))
+
+
+@dataclass(frozen=True)
+class Assignment:
+    """Which calibration holds for each of M poses: `index (M,)` into `calibrations`, -1 where none does,
+    and `why_not (M,)` why (empty where one holds)."""
+
+    calibrations: tuple[MeasureCalibration, ...]
+    index: np.ndarray  # (M,) int
+    why_not: np.ndarray  # (M,) str (object)
+
+    @property
+    def any(self) -> bool:
+        return bool((self.index >= 0).any())
+
+    def note(self) -> str:
+        """ "calibrated" where every pose has a calibration, else the most common reason of those without."""
+        missing = self.why_not[self.index < 0]
+        if not len(missing):
+            return "calibrated"
+        reasons, counts = np.unique(missing.astype(str), return_counts=True)
+        return str(reasons[np.argmax(counts)])
+
+
+def assign_calibrations(
+    calibrations: Sequence[MeasureCalibration], params: dict[str, Any], joints: tuple[str, ...],
+    depth_m: np.ndarray, focal_px: np.ndarray,
+) -> Assignment:  # fmt: skip
+    """Per pose of a result lifted with `params` (root depths `depth_m (M,)` in metres and focal lengths
+    `focal_px (M,)` in pixels, NaN where the result does not state them): the first calibration that
+    matches the result (`MeasureCalibration.mismatch`) and whose camera domain holds the pose."""
+    m = len(depth_m)
+    index = np.full(m, -1)
+    matching = [c for c in calibrations if params and c.mismatch(params, joints) is None]
+    if not matching:
+        _, why = find_calibration(calibrations, params, joints)
+        return Assignment((), index, np.full(m, why, dtype=object))
+    for i, c in enumerate(matching):
+        inside = np.ones(m, bool) if c.domain is None else c.domain.contains(depth_m, focal_px)
+        index[(index < 0) & inside] = i
+    why_not = np.full(m, "", dtype=object)
+    out = index < 0
+    if out.any():
+        ranges = "; ".join(sorted({c.domain.describe() for c in matching if c.domain is not None}))
+        stated = np.isfinite(depth_m) & np.isfinite(focal_px)
+        why_not[out & ~stated] = ("the result states no root depth or camera for this pose (a root-frame CSV or "
+                                  f"NPZ?), so the camera calibration ({ranges}) cannot be checked")  # fmt: skip
+        known = np.flatnonzero(out & stated)
+        if len(known):  # one reason per distinct (depth, focal) rounded: a clip's poses share a few
+            keys = np.round(np.stack([depth_m[known], focal_px[known]], 1), 2)
+            uniq, inverse = np.unique(keys, axis=0, return_inverse=True)
+            texts = np.array([f"camera outside the calibrated range (root depth {d:.2f} m, focal length {f:.0f} px; "
+                              f"calibrated: {ranges})" for d, f in uniq], dtype=object)  # fmt: skip
+            why_not[known] = texts[inverse.ravel()]
+    return Assignment(tuple(matching), index, why_not)
 
 
 def bundled_path() -> Path:

@@ -9,7 +9,8 @@ reference clips' own sums (their mean and sample standard deviation, over every 
 published), and p is two-sided.
 
 The extended comparison, which no published set has, is the same recipe over the per-side features,
-left-right asymmetry indices and zedo's `3d_` features: the published set averages the two sides, so a
+left-right asymmetry indices (log ratios of the two sides' speeds and spreads, and the clip's median 3D
+symmetry angle of each segment pair) and zedo's `3d_` features: the published set averages the two sides, so a
 one-sided movement disorder can hide in it (docs/movement.md has the measured difference).
 
 A reference stores, besides each feature's fit, every reference clip's feature values, so that a clip
@@ -41,10 +42,15 @@ ASYMMETRY_BASES: dict[str, tuple[str, ...]] = {
 _PER_SIDE = re.compile(r"^[A-Za-z_]+_[LR](Ankle|Wrist|Knee|Elbow|Hip|Shoulder)$")
 
 
+_SYMMETRY_MEDIAN = re.compile(r"^symmetry_[a-z_]+_median_deg$")
+
+
 def is_extended_feature(name: str) -> bool:
     """A feature of the extended comparison: a published per-side feature (`medianx_LAnkle`), a left-right
-    correlation (`lrCorr_angle_Knee`), or one of zedo's 3D features (`3d_...`)."""
-    return name.startswith(PREFIX_3D) or name.startswith("lrCorr_") or bool(_PER_SIDE.match(name))
+    correlation (`lrCorr_angle_Knee`), one of zedo's 3D features (`3d_...`), or a clip's median 3D symmetry
+    angle of a segment pair (`symmetry_upper_arm_median_deg`: a left-right asymmetry index in 3D)."""
+    return (name.startswith(PREFIX_3D) or name.startswith("lrCorr_") or bool(_PER_SIDE.match(name))
+            or bool(_SYMMETRY_MEDIAN.match(name)))  # fmt: skip
 
 
 NORMS_SCHEMA = "zedo.norms/1"

@@ -6,8 +6,10 @@ columns empty). Unknown values are empty fields, never 0. `value` is the measure
 `raw_value` the measure of the reported pose. The `interval` column says how low_90 / high_90
 were obtained or why they are empty: `calibrated` (the measure-level calibration of
 `analysis.calibration`), `median_of_frame_interval_ends` (a clip's median), `not_for_clip_features`,
-or `none: <reason>` (no calibration holds for the result, a joint filled by the prior, a joint
-missing). `flag` is `too_fast` where a joint angle changed faster than the stated bound.
+`block_bootstrap: ...` (the head's clip rows: block length, replicates), or `none: <reason>` (no
+calibration holds for the result, a joint filled by the prior, a joint missing, a face point
+missing). `flag` is `too_fast` where a joint angle changed faster than the stated bound, and
+`eye_line_reversed` where the eye line points against the shoulder line (head_tilt_deg folded).
 
 JSON (schema `zedo.analysis/1`): the same rows, plus the input, the settings, the notes (e.g.
 that no uncertainty was available), the measures' units and descriptions, and a summary.
@@ -69,6 +71,12 @@ def measure_descriptions() -> dict[str, str]:
         "<base>_left_right_correlation": "per clip: Pearson r of the left and right series",
         "symmetry_<pair>_fraction_<call>": "per clip: share of the frames called symmetric, asymmetric or "
         "uncertain (the frame rows' calls, counted)",
+        "symmetry_<pair>_probability_asymmetric": "per frame: the probability that the true symmetry angle exceeds "
+        "the threshold, from the frame's calibrated interval (the level at which it touches the threshold); empty "
+        "without a calibrated interval",
+        "symmetry_<pair>_share_asymmetric": "per clip: the share of the frames whose true symmetry angle exceeds the "
+        "threshold, estimated as the mean of the frames' probability_asymmetric; its interval draws the frames' "
+        "truths with errors shared by neighbouring frames (a block bootstrap, docs/clinical.md), not a binomial one",
         "symmetry_<pair>_median_deg": "per clip: the median of the frames' estimates; its interval is the median "
         "of the frames' interval ends (coverage measured on synthetic clips, docs)",
         "<angle>_frames_too_fast": "per clip: frames whose angle changed faster than the bound (left out of the "
@@ -83,6 +91,15 @@ def measure_descriptions() -> dict[str, str]:
         "elbow and knee interior angles and the trunk-frame hip and shoulder flexion and abduction",
         "3d_mean_dispersion_<L|R><Wrist|Ankle>": "per clip: the mean distance of the joint's trunk-normalised 3D "
         "position from its clip centroid (trunk lengths)",
+        "head_tilt_deg": "angle in the image between the eye line and the shoulder line (right to left), in "
+        "(-90, 90]; positive: the head tilted towards the infant's own left shoulder (habitual head deviation)",
+        "head_turn": "call left / right / midline (the infant's own side, from its shoulders); value: the face's "
+        "yaw in degrees, positive to the infant's left, from the nose between the ears / eyes (infant head "
+        "model); midline within 20 degrees; a face seen from one side only gets the call without a value",
+        "head_turn_fraction_<call>": "per clip: share of the frames with a head_turn call that are left, right or "
+        "midline (the frame rows' calls, counted); 90 % interval by a circular block bootstrap",
+        "head_tilt_median_deg": "per clip: the median of the frames' head_tilt_deg; 90 % interval by a circular "
+        "block bootstrap",
     }
 
 

@@ -2,11 +2,15 @@
 
 Everything is inline (CSS in the page, figures as inline SVG drawn by matplotlib's Agg/SVG
 backend, no script, no font or CDN link), so the file can be mailed or archived as it is.
-Sections: the input and settings (and, prominently, whether 90 % intervals were available),
-the symmetry summary, skeleton views of a few frames with the mirrored right limbs, for a
-video the time series of the symmetry and joint angles and the movement features, then the
-per-frame symmetry table with its calls and the joint-angle table.
+The page is a list of sections (`report_sections`), each made by one small function of the
+`Analysis`: the title and input, the research-use notice, the decisions (the calls, the rule
+they follow in plain words, each case for a few images), the notes, the symmetry values and the
+paper's bands, skeleton views of a few frames with the mirrored right limbs, for a video the
+time series and the movement features, then the per-frame symmetry table (each value with the
+interval that decides its call) and the joint-angle table. A new section is one more function
+in that list.
 
+Left and right are drawn in the colours of `zedo render` and the pose plots (`formats.colours`).
 matplotlib is imported inside the functions: `zedo analyze` without `--report` never loads it.
 """
 
@@ -21,11 +25,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..files import write_text_atomic
+from ..formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
 from ..version import __version__
 from .analyse import SYMMETRY_NAMES, Analysis, poses_counted, summary
 from .geometry import joint, reflect, unit
 from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
-from .symmetry import PAIRS
+from .symmetry import BAND_EDGES_DEG, PAIRS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -35,7 +40,8 @@ if TYPE_CHECKING:
 
 MAX_TABLE_ROWS = 300  # per table; the CSV has every row
 MAX_SKELETONS = 6
-LEFT, RIGHT, MIRROR, CENTRE = "#1f77b4", "#d62728", "#e377c2", "#555555"
+MIRROR = "#e377c2"  # dashed pink: the right limbs mirrored onto the left side
+PAIR_COLOURS = ("#2ca02c", "#9467bd")  # the two pairs of a time-series panel: neither side's blue nor orange
 _CALL_CLASS = {"symmetric": "sym", "asymmetric": "asym", "uncertain": "unc"}
 _CSS = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:24px auto;max-width:1150px;color:#222}
@@ -45,9 +51,11 @@ td,th{border:1px solid #ddd;padding:3px 7px;text-align:right}
 th{background:#f3f3f3} td.l,th.l{text-align:left} .meta{color:#555;font-size:13px}
 .note{padding:8px 12px;border-radius:4px;margin:10px 0;font-size:13.5px}
 .warn{background:#fff4d6;border:1px solid #e8c15a} .ok{background:#e9f6ec;border:1px solid #8cc79a}
+.notice{background:#eef3fb;border:1px solid #9db4d8}
 td.sym,li.sym{background:#e3f4e6} td.asym,li.asym{background:#fbe1df} td.unc,li.unc{background:#fff1c9}
 .figs{display:flex;flex-wrap:wrap;gap:8px} .figs svg{height:auto;max-width:100%}
-small{color:#666}
+small{color:#666;white-space:nowrap} th small{font-weight:normal} p.rule{font-size:14.5px}
+table.wide{font-size:11.5px} .scroll{overflow-x:auto}
 """
 
 
@@ -111,8 +119,7 @@ def _view_half_width(pose: np.ndarray, skel: Skeleton) -> float:
 def _draw_pose(ax: Axes, pose: np.ndarray, a: Analysis, h: int, v: int, title: str, half: float) -> None:
     skel = a.result.skeleton
     for i, j in skel.bones:
-        names = skel.joints[i] + skel.joints[j]
-        colour = LEFT if names.count("left_") == 2 else RIGHT if names.count("right_") == 2 else CENTRE
+        colour = side_hex(skel.joints[i], skel.joints[j])
         ax.plot(pose[[i, j], h], pose[[i, j], v], color=colour, lw=2.2, solid_capstyle="round")
     for ends in _mirrored_segments(pose, skel):
         ax.plot(ends[:, h], ends[:, v], color=MIRROR, lw=2.0, ls=(0, (3, 2)))
@@ -159,16 +166,17 @@ def time_series(a: Analysis) -> str:
     axes = fig.subplots(4, 2).ravel()
     t_of = res.frame_index[a.index] / float(a.fps or 1.0)
     people = res.person[a.index]
-    for p in sorted(set(people.tolist())):
+    tracks = sorted(set(people.tolist()))
+    for p, style in zip(tracks, ["-", "--", ":", "-."] * len(tracks), strict=False):
         sel = people == p
-        suffix = f" (person {p})" if len(set(people.tolist())) > 1 else ""
-        for n in SYMMETRY_NAMES:
-            axes[0 if n in SYMMETRY_NAMES[:2] else 1].plot(
-                t_of[sel], a.values[n][sel], lw=1.3, label=_short(n) + suffix
-            )
+        suffix = f" (person {p})" if len(tracks) > 1 else ""
+        for k, n in enumerate(SYMMETRY_NAMES):
+            axes[k // 2].plot(t_of[sel], a.values[n][sel], color=PAIR_COLOURS[k % 2], ls=style, lw=1.3,
+                              label=_short(n) + suffix)  # fmt: skip
         for ax, base in zip(axes[2:], ANGLE_BASES, strict=True):
-            for side, colour in zip(SIDES, (LEFT, RIGHT), strict=True):
-                ax.plot(t_of[sel], a.values[angle_name(side, base)][sel], color=colour, lw=1.2, label=side + suffix)
+            for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
+                ax.plot(t_of[sel], a.values[angle_name(side, base)][sel], color=colour, ls=style, lw=1.2,
+                        label=side + suffix)  # fmt: skip
             ax.set_title(base.replace("_", " ") + " (deg)", fontsize=10)
     for ax, title in zip(axes[:2], ("symmetry angle, arms (deg)", "symmetry angle, legs (deg)"), strict=True):
         ax.axhline(a.settings.threshold_deg, color="0.4", ls="--", lw=1)
@@ -180,83 +188,90 @@ def time_series(a: Analysis) -> str:
     return _svg(fig)
 
 
-def _symmetry_summary(a: Analysis) -> str:
-    stats = summary(a)
-    head = "<tr><th class=l>pair</th><th>mean</th><th>median</th><th>symmetric</th><th>asymmetric</th>" \
-           "<th>uncertain</th><th>band 1 (&lt;30)</th><th>band 2 (30–60)</th><th>band 3 (≥60)</th></tr>"  # fmt: skip
-    rows = []
-    for n in SYMMETRY_NAMES:
-        s = stats[n]
-        pair = n.removeprefix("symmetry_").removesuffix("_deg").replace("_", " ")
-        rows.append(f"<tr><td class=l>{pair}</td><td>{_fmt(s.get('mean', np.nan))}°</td>"
-                    f"<td>{_fmt(s.get('median', np.nan))}°</td><td>{s['symmetric']}</td><td>{s['asymmetric']}</td>"
-                    f"<td>{s['uncertain']}</td>"
-                    f"<td>{s['band_1']}</td><td>{s['band_2']}</td><td>{s['band_3']}</td></tr>")  # fmt: skip
-    return f"<table>{head}{''.join(rows)}</table>"
-
-
-def _cell(a: Analysis, name: str, k: int, call: str = "") -> str:
-    v = a.values[name][k]
-    text = _fmt(v)
-    low, high = a.intervals[name][0][k], a.intervals[name][1][k]
-    if np.isfinite(low) and np.isfinite(high):
-        text += f" <small>[{_fmt(low)}, {_fmt(high)}]</small>"
-    if call:
-        text += f" <small>{call}</small>"
-    return f"<td class={_CALL_CLASS.get(call, '')}>{text}</td>"
-
-
-def _frame_tables(a: Analysis) -> tuple[str, str]:
-    res = a.result
-    calls = {(r.frame_index, r.person, r.measure): r.call for r in a.rows if r.measure in SYMMETRY_NAMES}
-    head = "<th>frame</th><th class=l>image</th><th>person</th>"
-    sym = [f"<tr>{head}" + "".join(f"<th>{_esc(n.removeprefix('symmetry_').removesuffix('_deg'))}</th>"
-                                   for n in SYMMETRY_NAMES) + "</tr>"]  # fmt: skip
-    ang = [f"<tr>{head}" + "".join(f"<th>{_esc(n.removesuffix('_deg').replace('_', ' '))}</th>" for n in ANGLE_NAMES)
-           + "</tr>"]  # fmt: skip
-    for k, i in enumerate(a.index[:MAX_TABLE_ROWS]):
-        f, p = int(res.frame_index[i]), int(res.person[i])
-        image = res.file_names[i] or res.image_ids[i]
-        lead = f"<td>{f}</td><td class=l>{_esc(image)}</td><td>{p}</td>"
-        sym.append(f"<tr>{lead}" + "".join(_cell(a, n, k, calls.get((f, p, n), "")) for n in SYMMETRY_NAMES) + "</tr>")
-        ang.append(f"<tr>{lead}" + "".join(_cell(a, n, k) for n in ANGLE_NAMES) + "</tr>")
-    more = ""
-    if len(a.index) > MAX_TABLE_ROWS:
-        more = f"<p class=meta>The first {MAX_TABLE_ROWS} of {len(a.index)} poses; the CSV has them all.</p>"
-    return f"<table>{''.join(sym)}</table>{more}", f"<table>{''.join(ang)}</table>{more}"
-
-
-def _movement_table(a: Analysis) -> str:
-    rows = {(r.person, r.measure): r.value for r in a.rows if r.frame_index is None}
-    people = sorted({p for p, _ in rows})
-    if not people:
-        return "<p class=meta>Too few lifted frames for movement features.</p>"
-    out = ["<tr><th>person</th><th class=l>angle</th><th>median |velocity| L / R (deg/s)</th>"
-           "<th>IQR |velocity| L / R (deg/s)</th><th>range L / R (deg)</th><th>left-right r</th></tr>"]  # fmt: skip
-    for p in people:
-        for base in ANGLE_BASES:
-
-            def pair(kind: str, base: str = base, p: int = p) -> str:
-                return " / ".join(_fmt(rows.get((p, f"{side}_{base}_{kind}"), np.nan)) for side in SIDES)
-
-            r = rows.get((p, f"{base}_left_right_correlation"), np.nan)
-            out.append(f"<tr><td>{p}</td><td class=l>{base.replace('_', ' ')}</td>"
-                       f"<td>{pair('median_abs_velocity_deg_s')}</td><td>{pair('abs_velocity_iqr_deg_s')}</td>"
-                       f"<td>{pair('range_deg')}</td><td>{_fmt(r, 2)}</td></tr>")  # fmt: skip
-    return f"<table>{''.join(out)}</table>"
-
-
 def _pair_label(name: str) -> str:
     return name.removeprefix("symmetry_").removesuffix("_deg").replace("_", " ")
 
 
+def _level(value: float) -> str:
+    return f"{value:.0%}".replace("%", " %")
+
+
+def _interval(low: float, high: float, level: float) -> str:
+    """`80 % interval [3.1, 25.0]`, or "" where there is none."""
+    if not (np.isfinite(low) and np.isfinite(high)):
+        return ""
+    return f"{_level(level)} interval [{_fmt(low)}, {_fmt(high)}]"
+
+
+def _no_interval(how: str) -> str:
+    """The `interval` column's reason, as a reader wants it: "no interval: joint filled by the prior ..."."""
+    return "no interval: " + how.removeprefix("none: ")
+
+
+# --- sections, in page order (report_sections) ----------------------------------------------------
+
+
+def _title(a: Analysis) -> str:
+    res = a.result
+    fps = f"{a.fps:g} fps ({a.fps_source})" if a.fps else "none: frames analysed as separate images"
+    counted = poses_counted(res.frame_index[a.index], res.person[a.index])
+    return (f"<h1>Postural symmetry and joint angles: {_esc(Path(res.source).name)}</h1>"
+            f"<p class=meta>{_esc(res.source)} · {res.format} · skeleton {res.skeleton.name} · {counted} analysed · "
+            f"frame rate: {_esc(fps)} · symmetric at ≤ {a.settings.threshold_deg:g}° · zedo {__version__} · "
+            f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC</p>")  # fmt: skip
+
+
+def research_notice() -> str:
+    """The first thing read after the title: what these figures are and are not."""
+    return ("<div class='note notice'><b>For research; not a diagnosis.</b> These measures come from 3D poses "
+            "that zedo estimated from 2D keypoints of ordinary images; zedo is a research tool, not a medical "
+            "device, and its calls are not a clinical assessment. Read them beside the footage and a "
+            "clinician's judgement. The bundled pose priors are trained on SyRIP, whose terms allow research / "
+            "non-commercial use only.</div>")  # fmt: skip
+
+
+def call_rule(a: Analysis) -> str:
+    """The rule behind symmetric, asymmetric and uncertain, in plain words, then how far it can be trusted."""
+    thr = f"{a.settings.threshold_deg:g}°"
+    level = _level(a.settings.call_level)
+    miss = _level((1 - a.settings.call_level) / 2)
+    return (f"<p class=rule><b>How zedo calls a pair.</b> zedo calls a pair <b>symmetric</b> only when the whole "
+            f"{level} interval of its symmetry angle lies at or below {thr}, and <b>asymmetric</b> only when the "
+            f"whole interval lies above {thr}. When the interval includes {thr}, the pair is <b>uncertain</b>: "
+            "the image does not settle the question, usually because the limbs point towards or away from the "
+            "camera and their depth is the prior's guess. Uncertain cases are for a person to look at (the "
+            "footage, another view); they are not evidence either way.</p>"
+            f"<p class=meta>The interval printed beside each call in this report is that {level} interval. Each of "
+            f"its ends missed the true angle at most {miss} of the time on infants the calibration never saw, and "
+            "such calls agreed with the reference call 88-95 % of the time on held-out infants and on SyRIP "
+            "Test100 (docs/clinical.md).</p>")  # fmt: skip
+
+
+def _case_list(a: Analysis) -> str:
+    """For a few images: each case spelled out, the decisive calls first, each with its deciding interval."""
+    if len(a.index) > 12:
+        return ""
+    by_case = {(r.frame_index, r.person, r.measure): r for r in a.rows if r.measure in SYMMETRY_NAMES}
+    listed = []
+    for i in a.index:
+        f, p = int(a.result.frame_index[i]), int(a.result.person[i])
+        image = a.result.file_names[i] or a.result.image_ids[i]
+        items = []
+        for n in SYMMETRY_NAMES:
+            r = by_case[(f, p, n)]
+            what = _interval(r.call_low, r.call_high, a.settings.call_level) or _esc(_no_interval(r.interval))
+            items.append(f"<li class={_CALL_CLASS.get(r.call, '')}><b>{_pair_label(n)}: {r.call}</b> "
+                         f"{_fmt(r.value)}° <small>({what})</small></li>")  # fmt: skip
+        items.sort(key=lambda t: "uncertain" in t)  # the decisive calls first
+        listed.append(f"<p class=meta>{_esc(image)}, person {p}</p><ul>{''.join(items)}</ul>")
+    return "".join(listed)
+
+
 def _decisions(a: Analysis) -> str:
-    """The calls first: what can be acted on, and what "uncertain" means here."""
-    thr = a.settings.threshold_deg
-    level = f"{a.settings.level:.0%}"
+    """The calls first: what can be acted on, the rule they follow, and what "uncertain" means here."""
     if not a.uncertainty_available:
-        return ("<div class='note warn'><b>No decisive calls.</b> No measure calibration holds for this result ("
-                f"{_esc(a.calibration_note)}), so no interval backs a call: every symmetry call is "
+        return ("<h2>Decisions</h2><div class='note warn'><b>No decisive calls.</b> No measure calibration holds "
+                f"for this result ({_esc(a.calibration_note)}), so no interval backs a call: every symmetry call is "
                 "<b>uncertain</b>. The values below are the measures of the lifted pose, without "
                 "intervals.</div>")  # fmt: skip
     summ = summary(a)
@@ -270,75 +285,149 @@ def _decisions(a: Analysis) -> str:
         rows.append(f"<tr><td class=l>{_pair_label(n)}</td><td class=sym>{c['symmetric']}</td>"
                     f"<td class=asym>{c['asymmetric']}</td><td class=unc>{c['uncertain']}</td>"
                     f"<td>{_fmt(100 * share)} %</td></tr>")  # fmt: skip
-    call_level = f"{a.settings.call_level:.0%}"
-    miss = f"{(1 - a.settings.call_level) / 2:.0%}"
-    explain = (f"<p><b>Symmetric</b> / <b>asymmetric</b>: the {call_level} interval of the symmetry angle (the "
-               f"one listed below) lies wholly below / above {thr:g}°; each of its ends missed the true angle at "
-               f"most {miss} of the time on infants the calibration never saw, and such calls agreed with the "
-               "reference call 88-95 % of the time on held-out infants and on SyRIP Test100 (docs/clinical.md). "
-               f"<b>Uncertain</b>: that interval includes {thr:g}°, so the image does not "
-               "settle the question, usually because the limbs point towards or away from the camera and their "
-               "depth is guessed by the prior. Uncertain cases are for a person to look at (the footage, or "
-               f"another view); they are not evidence either way. The tables and the CSV also give the {level} "
-               "interval (low_90, high_90).</p>")  # fmt: skip
-    listed = []
-    if len(a.index) <= 12:  # a few images: spell each case out
-        by_case = {(r.frame_index, r.person, r.measure): r for r in a.rows if r.measure in SYMMETRY_NAMES}
-        for i in a.index:
-            f, p = int(a.result.frame_index[i]), int(a.result.person[i])
-            image = a.result.file_names[i] or a.result.image_ids[i]
-            items = []
-            for n in SYMMETRY_NAMES:
-                r = by_case[(f, p, n)]
-                what = (f"{_fmt(r.value)}° [{_fmt(r.call_low)}, {_fmt(r.call_high)}]" if np.isfinite(r.call_low)
-                        else f"{_fmt(r.value)}° ({_esc(r.interval)})")  # fmt: skip
-                items.append(f"<li class={_CALL_CLASS.get(r.call, '')}><b>{_pair_label(n)}: {r.call}</b> {what}</li>")
-            items.sort(key=lambda t: "uncertain" in t)  # the decisive calls first
-            listed.append(f"<p class=meta>{_esc(image)}, person {p}</p><ul>{''.join(items)}</ul>")
-    return f"<h2>Decisions</h2><table>{head}{''.join(rows)}</table>{explain}{''.join(listed)}"
+    return f"<h2>Decisions</h2><table>{head}{''.join(rows)}</table>{call_rule(a)}{_case_list(a)}"
+
+
+def _notes(a: Analysis) -> str:
+    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes[1:])  # the first is the calibration note
+    return f"<ul class=meta>{notes}</ul>" if notes else ""
+
+
+def _bands_label() -> tuple[str, str, str]:
+    low, high = (f"{e:g}" for e in BAND_EDGES_DEG)  # the paper's edges: 30 and 60 degrees
+    return f"&lt; {low}°", f"{low}–{high}°", f"≥ {high}°"
+
+
+def _symmetry_section(a: Analysis) -> str:
+    """The values per pair, then how many fall in each of the paper's bands: a description of the
+    angle's size, not a call (the calls are the decisions above)."""
+    stats = summary(a)
+    head = ("<tr><th></th><th colspan=5>the symmetry angle</th><th colspan=3>poses per band of Huang et al. "
+            "(not the call)</th></tr><tr><th class=l>pair</th><th>poses</th><th>mean</th><th>median</th>"
+            "<th>min</th><th>max</th>" + "".join(f"<th>{b}</th>" for b in _bands_label()) + "</tr>")  # fmt: skip
+    rows = []
+    for n in SYMMETRY_NAMES:
+        s = stats[n]
+        values = "".join(f"<td>{_fmt(s.get(k, np.nan))}°</td>" for k in ("mean", "median", "min", "max"))
+        bands = "".join(f"<td>{s[f'band_{b}']}</td>" for b in (1, 2, 3))
+        rows.append(f"<tr><td class=l>{_pair_label(n)}</td><td>{s['count']}</td>{values}{bands}</tr>")
+    thr = f"{a.settings.threshold_deg:g}°"
+    return ("<h2>Symmetry</h2><p class=meta>Angle between the left segment and the right one mirrored through the "
+            "body's mid-plane (shoulders for the arms, hips for the legs); 0° = mirror-symmetric (Huang et al. "
+            "2022). The last three columns count the poses by the <b>bands of that paper</b> "
+            f"({', '.join(_bands_label())}): they describe how large the angle is, they are <b>not the call</b>, "
+            f"which zedo makes on the interval at {thr} (Decisions, above).</p>"
+            f"<table>{head}{''.join(rows)}</table>")  # fmt: skip
+
+
+def _skeleton_section(a: Analysis) -> str:
+    which = "First, middle and last frames." if a.is_sequence else "The first frames and the most asymmetric ones."
+    return ("<h2>Skeleton views</h2><p class=meta>Root-centred; "
+            f"<b style='color:{LEFT_HEX}'>blue</b> = left, <b style='color:{RIGHT_HEX}'>orange</b> = right (the "
+            f"colours of zedo render), <b style='color:{CENTRE_HEX}'>grey</b> = between the sides, "
+            f"<b style='color:{MIRROR}'>dashed pink</b> = the right limbs mirrored onto the left side: where they "
+            "differ from the blue limbs, the posture is asymmetric. UA upper arm, FA forearm, TH thigh, SH shank: "
+            f"symmetry angles. {which}</p><div class=figs>{''.join(skeleton_views(a))}</div>")  # fmt: skip
+
+
+def _time_series_section(a: Analysis) -> str:
+    return f"<h2>Time series</h2><div class=figs>{time_series(a)}</div>"
+
+
+def _movement_section(a: Analysis) -> str:
+    rows = {(r.person, r.measure): r.value for r in a.rows if r.frame_index is None}
+    people = sorted({p for p, _ in rows})
+    if not people:
+        return "<h2>Movement features</h2><p class=meta>Too few lifted frames for movement features.</p>"
+    out = ["<tr><th>person</th><th class=l>angle</th><th>median |velocity| L / R (deg/s)</th>"
+           "<th>IQR |velocity| L / R (deg/s)</th><th>range L / R (deg)</th><th>left-right r</th></tr>"]  # fmt: skip
+    for p in people:
+        for base in ANGLE_BASES:
+
+            def pair(kind: str, base: str = base, p: int = p) -> str:
+                return " / ".join(_fmt(rows.get((p, f"{side}_{base}_{kind}"), np.nan)) for side in SIDES)
+
+            r = rows.get((p, f"{base}_left_right_correlation"), np.nan)
+            out.append(f"<tr><td>{p}</td><td class=l>{base.replace('_', ' ')}</td>"
+                       f"<td>{pair('median_abs_velocity_deg_s')}</td><td>{pair('abs_velocity_iqr_deg_s')}</td>"
+                       f"<td>{pair('range_deg')}</td><td>{_fmt(r, 2)}</td></tr>")  # fmt: skip
+    return f"<h2>Movement features</h2><table>{''.join(out)}</table>"
+
+
+def _cell(value: float, low: float = np.nan, high: float = np.nan, call: str = "") -> str:
+    text = _fmt(value)
+    if np.isfinite(low) and np.isfinite(high):
+        text += f" <small>[{_fmt(low)}, {_fmt(high)}]</small>"
+    if call:
+        text += f" <small>{call}</small>"
+    return f"<td class={_CALL_CLASS.get(call, '')}>{text}</td>"
+
+
+def _frame_rows(a: Analysis, names: tuple[str, ...], cell: Any) -> tuple[str, str]:
+    """`<tr>`s of the first MAX_TABLE_ROWS poses (frame, image, person, then `cell(name, k, frame, person)`
+    per measure) and the line that says when rows were left out."""
+    res = a.result
+    rows = []
+    for k, i in enumerate(a.index[:MAX_TABLE_ROWS]):
+        f, p = int(res.frame_index[i]), int(res.person[i])
+        image = res.file_names[i] or res.image_ids[i]
+        rows.append(f"<tr><td>{f}</td><td class=l>{_esc(image)}</td><td>{p}</td>"
+                    + "".join(cell(n, k, f, p) for n in names) + "</tr>")  # fmt: skip
+    more = ""
+    if len(a.index) > MAX_TABLE_ROWS:
+        more = f"<p class=meta>The first {MAX_TABLE_ROWS} of {len(a.index)} poses; the CSV has them all.</p>"
+    return "".join(rows), more
+
+
+_LEAD = "<th>frame</th><th class=l>image</th><th>person</th>"
+
+
+def _symmetry_frames_section(a: Analysis) -> str:
+    """Each symmetry value with the interval that decides its call (--call-level), and the call."""
+    calls = {(r.frame_index, r.person, r.measure): r for r in a.rows if r.measure in SYMMETRY_NAMES}
+
+    def cell(name: str, k: int, f: int, p: int) -> str:
+        r = calls.get((f, p, name))
+        return _cell(a.values[name][k], r.call_low, r.call_high, r.call) if r else _cell(a.values[name][k])
+
+    level = _level(a.settings.call_level)
+    unit = f"deg [{level}] call" if a.uncertainty_available else "deg, call"
+    head = f"<tr>{_LEAD}" + "".join(f"<th>{_pair_label(n)}<br><small>{unit}</small></th>" for n in SYMMETRY_NAMES)
+    rows, more = _frame_rows(a, SYMMETRY_NAMES, cell)
+    what = (f"degrees, the <b>{level} interval that decides the call</b> in brackets, then the call; the "
+            f"{_level(a.settings.level)} intervals are in the CSV and JSON (low_90, high_90)"
+            if a.uncertainty_available else "degrees and call (no interval: no calibration holds)")  # fmt: skip
+    return f"<h2>Symmetry per frame</h2><p class=meta>{what}.</p><table>{head}</tr>{rows}</table>{more}"
+
+
+def _angle_frames_section(a: Analysis) -> str:
+    def cell(name: str, k: int, f: int, p: int) -> str:
+        return _cell(a.values[name][k], *(x[k] for x in a.intervals[name]))
+
+    level = _level(a.settings.level)
+    head = f"<tr>{_LEAD}" + "".join(f"<th>{_esc(n.removesuffix('_deg').replace('_', ' '))}</th>" for n in ANGLE_NAMES)
+    rows, more = _frame_rows(a, ANGLE_NAMES, cell)
+    interval = f", the {level} interval in brackets" if a.uncertainty_available else ""
+    return (f"<h2>Joint angles per frame</h2><p class=meta>degrees{interval}. Knee / elbow flexion: 0 = straight. "
+            "Hip / shoulder flexion: from straight down the trunk, positive forward; abduction: positive away from "
+            "the midline (trunk frame from the hips and shoulders; docs/clinical.md).</p>"
+            f"<div class=scroll><table class=wide>{head}</tr>{rows}</table></div>{more}")  # fmt: skip
+
+
+def report_sections(a: Analysis) -> list[str]:
+    """The page's sections in order, each the HTML of one small function of `a`."""
+    parts = [_title(a), research_notice(), _decisions(a), _notes(a), _symmetry_section(a), _skeleton_section(a)]
+    if a.is_sequence:
+        parts += [_time_series_section(a), _movement_section(a)]
+    return parts + [_symmetry_frames_section(a), _angle_frames_section(a)]
 
 
 def report_html(a: Analysis) -> str:
     """The whole report as one HTML string."""
-    res = a.result
-    box = _decisions(a)
-    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes[1:])  # the first is the calibration note
-    fps = f"{a.fps:g} fps ({a.fps_source})" if a.fps else "none: frames analysed as separate images"
-    sym_table, angle_table = _frame_tables(a)
-    counted = poses_counted(res.frame_index[a.index], res.person[a.index])
-    parts = [
-        "<!DOCTYPE html><html lang=en><head><meta charset=utf-8>",
-        f"<title>zedo analyze: {_esc(Path(res.source).name)}</title><style>{_CSS}</style></head><body>",
-        f"<h1>Postural symmetry and joint angles: {_esc(Path(res.source).name)}</h1>",
-        f"<p class=meta>{_esc(res.source)} · {res.format} · skeleton {res.skeleton.name} · {counted} analysed · "
-        f"frame rate: {_esc(fps)} · symmetric at ≤ {a.settings.threshold_deg:g}° · zedo {__version__} · "
-        f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC</p>",
-        box,
-        f"<ul class=meta>{notes}</ul>" if notes else "",
-        "<h2>Symmetry</h2><p class=meta>Angle between the left segment and the right one mirrored through the "
-        "body's mid-plane (shoulders for the arms, hips for the legs); 0° = mirror-symmetric (Huang et al. 2022). "
-        "Bands as in that paper.</p>",
-        _symmetry_summary(a),
-        "<h2>Skeleton views</h2><p class=meta>Root-centred; <b style='color:#1f77b4'>blue</b> = left, "
-        "<b style='color:#d62728'>red</b> = right, <b style='color:#e377c2'>dashed pink</b> = the right limbs "
-        "mirrored onto the left side: where they differ from the blue limbs, the posture is asymmetric. "
-        "UA upper arm, FA forearm, TH thigh, SH shank: symmetry angles. "
-        + ("First, middle and last frames." if a.is_sequence else "The first frames and the most asymmetric ones.")
-        + "</p>",
-        f"<div class=figs>{''.join(skeleton_views(a))}</div>",
-    ]  # fmt: skip
-    if a.is_sequence:
-        parts += ["<h2>Time series</h2>", f"<div class=figs>{time_series(a)}</div>",
-                  "<h2>Movement features</h2>", _movement_table(a)]  # fmt: skip
-    parts += [
-        "<h2>Symmetry per frame</h2><p class=meta>degrees"
-        + (f" [{a.settings.level:.0%} interval]" if a.uncertainty_available else "") + " and call.</p>", sym_table,
-        "<h2>Joint angles per frame</h2><p class=meta>degrees. Knee / elbow flexion: 0 = straight. Hip / "
-        "shoulder flexion: from straight down the trunk, positive forward; abduction: positive away from the "
-        "midline (trunk frame from the hips and shoulders; docs/clinical.md).</p>", angle_table,
-        "<p class=meta>Self-contained page (no network): figures are inline SVG.</p></body></html>",
-    ]  # fmt: skip
-    return "\n".join(parts) + "\n"
+    head = (f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8><title>zedo analyze: "
+            f"{_esc(Path(a.result.source).name)}</title><style>{_CSS}</style></head><body>")  # fmt: skip
+    foot = "<p class=meta>Self-contained page (no network): figures are inline SVG.</p></body></html>"
+    return "\n".join([head, *report_sections(a), foot]) + "\n"
 
 
 def write_report(a: Analysis, out: str | Path, *, overwrite: bool = False) -> Path:

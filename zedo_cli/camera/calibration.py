@@ -3,7 +3,7 @@ and `cv2.cornerSubPix` find the board's inner corners in each view, `cv2.calibra
 (pinhole with distortion) or `cv2.fisheye.calibrate` (`fisheye=True`) fits the camera.
 
 Views are image files, or frames sampled evenly from video files. A calibration that cannot be
-trusted is refused with a `CalibrationError` (exit code 5): the board found in no view or in
+trusted is refused with a `CalibrationError` (exit code 6): the board found in no view or in
 fewer than `min_views`, an RMS reprojection error above `max_rms`, views of different sizes.
 """
 

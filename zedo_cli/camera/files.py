@@ -16,7 +16,6 @@ Every error is a `CameraInputError` (exit code 3): `FILE: field: what is wrong`.
 
 from __future__ import annotations
 
-import json
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -25,6 +24,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, PositiveFloat, Strict, ValidationError, model_validator
 
 from ..errors import CameraInputError, IntrinsicsError
+from ..strict_json import loads
 from .model import CameraModel
 
 CAMERA_FILE_FORMATS = ("zedo", "opencv", "toml")
@@ -128,8 +128,8 @@ def _detect(name: str, text: str) -> tuple[str, Any]:
         return "opencv", None
     if suffix == ".json" or head.startswith(("{", "[")):
         try:
-            doc = json.loads(text)
-        except (ValueError, RecursionError) as exc:  # ValueError: bad JSON, or an integer of thousands of digits
+            doc = loads(text)
+        except (ValueError, RecursionError) as exc:  # bad JSON, a repeated key, an integer of thousands of digits
             raise CameraInputError(f"{name}: not a readable JSON file ({exc})") from None
         return ("opencv" if isinstance(doc, dict) and "camera_matrix" in doc else "zedo"), doc
     return "toml", None  # neither JSON nor FileStorage: a calibration TOML, or an error naming it

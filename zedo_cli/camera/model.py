@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -112,9 +112,7 @@ class CameraModel:
         image_size: tuple[int, int] | None = None,
     ) -> CameraModel:  # fmt: skip
         """A camera from its 3x3 matrix `[[fx, 0, cx], [0, fy, cy], [0, 0, 1]]` (no skew)."""
-        k = np.asarray(k, dtype=np.float64)
-        if k.shape != (3, 3):
-            raise IntrinsicsError(f"K must be a 3x3 matrix, got shape {k.shape}")
+        k = _matrix3(k, "K")
         if not np.isfinite(k).all():
             raise IntrinsicsError("K must hold finite numbers")
         if k[0, 1] != 0 or k[1, 0] != 0 or k[2, 0] != 0 or k[2, 1] != 0 or k[2, 2] != 1:
@@ -128,9 +126,7 @@ class CameraModel:
     def from_json(cls, block: dict) -> CameraModel:
         """A result file's camera block: `K`, and `model` / `dist` when the lift had a lens model
         (results without them were lifted through a pinhole camera without distortion)."""
-        k = np.asarray(block["K"], dtype=np.float64)
-        if k.shape != (3, 3):
-            raise IntrinsicsError(f"camera K must be 3x3, got shape {k.shape}")
+        k = _matrix3(block["K"], "camera K")
         size = block.get("image_size")
         return cls(
             float(k[0, 0]),
@@ -164,3 +160,17 @@ def undistort_instances(xy: np.ndarray, cameras: Sequence[CameraModel | None] | 
     for camera, idx in groups.items():
         out[idx] = camera.undistort_pixels(out[idx])
     return out
+
+
+def _matrix3(k: Any, what: str) -> np.ndarray:
+    """`k` as a 3x3 float array; an IntrinsicsError naming `what` for anything else, a ragged
+    list of rows (`[[2000, 0, 640], [0, 2000], [0, 0, 1]]`) included."""
+    try:
+        matrix = np.asarray(k, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        rows = [str(len(r)) if isinstance(r, list | tuple) else "?" for r in k] if isinstance(k, list | tuple) else []
+        got = f", got rows of {', '.join(rows)} values" if rows else ""
+        raise IntrinsicsError(f"{what} must be a 3x3 matrix of numbers{got}") from None
+    if matrix.shape != (3, 3):
+        raise IntrinsicsError(f"{what} must be a 3x3 matrix, got shape {matrix.shape}")
+    return matrix

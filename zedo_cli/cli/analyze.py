@@ -251,11 +251,14 @@ def analyze_command(
     mirrored through the body's mid-plane), called symmetric at most
     --symmetry-threshold degrees (28), with the paper's bands (< 30, 30-60,
     >= 60); knee and elbow flexion, hip and shoulder flexion and abduction
-    in a trunk frame (conventions: docs/clinical.md).
+    in a trunk frame (conventions: docs/clinical.md). From the input's 2D face
+    points (kept by zedo lift): head tilt against the shoulder line and head
+    turn (left, right, midline, to the infant's own side).
 
     For a video (--fps, or the fps given to zedo lift), per person: median
     and IQR of |angular velocity|, range of motion and the left-right
-    correlation of every angle.
+    correlation of every angle; the head-turn shares and median tilt, with
+    intervals for correlated frames.
 
     Each measure's value is an estimate calibrated on held-out lifts, with a
     90 % interval (--level) where a measure calibration holds for the result's

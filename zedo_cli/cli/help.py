@@ -126,9 +126,13 @@ def _print_help(command: Any, ctx: Any, console: Console) -> None:
                 help_text += " [required]"
             rows.append((_names(param, ctx), help_text))
         console.print(_panel(title, rows))
-    if isinstance(command, ZedoGroup):  # the summaries of the table: no command module imported
-        rows = [(name, command.commands.summary(name)) for name in command.list_commands(ctx)]
-        console.print(_panel("Commands", rows))
+    if isinstance(command, ZedoGroup):  # the commands in their panels, in order, from the table: none imported
+        panels: dict[str, list[tuple[str, str]]] = {}
+        for name in command.list_commands(ctx):
+            title = command.commands.panel(name) or "Commands"
+            panels.setdefault(title, []).append((name, command.commands.summary(name)))
+        for title, rows in panels.items():
+            console.print(_panel(title, rows))
 
 
 def _panel(title: str, rows: list[tuple[str, str]]) -> Panel:
@@ -161,26 +165,28 @@ class _ZedoHelp:
         formatter.write(render_help(self, ctx, Console(highlight=False)))
 
 
-def command_from_function(name: str, function: Callable[..., Any], rich_markup_mode: Any) -> Any:
+def command_from_function(name: str, function: Callable[..., Any], panel: str, rich_markup_mode: Any) -> Any:
     """The click command typer makes of `function` (its options from the annotations, its help
     from the docstring), as `app.command(name, ...)` registers it, with zedo's help layout."""
     one = typer.Typer(add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=rich_markup_mode)
-    one.command(name, no_args_is_help=True, cls=ZedoCommand)(function)
+    one.command(name, no_args_is_help=True, cls=ZedoCommand, rich_help_panel=panel)(function)
     return typer.main.get_command(one)
 
 
 class ZedoGroup(_ZedoHelp, TyperGroup):
     """The `zedo` group, with the same help layout as its commands, and usage errors of every
     command as one line (cli/usage.py) instead of typer's boxed panel. Its commands are the
-    subclass's `table` (cli/__init__.py), each imported and made a click command only when it is
+    subclass's `panels` (cli/__init__.py), each imported and made a click command only when it is
     looked up (cli/lazy_commands.py)."""
 
-    table: Mapping[str, LazyCommand] = {}
+    panels: Mapping[str, Mapping[str, LazyCommand]] = {}
 
     def __init__(self, **attrs: Any) -> None:
         super().__init__(**attrs)
         mode = self.rich_markup_mode
-        self.commands = LazyCommands(self.table, lambda name, function: command_from_function(name, function, mode))
+        self.commands = LazyCommands(
+            self.panels, lambda name, function, panel: command_from_function(name, function, panel, mode)
+        )
         for name, command in attrs.get("commands", {}).items():  # any typer registered the usual way
             self.commands[name] = command
 

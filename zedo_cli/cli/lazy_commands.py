@@ -24,11 +24,15 @@ class LazyCommand(NamedTuple):
 
 
 class LazyCommands(MutableMapping[str, Any]):
-    """A click group's `commands`: the names of `table`, each turned into a click command by
-    `convert(name, function)` the first time it is looked up. Iterating, `in` and `len` import nothing."""
+    """A click group's `commands`: the names of `panels` (panel title -> name -> LazyCommand), each
+    turned into a click command by `convert(name, function, panel)` the first time it is looked up.
+    Iterating, `in`, `len`, `summary` and `panel` import nothing."""
 
-    def __init__(self, table: Mapping[str, LazyCommand], convert: Callable[[str, Callable[..., Any]], Any]) -> None:
-        self._table = dict(table)
+    def __init__(
+        self, panels: Mapping[str, Mapping[str, LazyCommand]], convert: Callable[[str, Callable[..., Any], str], Any]
+    ) -> None:
+        self._table = {name: entry for entries in panels.values() for name, entry in entries.items()}
+        self._panels = {name: title for title, entries in panels.items() for name in entries}
         self._convert = convert
         self._loaded: dict[str, Any] = {}
 
@@ -37,10 +41,15 @@ class LazyCommands(MutableMapping[str, Any]):
         entry = self._table.get(name)
         return entry.summary if entry is not None else self[name].get_short_help_str(limit=300)
 
+    def panel(self, name: str) -> str | None:
+        """The panel of `zedo --help` that lists `name` (None: the group's default)."""
+        title = self._panels.get(name)
+        return title if title is not None else getattr(self[name], "rich_help_panel", None)
+
     def __getitem__(self, name: str) -> Any:
         if name not in self._loaded:
             entry = self._table[name]  # KeyError for a name that is no command: click's "no such command"
-            self._loaded[name] = self._convert(name, entry.load())
+            self._loaded[name] = self._convert(name, entry.load(), self._panels[name])
         return self._loaded[name]
 
     def __setitem__(self, name: str, command: Any) -> None:  # click's add_command
@@ -49,8 +58,8 @@ class LazyCommands(MutableMapping[str, Any]):
     def __delitem__(self, name: str) -> None:
         if name not in self:
             raise KeyError(name)
-        self._table.pop(name, None)
-        self._loaded.pop(name, None)
+        for table in (self._table, self._panels, self._loaded):
+            table.pop(name, None)
 
     def __iter__(self) -> Iterator[str]:
         yield from self._table

@@ -21,6 +21,7 @@ from ..files import check_can_create, output_failure
 from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
 from ..formats.markers import MARKER_AXES, marker_frame_numbers
+from ..formats.readers import fill_image_sizes
 from ..formats.writers import FRAMES, MARKER_FORMATS, OUTPUT_FORMATS, UNITS, output_format, write_result
 from ..formats.writers_common import group_frames
 from ..lifting.config import (
@@ -63,6 +64,7 @@ from .lift_plan import (
     expand_inputs,
     plan_outputs,
     plot_prefix,
+    refused_inputs,
 )
 
 if TYPE_CHECKING:
@@ -183,9 +185,8 @@ class FileOutcome:
 
 
 def read_input(source: str, st: LiftSettings) -> Keypoints2D:
-    """Every instance of one input, as read (before --person and the prior's joint set)."""
-    kp = read_keypoints(source, format=st.input_format, image_size=st.image_size, images=st.images,
-                        skeleton=st.skeleton)  # fmt: skip
+    """Every instance of one input, as read (before --image-size, --person and the prior's joint set)."""
+    kp = read_keypoints(source, format=st.input_format, images=st.images, skeleton=st.skeleton)
     if len(kp) == 0:
         raise InputFormatError(f"{source}: no keypoint instances in the input")
     return kp
@@ -230,6 +231,21 @@ def _report_left_out(source: str, counts: dict[str, Any], warnings: list[str]) -
              "with several people (--person all lifts every one)")  # fmt: skip
 
 
+def _with_image_size(source: str, kp: Keypoints2D, st: LiftSettings, warnings: list[str]) -> Keypoints2D:
+    """--image-size for the instances whose size neither the input nor --images states; a warning
+    when it fills none, since the option the user gave then changes nothing (--video's size is
+    checked against the keypoints instead: footage.video_check)."""
+    if st.image_size is None:
+        return kp
+    kp, filled = fill_image_sizes(kp, st.image_size)
+    if not filled and st.video is None:
+        stated = f"the input or --images {st.images}" if st.images is not None else "the input"
+        w, h = st.image_size
+        warn(warnings, f"{source}: --image-size {w:g} {h:g} is not used: {stated} states every image's size "
+                       "(--image-size fills only the sizes that the input and --images leave unknown)")  # fmt: skip
+    return kp
+
+
 def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keypoints2D | None = None) -> FileOutcome:
     """Read (unless `kp` is the input, read already), lift and write one input; errors are
     raised (the batch loop isolates them)."""
@@ -238,6 +254,7 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
     from ..lifting.solver import LIFTED, NOT_LIFTED, geometry_status, observed_mask
 
     warnings: list[str] = []
+    kp = _with_image_size(source, read_input(source, st) if kp is None else kp, st, warnings)
     kp, places, counts = read_selected(source, prior, st, kp)
     _report_left_out(source, counts, warnings)
     video = check_against_video(kp, st.video, source) if st.video is not None else None
@@ -432,8 +449,11 @@ def _lift_on_ray(
     st: LiftSettings,
     address: Optional[str],
     workers: Optional[int],
+    *,
+    alone: bool = True,
 ) -> list[FileOutcome]:
-    """Every input on Ray; the per-input lines the local engine prints, printed when the batch returns."""
+    """Every input on Ray; the per-input lines the local engine prints, printed when the batch returns.
+    `alone`: the inputs are the command's only ones (one input's error is then the command's)."""
     from .ray_engine import lift_files_on_ray
 
     done = lift_files_on_ray(sources, outputs, str(prior.path), st, lift_file, address=address, workers=workers)
@@ -441,7 +461,7 @@ def _lift_on_ray(
         FileOutcome(source, output, d.instances, d.lifted, d.seconds, d.error, d.warnings, d.written)
         for source, output, d in zip(sources, outputs, done, strict=True)
     ]
-    if len(outcomes) == 1 and outcomes[0].error is not None:
+    if alone and len(outcomes) == 1 and outcomes[0].error is not None:
         raise outcomes[0].error  # one input: its error is the command's error, as locally
     for o in outcomes:
         for line in o.warnings:  # a worker's warnings went to its log: said here, as locally
@@ -774,7 +794,12 @@ def lift_command(
     sources = expand_inputs(keypoints)
     if video is not None and len(sources) > 1:
         raise ConfigError(f"--video goes with one keypoint input, not {len(sources)}")
-    check_inputs(sources + [str(p) for p in (images,) if p is not None])
+    check_inputs([str(p) for p in (images,) if p is not None])
+    if len(sources) == 1:
+        check_inputs(sources)
+    refused = refused_inputs(sources) if len(sources) > 1 else {}  # reported and skipped: exit code 4
+    for exc in refused.values():
+        err_console.print(f"zedo: error: {one_line(str(exc))}", markup=False, soft_wrap=True)
     first = read_input(sources[0], st) if len(sources) == 1 and engine == "local" else None
     outputs = plan_outputs(sources, out, output_dir, output_format, overwrite)
     if plot is not None:
@@ -792,14 +817,16 @@ def lift_command(
     if not quiet:
         err_console.print(f"start-up {time.perf_counter() - COMMAND_START:.2f} s (imports and loading the prior)",
                           markup=False)  # fmt: skip
-    if engine == "ray":
-        outcomes = _lift_on_ray(sources, outputs, prior, st, ray_address, workers)
-    elif first is not None:  # one input, read above: its error is the command's error
+    if first is not None:  # one input, read above: its error is the command's error
         lift_file(sources[0], outputs[0], prior, st, first)
         return
-    else:
-        outcomes = []
-        for source, output in zip(sources, outputs, strict=True):
+    outcomes = [FileOutcome(s, o, error=refused[s]) for s, o in zip(sources, outputs, strict=True) if s in refused]
+    todo = [(s, o) for s, o in zip(sources, outputs, strict=True) if s not in refused]
+    if engine == "ray" and todo:
+        outcomes += _lift_on_ray([s for s, _ in todo], [o for _, o in todo], prior, st, ray_address, workers,
+                                 alone=len(sources) == 1)  # fmt: skip
+    elif engine != "ray":
+        for source, output in todo:
             try:
                 outcomes.append(lift_file(source, output, prior, st))
             except BrokenPipeError:  # stdout went away: the run ends (quietly, in the error boundary)
@@ -808,6 +835,8 @@ def lift_command(
                 error = exc if isinstance(exc, ZedoError) else internal_error(source, exc)
                 err_console.print(f"zedo: error: {one_line(str(error))}", markup=False, soft_wrap=True)
                 outcomes.append(FileOutcome(source, output, error=error))
+    order = {s: i for i, s in enumerate(sources)}
+    outcomes.sort(key=lambda o: order[o.source])  # the refused inputs in their place
     if not quiet:
         print_table(_summary_table(outcomes))
     code = batch_exit_code(outcomes)

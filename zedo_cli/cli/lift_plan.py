@@ -8,7 +8,7 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
-from ..errors import ConfigError, InputFormatError
+from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_can_create, check_output_folder, check_output_kind
 from ..formats.openpose import is_openpose_folder, is_zedo_output
 from ..formats.source import check_input_file
@@ -69,6 +69,19 @@ def check_inputs(inputs: list[str]) -> None:
     for name in inputs:
         if name != STDIN and not Path(name).is_dir():
             check_input_file(name)
+
+
+def refused_inputs(inputs: list[str]) -> dict[str, ZedoError]:
+    """`check_inputs` for a batch: the inputs that fail it, with their errors, instead of the first
+    error. A batch reports a failing input and goes on with the others (exit code 4); one input's
+    failure is the command's (`check_inputs`)."""
+    refused: dict[str, ZedoError] = {}
+    for name in inputs:
+        try:
+            check_inputs([name])
+        except ZedoError as exc:
+            refused[name] = exc
+    return refused
 
 
 def check_output_options(out: str | None, output_dir: Path | None, fmt: str | None) -> None:

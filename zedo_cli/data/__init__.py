@@ -14,7 +14,7 @@ __getattr__, __dir__, __all__ = lazy_exports(
     {
         ".adult": ["ADULT_LICENSE", "PoseAugmentation", "load_adult_poses"],
         ".datasets": ["PoseSet", "load_npz_poses", "load_syrip_3d", "npz_license"],
-        ".keypoints": ["Keypoints2D"],
+        ".keypoints": ["Keypoints2D", "OtherKeypoints"],
         ".minirgbd": ["MINIRGBD_LICENSE", "load_minirgbd", "load_minirgbd_3d"],
         ".skeleton": [
             "SKELETONS",

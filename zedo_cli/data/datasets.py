@@ -8,7 +8,6 @@ other 600 real images.
 
 from __future__ import annotations
 
-import json
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataError
+from ..strict_json import loads
 from .skeleton import Skeleton, center_on_root, convert_points, get_skeleton
 
 SYRIP_POSES = "poses3d_corrected.npy"
@@ -78,7 +78,7 @@ def syrip_test_names(syrip_dir: Path) -> list[str]:
     """SyRIP names of the Test100 images, in the order of their annotation file."""
     path = _require(syrip_dir / SYRIP_TEST100)
     try:
-        data = json.loads(path.read_text())
+        data = loads(path.read_text())
         return [str(img["file_name"]) for img in data["images"]]
     except (ValueError, RecursionError, KeyError, TypeError) as exc:  # ValueError: JSON, digit limit, UTF-8
         raise DataError(f"{path}: not a COCO annotation file with images[].file_name") from exc
@@ -187,7 +187,7 @@ def syrip_original_names(real700_path: str | Path) -> dict[str, str]:
     its images test0..test699 and keeps the true name in `original_file_name`."""
     path = _require(Path(real700_path))
     try:
-        images = json.loads(path.read_text())["images"]
+        images = loads(path.read_text())["images"]
         return {str(img["id"]): str(img["original_file_name"]) for img in images}
     except (ValueError, RecursionError, KeyError, TypeError) as exc:  # ValueError: JSON, digit limit, UTF-8
         raise DataError(f"{path}: expected images[] with id and original_file_name ({exc})") from None

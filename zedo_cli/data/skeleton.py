@@ -303,6 +303,15 @@ def joint_count_names() -> str:
     return ", ".join(f"{count} ({name})" for count, name in sorted(_BY_COUNT.items()))
 
 
+def skeleton_option_hint(count: int) -> str:
+    """What to do about `count` unnamed joints that no count stands for, for messages: name the
+    joint set with --skeleton ("--skeleton syrip12" when one skeleton has that many joints)."""
+    names = [name for name, skel in SKELETONS.items() if skel.num_joints == count]
+    if not names:
+        return f"no zedo joint set has {count} joints (--skeleton names one: {', '.join(SKELETONS)})"
+    return "name the joint set with --skeleton " + " or --skeleton ".join(names)
+
+
 def match_joint_names(names: tuple[str, ...] | list[str]) -> JointNameMatch | None:
     """The skeleton whose joints are exactly `names`, in any order, in zedo's names or a tool's
     (MMPose's ``root (pelvis)``/``neck_base`` for H36M, ``neck``/``hip`` for Halpe-26, ...);

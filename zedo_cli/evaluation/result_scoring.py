@@ -23,6 +23,7 @@ class PredictedPoses:
     poses: np.ndarray  # (N, J, 3) metres, camera frame
     skeleton: Skeleton
     keys: list[str]  # file name, else str(image_id), per pose
+    source: str = "the result"  # the file, for messages
 
 
 def read_result_file(path: str | Path) -> PredictedPoses:
@@ -32,7 +33,7 @@ def read_result_file(path: str | Path) -> PredictedPoses:
     if not len(keep):
         raise InputFormatError(f"{path}: no lifted poses")
     keys = [res.file_names[i] or str(res.image_ids[i]) for i in keep]
-    return PredictedPoses(res.poses[keep], res.skeleton, keys)
+    return PredictedPoses(res.poses[keep], res.skeleton, keys, str(path))
 
 
 def _all_observed(poses: np.ndarray, src: Skeleton, dst: Skeleton) -> tuple[np.ndarray, np.ndarray]:
@@ -52,7 +53,7 @@ def align_to_truth(pred: PredictedPoses, truth: PoseSet, protocol: str) -> tuple
     p, p_conf = _all_observed(pred.poses[list(p_idx)], pred.skeleton, dst)
     t, t_conf = _all_observed(truth.poses[list(t_idx)], truth.skeleton, dst)
     for conf, where, names in ((t_conf, truth.source, [truth.names[t] for t in t_idx]),
-                               (p_conf, "the result", [pred.keys[i] for i in p_idx])):  # fmt: skip
+                               (p_conf, pred.source, [pred.keys[i] for i in p_idx])):  # fmt: skip
         absent = ~conf.astype(bool)
         if absent.all(0).any():  # in no pose: the joint set lacks it
             raise ConfigError(f"protocol {protocol} needs joint {dst.joints[int(np.argmax(absent.all(0)))]}, which "

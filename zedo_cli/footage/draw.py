@@ -10,11 +10,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..data.skeleton import Skeleton
+from ..formats.colours import CENTRE_ON_FOOTAGE_RGB, LEFT_RGB, RIGHT_RGB, bgr
 
-# BGR; left and right are the person's own (joint names left_* / right_*).
-LEFT = (255, 160, 40)  # blue
-RIGHT = (40, 110, 255)  # orange
-CENTRE = (90, 230, 230)  # yellow: bones between the sides (hip to hip, shoulder to shoulder)
+# BGR; left and right are the person's own (joint names left_* / right_*), coloured as in every
+# figure zedo draws (formats.colours: the report's and the plots' blue and orange).
+LEFT = bgr(LEFT_RGB)  # blue
+RIGHT = bgr(RIGHT_RGB)  # orange
+CENTRE = bgr(CENTRE_ON_FOOTAGE_RGB)  # yellow: bones between the sides (hip to hip, shoulder to shoulder)
 FLAG = (220, 40, 220)  # magenta: the box and label of a flagged person
 TEXT = (255, 255, 255)
 PANEL = (40, 40, 40)

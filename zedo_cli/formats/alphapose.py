@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, Skeleton
+from ..data.skeleton import SKELETONS, Skeleton, skeleton_option_hint
 from .validate import (
     NAN_SIZE,
     Row,
@@ -62,7 +62,8 @@ def _parse_entry(
     count = len(values) // 3 if isinstance(values, list) and len(values) % 3 == 0 else None
     if first is None and forced is None and count is not None and count not in _COUNTS:
         pairs = f" ({len(values)} numbers: {len(values) // 2} x, y pairs?)" if len(values) // 2 in _COUNTS else ""
-        raise error(path, where_kp, f"unsupported joint count {count}{pairs} (AlphaPose: 17 COCO or 26 Halpe joints)")
+        raise error(path, where_kp, f"unsupported joint count {count}{pairs} (AlphaPose: 17 COCO or 26 Halpe joints; "
+                                    f"{skeleton_option_hint(count)})")  # fmt: skip
     skeleton, points = flat_keypoints(values, first, path, where_kp, forced)
     xy, conf = joints(points, skeleton, path, where_kp)
     file_name = key if isinstance(key, str) else None

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton, skeleton_for_joint_count
+from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton, skeleton_for_joint_count, skeleton_option_hint
 from .validate import (
     NAN_SIZE,
     ImageId,
@@ -180,7 +180,7 @@ def _parse_result(entry: Any, i: int, sizes: Mapping[ImageId, tuple[float, float
     values = as_list(required(entry, "keypoints", path, where), path, where_kp)
     if len(values) != 3 * skeleton.num_joints and len(values) % 3 == 0 and not (values and isinstance(values[0], list)):
         known = skeleton_for_joint_count(len(values) // 3)
-        hint = "use --format alphapose" if known is not None else "or --skeleton NAME"
+        hint = "use --format alphapose" if known is not None else skeleton_option_hint(len(values) // 3)
         raise error(
             path, where_kp,
             f"unsupported joint count {len(values) // 3} ({len(values)} numbers; COCO results hold "

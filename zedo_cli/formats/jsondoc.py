@@ -9,24 +9,25 @@ sequence that decodes an element from the text each time it is read. A reader th
 holds one element's objects at a time; the text itself (one byte per character for ASCII JSON,
 within the input limit of `source.MAX_INPUT_BYTES`) is the rest.
 
-Why not a streaming parser such as ijson: every value here is decoded by the same
-``json.JSONDecoder`` as ``json.loads`` (numbers, NaN and Infinity, duplicate keys, the digit
-limit of integers alike), and the scan is a few lines on top of it; an invalid document is left
-to ``json.loads`` (`source.parse_json`), so its error message and position are exactly those of
-a whole-document parse. The cost is decoding each element twice (once to check, once to read):
-about a second for 50 MB, small beside the readers' checks.
+Why not a streaming parser such as ijson: every value here is decoded by the same decoder as
+the whole-document parse, `strict_json.DECODER` (numbers, NaN and Infinity, the refusal of a
+repeated key, the digit limit of integers alike), and the scan is a few lines on top of it; an
+invalid document is left to the whole-document parse (`source.parse_json`), so its error message
+and position are exactly those of that parse. The cost is decoding each element twice (once to
+check, once to read): about a second for 50 MB, small beside the readers' checks.
 """
 
 from __future__ import annotations
 
-import json
 import re
 from array import array
 from collections.abc import Iterator, Sequence
 from json.decoder import scanstring
 from typing import Any, overload
 
-_DECODER = json.JSONDecoder()
+from ..strict_json import DECODER as _DECODER
+from ..strict_json import DuplicateKeyError
+
 _WHITESPACE = re.compile(r"[ \t\n\r]*")  # JSON's whitespace, as the json module skips it
 
 
@@ -108,7 +109,9 @@ def _object(text: str, pos: int) -> tuple[dict[str, Any], int]:
         pos = _skip(text, pos)
         if not text.startswith(":", pos):
             raise InvalidDocument
-        obj[key], pos = _value(text, _skip(text, pos + 1))  # a repeated key: the last value, as json.loads
+        if key in obj:
+            raise DuplicateKeyError(key)
+        obj[key], pos = _value(text, _skip(text, pos + 1))
         pos = _skip(text, pos)
         if text.startswith("}", pos):
             return obj, pos + 1
@@ -120,8 +123,9 @@ def _object(text: str, pos: int) -> tuple[dict[str, Any], int]:
 def scan_document(text: str) -> Any:
     """The JSON document `text` with its top-level arrays as `JsonArray`s (module docstring).
 
-    Raises `InvalidDocument`, or the json module's `JSONDecodeError`, `ValueError` or
-    `RecursionError`, for text that is not one valid JSON value.
+    Raises `InvalidDocument`, `strict_json.DuplicateKeyError` (an object naming a key twice), or
+    the json module's `JSONDecodeError`, `ValueError` or `RecursionError`, for text that is not
+    one valid JSON value.
     """
     pos = _skip(text, 0)
     value, pos = _object(text, pos) if text.startswith("{", pos) else _value(text, pos)

@@ -20,6 +20,7 @@ import numpy as np
 from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..files import atomic_path, check_writable
+from .colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
 from .writers_common import OutputOptions, group_frames
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
@@ -29,7 +30,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 PLOT_ROLES = ("first", "median", "worst")
-LEFT_COLOUR, RIGHT_COLOUR, CENTRE_COLOUR = "tab:blue", "tab:red", "0.35"
+# The sides in every figure zedo draws (formats.colours): zedo render's and the report's blue and orange.
+LEFT_COLOUR, RIGHT_COLOUR, CENTRE_COLOUR = LEFT_HEX, RIGHT_HEX, CENTRE_HEX
 # (title, horizontal axis, vertical axis, vertical axis inverted): y points down in the camera
 # frame, so it is flipped to keep the head up; in the top view, farther (z) is up the page.
 _VIEWS = (
@@ -59,16 +61,11 @@ def select_plot_instances(res: LiftResult) -> dict[str, int]:
 
 
 def _side(skeleton: Skeleton, a: int, b: int) -> str:
-    names = (skeleton.joints[a], skeleton.joints[b])
-    if all(n.startswith("left_") for n in names):
-        return LEFT_COLOUR
-    if all(n.startswith("right_") for n in names):
-        return RIGHT_COLOUR
-    return CENTRE_COLOUR
+    return side_hex(skeleton.joints[a], skeleton.joints[b])
 
 
 def _joint_colour(name: str) -> str:
-    return LEFT_COLOUR if name.startswith("left_") else RIGHT_COLOUR if name.startswith("right_") else CENTRE_COLOUR
+    return side_hex(name)
 
 
 def _draw_view(ax: Axes, pose: np.ndarray, observed: np.ndarray, skeleton: Skeleton, view: tuple, units: str,

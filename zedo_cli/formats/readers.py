@@ -216,11 +216,18 @@ def read_keypoints(
         kp = read_keypoints_text(read_text(name), name, format=fmt, skeleton=forced)
     if images is not None:
         kp = _join_images(kp, str(images))
-    if size is not None:
-        sizes = kp.image_sizes.copy()
-        sizes[np.isnan(sizes).any(axis=1)] = size
-        kp = dataclasses.replace(kp, image_sizes=sizes)
-    return kp
+    return kp if size is None else fill_image_sizes(kp, size)[0]
+
+
+def fill_image_sizes(kp: Keypoints2D, image_size: tuple[float, float]) -> tuple[Keypoints2D, int]:
+    """`--image-size` (W, H) for the instances whose size is still unknown (neither the input nor
+    `--images` states it), and how many it filled: 0 when every size was known, so the option
+    was not used (`zedo lift` says so)."""
+    size = _size_option(image_size)
+    sizes = kp.image_sizes.copy()
+    unknown = np.isnan(sizes).any(axis=1)
+    sizes[unknown] = size
+    return dataclasses.replace(kp, image_sizes=sizes), int(unknown.sum())
 
 
 def input_sha256(path: str | Path) -> str | None:

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..camera.model import CameraModel
-from ..data.keypoints import Keypoints2D
+from ..data.keypoints import Keypoints2D, OtherKeypoints
 from ..errors import ConfigError, InputFormatError
 from ..lifting.config import LiftConfig
 from ..lifting.people import PERSON_MODES, select_people
@@ -112,11 +112,18 @@ def stored_lift(r: ResultPoses) -> StoredLift:
     frame_numbers = [int(f) for f in r.frame_index] if _numbered(r.frame_index, r.person, info) else None
     kp = Keypoints2D(rec.keypoints_2d, rec.confidence, r.skeleton, list(r.image_ids), list(r.file_names),
                      rec.image_sizes, list(rec.scores), r.source, str(info.get("format") or r.format),
-                     frame_numbers)  # fmt: skip
+                     frame_numbers, other=_other_keypoints(r))  # fmt: skip
     lenses = list(r.cameras)
     stored = StoredLift(kp, res, np.stack([c.matrix() for c in lenses]), list(rec.k_sources), lenses,
                         dict(r.params), dict(info), r.units_in_file, r.coordinate_frame)  # fmt: skip
     return subset(stored, order) if not np.array_equal(order, np.arange(len(order))) else stored
+
+
+def _other_keypoints(r: ResultPoses) -> OtherKeypoints | None:
+    """The input's keypoints that were not lifted, as the result keeps them (None: a file from before)."""
+    if r.other_keypoints_2d is None or r.other_keypoint_confidence is None:
+        return None
+    return OtherKeypoints(r.other_keypoint_names, r.other_keypoints_2d, r.other_keypoint_confidence)
 
 
 def subset(stored: StoredLift, index: np.ndarray) -> StoredLift:

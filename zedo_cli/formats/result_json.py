@@ -85,8 +85,36 @@ def _person(
         "keypoints_2d": [[_num(v, 3) for v in p] if np.isfinite(p).all() else None for p in kp.xy[i]],
         "reprojection_error_px": [_num(e, 3) for e in res.reprojection_error_px[i]],
         "flags": flags,
+        **_other_fields(kp, i),
         **_uncertainty_fields(res, i),
     }
+
+
+def _other_fields(kp: Keypoints2D, i: int) -> dict[str, Any]:
+    """The input's keypoints outside the skeleton (`kp.other`, in the header's `other_keypoints`
+    order): pixels as the input gave them, and confidences; null where missing. Absent when the
+    record carries none (a caller's own `Keypoints2D`)."""
+    if kp.other is None:
+        return {}
+    xy, conf = kp.other.xy[i], kp.other.confidence[i]
+    return {
+        "other_keypoints_2d": [[_num(v, 3) for v in p] if np.isfinite(p).all() else None for p in xy],
+        "other_keypoint_confidence": [_num(c, 4) if c > 0 else None for c in conf],
+    }
+
+
+OTHER_NOTE = (
+    "the input's keypoints that were not lifted (2D only): each person's other_keypoints_2d (pixels of the "
+    "original image as the input gave them, not undistorted) and other_keypoint_confidence follow these names"
+)
+
+
+def other_keypoints_block(kp: Keypoints2D) -> dict[str, Any] | None:
+    """The header's `other_keypoints` (names of the input's keypoints outside the skeleton); None
+    when `kp` carries none (then the persons have no `other_keypoints_2d` either)."""
+    if kp.other is None:
+        return None
+    return {"joints": list(kp.other.names), "note": OTHER_NOTE}
 
 
 def _uncertainty_fields(res: LiftResult, i: int) -> dict[str, Any]:
@@ -122,9 +150,11 @@ def build_header(
         "zedo_version": __version__,
         "created": datetime.now(UTC).isoformat(timespec="seconds"),
         "skeleton": _skeleton_doc(kp.skeleton),
-        "units": opts.units,
-        "coordinate_frame": opts.frame,
     }
+    other = other_keypoints_block(kp)
+    if other is not None:  # only then: a caller's own record writes the document as before
+        header["other_keypoints"] = other
+    header["units"], header["coordinate_frame"] = opts.units, opts.frame
     if opts.frame != "camera":  # only then, so that the default document stays as it was
         header["origin"] = frame_origin(opts.frame, kp.skeleton.root)
     header.update({

@@ -24,6 +24,13 @@ the `fx_px` ... `camera_model`, `dist` columns (CSV) or the `K`, `camera_model`,
 JSONL `keypoints_2d`, CSV `u_px`, `v_px`, NPZ `keypoints_2d`; from `record`, `LiftRecord`), NaN where missing;
 None when the file has none.
 
+Keypoints that were not lifted: `zedo lift` keeps the input's keypoints outside the lifted
+skeleton (nose, eyes, ears, feet, ...) by name, 2D only, in the original image's pixels as the input
+gave them: the header's `other_keypoints.joints` with each person's `other_keypoints_2d` and
+`other_keypoint_confidence` (JSON / JSONL), rows with an empty `joint_index` (CSV), the
+`other_keypoint*` arrays (NPZ). `ResultPoses.other_keypoints_2d` is None for a file written before
+zedo kept them (and for a CSV without its sidecar and without such rows).
+
 Errors are `InputFormatError`s (exit code 3) naming the file and the field.
 """
 
@@ -43,6 +50,7 @@ import numpy as np
 from ..camera.model import CameraModel
 from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
 from ..errors import ConfigError, InputFormatError, IntrinsicsError, plural
+from ..strict_json import loads
 from .result_schema import (
     SCHEMA,
     Frame,
@@ -54,6 +62,7 @@ from .result_schema import (
     SummaryLine,
     validate,
 )
+from .source import json_error
 
 RESULT_FORMATS = ("json", "jsonl", "csv", "npz")
 _SCALE_TO_M = {"m": 1.0, "mm": 1e-3}
@@ -105,6 +114,12 @@ class ResultPoses:
     flags: list[list[str]] | None = None
     root_translation: np.ndarray | None = None  # (N, 3); also from NPZ
     record: LiftRecord | None = None  # the lift's 2D, status, cameras' sources, ...; None where the file lacks them
+    # The input's keypoints that were not lifted (face, feet, ...), by name: original image pixels as
+    # the input gave them. None: the file does not say (written before zedo kept them); names () and
+    # (N, 0, 2): the input had none.
+    other_keypoints_2d: np.ndarray | None = None  # (N, E, 2) pixels; NaN where missing
+    other_keypoint_confidence: np.ndarray | None = None  # (N, E) in [0, 1]; 0 where missing
+    other_keypoint_names: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.poses)
@@ -156,9 +171,11 @@ def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) ->
         return _read_csv(text, name, meta)
     if stripped.startswith("{"):
         try:
-            doc = json.loads(text)
+            doc = loads(text)
         except json.JSONDecodeError:
             doc = None  # several lines: JSON Lines
+        except (ValueError, RecursionError) as exc:  # a repeated key, a 5000-digit integer, deep nesting
+            raise json_error(name, "", exc) from None
         if isinstance(doc, dict) and doc.get("type") != "header":
             _refuse_keypoints(doc, name)
             return _from_document(doc, name, "json")
@@ -207,9 +224,11 @@ def _read_jsonl(text: str, name: str) -> ResultPoses:
         if not line.strip():
             continue
         try:
-            obj = json.loads(line)
+            obj = loads(line)
         except json.JSONDecodeError as exc:
             raise InputFormatError(f"{name}: line {number}: not JSON ({exc.msg})") from None
+        except (ValueError, RecursionError) as exc:
+            raise json_error(name, f"line {number}", exc) from None
         kind = obj.get("type") if isinstance(obj, dict) else None
         where = f"line {number}"
         if reader is None:
@@ -222,7 +241,8 @@ def _read_jsonl(text: str, name: str) -> ResultPoses:
         elif summary is not None:
             raise InputFormatError(f"{name}: {where}: a line after the summary line")
         elif kind == "frame":
-            reader.add(validate(FrameLine, obj, name, line=number, joints=reader.joints))
+            reader.add(validate(FrameLine, obj, name, line=number, joints=reader.joints,
+                                other_joints=len(reader.other_names)))  # fmt: skip
         elif kind == "summary":
             summary = validate(SummaryLine, obj, name, line=number)
         else:
@@ -242,7 +262,8 @@ def _from_document(doc: dict[str, Any], name: str, fmt: str) -> ResultPoses:
     if not isinstance(frames, list):
         raise InputFormatError(f"{name}: frames: expected a list")
     for f, frame in enumerate(frames):
-        reader.add(validate(Frame, frame, name, path=f"frames[{f}]", joints=reader.joints))
+        reader.add(validate(Frame, frame, name, path=f"frames[{f}]", joints=reader.joints,
+                            other_joints=len(reader.other_names)))  # fmt: skip
     if "summary" not in doc:
         raise InputFormatError(f"{name}: summary: field required")
     return reader.finish(validate(Summary, doc["summary"], name, path="summary"))
@@ -265,6 +286,9 @@ class _DocumentReader:
             raise InputFormatError(f"{name}: skeleton.joints: not the joints of {self.skeleton.name} "
                                    f"({', '.join(self.skeleton.joints)})")  # fmt: skip
         self.joints = self.skeleton.num_joints
+        others = header.other_keypoints
+        self.other_names: tuple[str, ...] = () if others is None else tuple(others.joints)
+        self.has_others = others is not None
         self.scale = _SCALE_TO_M[header.units]
         self.frames = 0
         self.persons: list[tuple[Frame, int, Person]] = []
@@ -299,6 +323,7 @@ class _DocumentReader:
                      for frame, _, _ in self.persons],
             flags=[list(person.flags) for _, _, person in self.persons],
             root_translation=np.asarray(roots).reshape(-1, 3), record=self._record(summary),
+            **self._others(),
         )  # fmt: skip
 
     def _record(self, summary: Summary) -> LiftRecord:
@@ -326,10 +351,37 @@ class _DocumentReader:
             hypotheses=hypotheses, input_info=self.header.input.model_dump(), seconds=summary.seconds,
         )  # fmt: skip
 
+    def _others(self) -> dict[str, Any]:
+        """`other_keypoints_2d`, `other_keypoint_confidence` and their names, when the header has them."""
+        if not self.has_others:
+            return {}
+        e = len(self.other_names)
+        xy = [_pixels(person.other_keypoints_2d or [None] * e) for _, _, person in self.persons]
+        conf = [_array(person.other_keypoint_confidence, (e,)) for _, _, person in self.persons]
+        return _other_fields(self.other_names, xy, conf)
+
 
 def _status(flags: list[str]) -> str:
     """A person's status from its flags: the reason of `not_lifted_<reason>`, else lifted."""
     return next((f.removeprefix("not_lifted_") for f in flags if f.startswith("not_lifted_")), "lifted")
+
+
+def _other_fields(names: tuple[str, ...], xy: list[np.ndarray], conf: list[np.ndarray]) -> dict[str, Any]:
+    """The ResultPoses fields of the keypoints that were not lifted: pixels `(N, E, 2)` NaN where
+    missing, confidences `(N, E)` 0 where missing (either one unknown makes the point missing)."""
+    n, e = len(xy), len(names)
+    xy_a, conf_a = np.asarray(xy, dtype=float).reshape(n, e, 2), np.asarray(conf, dtype=float).reshape(n, e)
+    present = np.isfinite(xy_a).all(-1) & np.isfinite(conf_a) & (conf_a > 0)  # (N, E)
+    return {
+        "other_keypoints_2d": np.where(present[..., None], xy_a, np.nan),
+        "other_keypoint_confidence": np.where(present, conf_a, 0.0),
+        "other_keypoint_names": names,
+    }
+
+
+def _pixels(points: list[list[float | None] | None]) -> np.ndarray:
+    """A person's validated `keypoints_2d` (a point, or null where missing) as `(J, 2)` floats, NaN for null."""
+    return np.array([[np.nan, np.nan] if p is None else p for p in points], dtype=float).reshape(-1, 2)
 
 
 def _camera(block: Any, where: str) -> CameraModel | None:
@@ -397,8 +449,8 @@ def _finish(
 
 def _read_sidecar(path: Path) -> dict[str, Any]:
     try:
-        meta = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        meta = loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:
         raise InputFormatError(f"{path}: not a readable JSON sidecar ({exc})") from None
     if not isinstance(meta, dict):
         raise InputFormatError(f"{path}: expected a JSON object")
@@ -439,26 +491,34 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
     # Rows come per (frame, person), joints in order; an instance is one (frame_index, person).
     order: dict[tuple[int, int], dict[str, Any]] = {}
     joint_names: dict[int, str] = {}
+    other_names: dict[str, None] = {}  # the keypoints that were not lifted, in order of appearance
     for r, row in enumerate(rows, 2):
         where = f"{name}: line {r}"
         try:
             key = (int(row["frame_index"]), int(row["person"]))
-            j = int(row["joint_index"])
+            j = int(row["joint_index"]) if row["joint_index"] != "" else None
         except (TypeError, ValueError):
             raise InputFormatError(f"{where}: frame_index, person and joint_index must be integers") from None
-        joint_names.setdefault(j, row["joint"])
         if key not in order:
             order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
                           "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
                           "status": row.get("status") or ("lifted" if row["lifted"] == "true" else "not_lifted"),
                           "k_source": row.get("k_source") or "",
                           "instance": _int_cell(row.get("instance_index"), len(order)), "points": {}, "observed": {},
-                          "radii": {}, "pixels": {}, "confidence": {}, "errors": {}}  # fmt: skip
+                          "radii": {}, "pixels": {}, "confidence": {}, "errors": {}, "other": {}}  # fmt: skip
         inst = order[key]
+        if j is None:  # a keypoint of the input that was not lifted: 2D only
+            other_names.setdefault(row["joint"])
+            inst["other"][row["joint"]] = [
+                _cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px", "confidence")
+            ]
+            continue
+        joint_names.setdefault(j, row["joint"])
         inst["pixels"][j] = [_cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px")]
         inst["confidence"][j] = _cell(row.get("confidence") or "", f"{where}: confidence")
         inst["errors"][j] = _cell(row.get("reprojection_error_px") or "", f"{where}: reprojection_error_px")
         inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
+        inst["pixels"][j] = [_cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px")]
         inst["observed"][j] = row.get("observed", "true") == "true"
         if "uncertainty_m" in row:
             inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
@@ -484,7 +544,8 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
                    [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
                    if "uncertainty_m" in columns else None, fps, coord, units,
                    cameras=[inst["camera"] for inst in order.values()])  # fmt: skip
-    return replace(out, params=_params(meta), record=_csv_record(order, skel.num_joints, meta))
+    return replace(out, params=_params(meta), record=_csv_record(order, skel.num_joints, meta),
+                   **_csv_others(order, other_names, meta, name))  # fmt: skip
 
 
 def _int_cell(value: str | None, default: int) -> int:
@@ -527,6 +588,27 @@ def _dict(value: Any) -> dict[str, Any]:
     return value if isinstance(value, dict) else {}
 
 
+def _csv_others(
+    order: dict[tuple[int, int], dict[str, Any]], seen: dict[str, None], meta: dict[str, Any] | None, name: str
+) -> dict[str, Any]:
+    """The keypoints that were not lifted, from the rows with an empty joint_index; their names are
+    the sidecar's `other_keypoints.joints` where it has them, else the rows' (none: unknown)."""
+    block = meta.get("other_keypoints") if meta is not None else None
+    if isinstance(block, dict) and isinstance(block.get("joints"), list):
+        names = tuple(str(n) for n in block["joints"])
+        stray = [n for n in seen if n not in names]
+        if stray:
+            raise InputFormatError(f"{name}: joint: {', '.join(stray)} not among the sidecar's other_keypoints")
+    elif seen:
+        names = tuple(seen)
+    else:
+        return {}
+    nan = [np.nan, np.nan, np.nan]
+    values = np.array([[inst["other"].get(n, nan) for n in names] for inst in order.values()])
+    values = values.reshape(len(order), len(names), 3)
+    return _other_fields(names, list(values[..., :2]), list(values[..., 2]))
+
+
 def _csv_camera(row: dict[str, str], where: str) -> CameraModel | None:
     """The camera of a CSV row: fx_px, fy_px, cx_px, cy_px and, when present, camera_model and dist."""
     if not all(row.get(c) for c in ("fx_px", "fy_px", "cx_px", "cy_px")):
@@ -554,9 +636,11 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     meta: dict[str, Any] = {}
     if "metadata" in arrays:
         try:
-            meta = json.loads(str(arrays["metadata"]))
+            meta = loads(str(arrays["metadata"]))
         except json.JSONDecodeError:
             raise InputFormatError(f"{name}: metadata: not JSON") from None
+        except (ValueError, RecursionError) as exc:
+            raise json_error(name, "metadata", exc) from None
         _check_schema(meta, name)
     skel = _skeleton_of(meta, name) if meta else skeleton_from_joint_names(names)
     if skel is None or skel.joints != names:
@@ -572,11 +656,12 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     ids = arrays.get("image_ids", arrays["frame_index"])
     files = arrays.get("file_names", np.array([""] * n))
     cameras = _npz_cameras(arrays, n, name)
+    others = _npz_others(arrays, n, name)
     record = _npz_record(arrays, n, skel.num_joints, meta, scale, name)
     roots = arrays.get("root_translation")
     roots = None if roots is None or np.shape(roots) != (n, 3) else np.asarray(roots, dtype=float) * scale
     return replace(_npz_result(arrays, name, skel, poses, scale, radii, ids, files, meta, cameras),
-                   record=record, root_translation=roots)  # fmt: skip
+                   record=record, root_translation=roots, **others)  # fmt: skip
 
 
 def _npz_record(
@@ -619,6 +704,21 @@ def _npz_result(
         None if radii is None else np.asarray(radii, dtype=float), _fps(meta.get("params"), name),
         str(arrays.get("coordinate_frame", "camera")), str(arrays["units"]), _params(meta), cameras,
     )  # fmt: skip
+
+
+def _npz_others(arrays: dict[str, np.ndarray], n: int, name: str) -> dict[str, Any]:
+    """`other_keypoints_2d (N, E, 2)`, `other_keypoint_confidence (N, E)` (NaN where missing) and
+    `other_keypoint_names (E,)`, when the archive has them."""
+    if "other_keypoint_names" not in arrays:
+        return {}
+    names = tuple(str(v) for v in np.asarray(arrays["other_keypoint_names"]).reshape(-1))
+    e = len(names)
+    xy = np.asarray(arrays.get("other_keypoints_2d", np.full((n, e, 2), np.nan)), dtype=float)
+    conf = np.asarray(arrays.get("other_keypoint_confidence", np.full((n, e), np.nan)), dtype=float)
+    if xy.shape != (n, e, 2) or conf.shape != (n, e):
+        raise InputFormatError(f"{name}: other_keypoints_2d, other_keypoint_confidence: expected shapes "
+                               f"({n}, {e}, 2) and ({n}, {e}) for {e} other_keypoint_names")  # fmt: skip
+    return _other_fields(names, list(xy), list(conf))
 
 
 def _npz_cameras(arrays: dict[str, np.ndarray], n: int, name: str) -> list[CameraModel | None] | None:

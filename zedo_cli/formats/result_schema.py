@@ -43,11 +43,26 @@ def _per_joint(value: list[Any] | None, info: ValidationInfo) -> list[Any] | Non
     return value
 
 
+def _per_other(value: list[Any] | None, info: ValidationInfo) -> list[Any] | None:
+    others = (info.context or {}).get("other_joints")
+    if value is not None and others is not None and len(value) != others:
+        raise ValueError(f"expected {others} entries (one per other_keypoints.joints name), got {len(value)}")
+    return value
+
+
 class Skeleton(_Closed):
     name: str = Field(description="a zedo skeleton (syrip12, h36m17, coco17, ...)")
     joints: list[str] = Field(description="joint names, in the order of every per-joint list")
     bones: list[Annotated[list[Annotated[int, Field(ge=0)]], Field(min_length=2, max_length=2)]]
     root: str = Field(description="the root point, e.g. 'right_hip + left_hip (midpoint)'")
+
+
+class OtherKeypoints(_Closed):
+    """The input's keypoints that were not lifted (face, feet, ...): the names that every
+    person's `other_keypoints_2d` and `other_keypoint_confidence` follow."""
+
+    joints: list[str] = Field(description="joint names of the input outside `skeleton`; empty: the input had none")
+    note: str | None = None
 
 
 class Axes(_Closed):
@@ -94,11 +109,20 @@ class Person(_Closed):
     hypotheses_m: list[list[Point3] | None] | None = Field(
         None, description="the K hypotheses, root-relative, metres (--save-hypotheses)"
     )
+    other_keypoints_2d: list[Point2 | None] | None = Field(
+        None,
+        description="the input's keypoints outside the skeleton (the header's other_keypoints.joints), "
+        "pixels of the original image as the input gave them; null where missing; absent in older results",
+    )
+    other_keypoint_confidence: list[float | None] | None = Field(
+        None, description="their input confidences; null where missing"
+    )
 
     _joints = field_validator(
         "keypoints_3d", "keypoints_3d_root_relative", "observed", "joint_confidence", "keypoints_2d",
         "reprojection_error_px", "uncertainty_m",
     )(_per_joint)  # fmt: skip
+    _others = field_validator("other_keypoints_2d", "other_keypoint_confidence")(_per_other)
 
 
 class Frame(_Closed):
@@ -141,6 +165,9 @@ class ResultHeader(_Closed):
     zedo_version: str
     created: str = Field(description="ISO 8601 time of writing")
     skeleton: Skeleton
+    other_keypoints: OtherKeypoints | None = Field(
+        None, description="the input's keypoints that were not lifted; absent in results written before zedo kept them"
+    )
     units: Literal["m", "mm"]
     coordinate_frame: Literal["camera", "root"]
     origin: str | None = Field(None, description="where the origin of a root frame is")
@@ -205,10 +232,12 @@ def field_error(exc: ValidationError, name: str, path: str = "", line: int | Non
 
 
 def validate(
-    model: type[BaseModel], obj: Any, name: str, *, path: str = "", line: int | None = None, joints: int | None = None
-) -> Any:
-    """`model` validated from `obj`, or an InputFormatError naming the file and the field."""
+    model: type[BaseModel], obj: Any, name: str, *, path: str = "", line: int | None = None, joints: int | None = None,
+    other_joints: int | None = None,
+) -> Any:  # fmt: skip
+    """`model` validated from `obj`, or an InputFormatError naming the file and the field; `joints`
+    and `other_joints` are the lengths the per-joint and the other-keypoint lists must have."""
     try:
-        return model.model_validate(obj, context={"joints": joints})
+        return model.model_validate(obj, context={"joints": joints, "other_joints": other_joints})
     except ValidationError as exc:
         raise field_error(exc, name, path, line) from None

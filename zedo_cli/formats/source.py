@@ -13,6 +13,8 @@ import stat
 import sys
 from typing import Any
 
+from ..errors import InputFormatError
+from ..strict_json import DuplicateKeyError, loads
 from .jsondoc import InvalidDocument, scan_document
 from .sniff import HEAD_BYTES, check_kind
 from .validate import error
@@ -109,17 +111,30 @@ def blank(text: str) -> bool:
     return not text or text.isspace()
 
 
+def json_error(name: str, where: str, exc: ValueError | RecursionError) -> InputFormatError:
+    """The one-line error of text that `strict_json.loads` refused: a repeated key, invalid JSON
+    (where and why), an integer past Python's digit limit or nesting too deep to decode."""
+    if isinstance(exc, DuplicateKeyError):
+        return error(name, where, str(exc))
+    if isinstance(exc, json.JSONDecodeError):
+        at = f"line {exc.lineno}, column {exc.colno}" if not where else f"column {exc.colno}"
+        return error(name, where, f"invalid JSON at {at}: {exc.msg}")
+    if isinstance(exc, RecursionError):
+        return error(name, where, "invalid JSON: nested too deeply to read")
+    if "integer string conversion" in str(exc):  # Python's own message names its setting, not the file
+        return error(name, where, f"invalid JSON: an integer of more than {sys.get_int_max_str_digits()} digits")
+    return error(name, where, f"invalid JSON: {exc}")
+
+
 def parse_json(text: str, name: str, where: str = "") -> Any:
-    """`text` parsed as one JSON value; `where` prefixes the position (e.g. "line 3" of a JSONL file)."""
+    """`text` parsed as one JSON value; `where` prefixes the position (e.g. "line 3" of a JSONL file).
+    An object that names a key twice is refused (`strict_json`)."""
     if blank(text):
         raise error(name, where, "file is empty" if not where else "empty line")
     try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        at = f"line {exc.lineno}, column {exc.colno}" if not where else f"column {exc.colno}"
-        raise error(name, where, f"invalid JSON at {at}: {exc.msg}") from None
-    except (ValueError, RecursionError) as exc:  # e.g. integers beyond Python's digit limit, deep nesting
-        raise error(name, where, f"invalid JSON: {exc}") from None
+        return loads(text)
+    except (ValueError, RecursionError) as exc:  # JSONDecodeError is a ValueError
+        raise json_error(name, where, exc) from None
 
 
 def load_json(name: str) -> Any:
@@ -134,6 +149,8 @@ def parse_document(text: str, name: str) -> Any:
         return parse_json(text, name)  # "file is empty"
     try:
         return scan_document(text)
+    except DuplicateKeyError as exc:
+        raise json_error(name, "", exc) from None
     except (InvalidDocument, ValueError, RecursionError):  # JSONDecodeError is a ValueError
         return parse_json(text, name)  # json.loads says where and why (its document, should it not fail)
 

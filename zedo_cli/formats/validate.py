@@ -25,6 +25,7 @@ from ..data.skeleton import (
     joint_count_names,
     match_joint_names,
     skeleton_for_joint_count,
+    skeleton_option_hint,
 )
 from ..errors import InputFormatError
 from .jsondoc import JsonArray
@@ -214,7 +215,8 @@ def counted_skeleton(
         return forced
     skeleton = skeleton_for_joint_count(count)
     if skeleton is None:
-        raise error(path, where, f"unsupported joint count {count} (expected {joint_count_names()})")
+        raise error(path, where, f"unsupported joint count {count} (read by count: {joint_count_names()}; "
+                                 f"{skeleton_option_hint(count)})")  # fmt: skip
     return skeleton
 
 

@@ -17,6 +17,11 @@ full K and image size) goes to a sidecar JSON file beside it, `<name>.meta.json`
 `<name>.csv`. On stdout there is no sidecar; the columns above still state units, frame and K,
 and the axes are always OpenCV's (x right, y down, z forward).
 
+The input's keypoints that were not lifted (nose, eyes, ears, feet, ...: `Keypoints2D.other`) follow
+each person's lifted joints, one row each with their name in `joint`, an empty `joint_index`, no 3D
+and no `observed`, and the input's `confidence`, `u_px`, `v_px` (original image pixels, as given):
+`df[df.joint_index.notna()]` is the lifted skeleton alone.
+
 Missing values are empty fields (read as NaN by pandas and NA by R; a literal "nan" would make
 R read the column as text), never 0. Booleans are `true`/`false`. Unlifted instances keep their
 rows, with empty coordinates and the reason in `status`.
@@ -110,6 +115,23 @@ def csv_rows(
                     _cell(res.reprojection_error_px[i, j], 3), *camera,
                     *([] if radii is None else [_cell(radii[i, j], 4)]),
                 ]  # fmt: skip
+            yield from _other_rows(kp, i, head, [_bool(res.lifted[i]), str(res.status[i])], camera, radii is not None)
+
+
+def _other_rows(
+    kp: Keypoints2D, i: int, head: list[Any], instance: list[str], camera: list[Any], uncertainty: bool
+) -> Iterator[list[Any]]:
+    """Instance `i`'s keypoints that were not lifted (`kp.other`), one row each after its lifted
+    joints: the name, an empty joint_index, no 3D, the input's confidence and pixels as given."""
+    if kp.other is None:
+        return
+    for e, name in enumerate(kp.other.names):
+        conf = kp.other.confidence[i, e]
+        u, v = kp.other.xy[i, e]
+        yield [
+            *head, name, "", "", "", "", "", *instance, _cell(conf, 4) if conf > 0 else "", _cell(u, 3), _cell(v, 3),
+            "", *camera, *([""] if uncertainty else []),
+        ]  # fmt: skip
 
 
 def _write_rows(rows: Iterable[list[Any]], fh: IO[str]) -> None:
@@ -144,14 +166,16 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
             "else the 0-based output frame (instances grouped by image_id, in input order)"
         ),
         "person": "0-based position of the instance within its frame",
+        "joint, joint_index": "the joint's name and its index in the skeleton; joint_index empty for the input's "
+        "keypoints that were not lifted (the sidecar's other_keypoints: 2D only, after each person's lifted joints)",
         "instance_index": "0-based index of the instance in the input",
         f"{x}, {y}, {z}": f"3D joint position in {units}, {where}; empty where not lifted",
-        "observed": "the joint was a 2D constraint (false: filled by the prior)",
+        "observed": "the joint was a 2D constraint (false: filled by the prior); empty for a keypoint not lifted",
         "lifted": "the instance was lifted (false: coordinates empty, `status` says why)",
         "status": "'lifted', or why the instance was not (too_few_observed_joints, ray_out_of_range, "
         "degenerate_geometry, non_finite_result, behind_camera, poor_fit, implausible_skeleton; docs/outputs.md)",
         "confidence": "input joint confidence; empty where missing",
-        "u_px, v_px": "input 2D keypoint in pixels; empty where missing",
+        "u_px, v_px": "input 2D keypoint in pixels of the original image, as the input gave it; empty where missing",
         "reprojection_error_px": "pixel distance between the 2D input and the projected 3D joint; empty if unobserved",
         "fx_px, fy_px, cx_px, cy_px": "intrinsics K of the row's frame (no skew)",
         "k_source": "where K came from: pseudo (f 2000 px at the image centre), cli or file",

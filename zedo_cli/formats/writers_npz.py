@@ -17,9 +17,13 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
                                               (0: none), NaN past an instance's own
     image_size             (N, 2)    float64  width, height in pixels; NaN where unknown
     frame_index, person    (N,)      int64    frame (the input's frame number, else the output frame) and position in it
-    image_ids              (N,)      int64 when every id is an integer, else str
+    image_ids              (N,)      int64 when every id is an integer within int64's range, else str
     file_names             (N,)      str      "" where the input has none
     joint_names            (J,) str, bones (B, 2) int64
+    other_keypoints_2d     (N, E, 2) float64  the input's keypoints that were not lifted (face, feet, ...), original
+                                              image pixels as the input gave them; NaN where missing
+    other_keypoint_confidence (N, E) float64  their input confidences; NaN where missing
+    other_keypoint_names   (E,) str           their names (E = 0: the input had none)
     uncertainty_m          (N, J)    float64  only when calibrated: 90 % radius in metres; NaN where not lifted
     hypotheses             (N, K, J, 3) float64  only with --save-hypotheses: root-relative, metres, camera axes
     units, coordinate_frame  0-d str; axes (3,) str: the directions of x, y, z
@@ -47,8 +51,14 @@ if TYPE_CHECKING:  # the writers only read a result; importing the solver would 
     from ..lifting.solver import LiftResult
 
 
+_INT64 = np.iinfo(np.int64)
+
+
 def _ids(image_ids: list[int | str]) -> np.ndarray:
-    if all(isinstance(i, int | np.integer) and not isinstance(i, bool) for i in image_ids):
+    """int64 when every id is an integer that fits (COCO's ids do); else each id's text, so that an id
+    such as 10**30, which JSON holds, is kept whole rather than refused by numpy."""
+    if all(isinstance(i, int | np.integer) and not isinstance(i, bool) and _INT64.min <= i <= _INT64.max
+           for i in image_ids):  # fmt: skip
         return np.asarray(image_ids, dtype=np.int64)
     return np.asarray([str(i) for i in image_ids], dtype=np.str_)
 
@@ -95,7 +105,20 @@ def npz_arrays(
         "axes": np.asarray([AXES["x"], AXES["y"], AXES["z"]], dtype=np.str_),
         # json.dumps(metadata)'s text, made piece by piece: `metadata["frames"]` may be an iterator
         "metadata": np.asarray("".join(json_pieces(metadata.items(), indent=None))),
+        **_other_arrays(kp),
         **_uncertainty_arrays(res),
+    }
+
+
+def _other_arrays(kp: Keypoints2D) -> dict[str, np.ndarray]:
+    """The input's keypoints outside the skeleton, when the record carries them (`kp.other`)."""
+    if kp.other is None:
+        return {}
+    conf = kp.other.confidence
+    return {
+        "other_keypoints_2d": kp.other.xy.astype(np.float64),
+        "other_keypoint_confidence": np.where(conf > 0, conf, np.nan),
+        "other_keypoint_names": np.asarray(kp.other.names, dtype=np.str_).reshape(-1),
     }
 
 

@@ -37,6 +37,7 @@ from torch import nn
 from ..data.skeleton import Skeleton, get_skeleton
 from ..errors import ConfigError, WeightsError
 from ..files import atomic_path
+from ..strict_json import loads
 from ..version import __version__
 from .control import ControlledScoreNet
 from .ensemble import EnsembleScoreNet
@@ -213,8 +214,8 @@ def json_field(meta: dict[str, str], key: str, path: Path) -> Any:
     if key not in meta:
         raise WeightsError(f"{path}: metadata field {key!r} is missing")
     try:
-        return json.loads(meta[key])
-    except (ValueError, RecursionError):  # JSONDecodeError; integers past Python's digit limit; deep nesting
+        return loads(meta[key])
+    except (ValueError, RecursionError):  # JSONDecodeError; a repeated key; integers past the digit limit; deep nesting
         raise WeightsError(f"{path}: metadata field {key!r} is not valid JSON") from None
 
 

@@ -1,0 +1,141 @@
+"""Measure calibrations for known cameras (issue 35, part 3): a result lifted with `--focal` or
+`--intrinsics` gets intervals where its poses lie inside a calibration's camera range, and each
+measure says why not where they do not; pseudo-camera results are analysed as before."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from analysis_results import kicking_poses, result_document, write_document
+from test_calibration import JOINTS, PARAMS, SHA, calibration
+
+from zedo_cli.analysis.analyse import SYMMETRY_NAMES, analyse
+from zedo_cli.analysis.calibration import (
+    CameraDomain,
+    MeasureCalibration,
+    assign_calibrations,
+    read_calibrations,
+    write_calibrations,
+)
+from zedo_cli.formats.result_reader import read_result
+
+CLI = {**PARAMS, "camera_sources": ["cli"]}
+
+
+def camera_calibration(depth: tuple[float, float], focal: tuple[float, float] = (600.0, 2500.0),
+                       temporal: str = "none", width: float = 8.0) -> MeasureCalibration:  # fmt: skip
+    """A calibration of known cameras: +-`width` degrees around the measured value, for `depth` and `focal`."""
+    return replace(calibration(temporal, width=width), cameras=("cli", "file"), domain=CameraDomain(depth, focal))
+
+
+def focal_result(tmp_path: Path, depth: float = 1.0, frames: int = 30, fps: float | None = None) -> Path:
+    """Kicking poses `depth` metres from a camera of f = 1000 px given to the lift (`--focal`)."""
+    poses = kicking_poses(frames) + np.array([0.0, 0.0, depth - 1.0])
+    doc = result_document(poses, fps=fps)
+    doc["params"].update({**CLI, "temporal": {"mode": "smooth" if fps else "none"}, "fps": fps})
+    return write_document(tmp_path / "focal.zedo.json", doc)
+
+
+def frame_rows(a, name: str) -> list:  # noqa: ANN001
+    return [r for r in a.rows if r.measure == name and r.frame_index is not None]
+
+
+def test_a_focal_result_in_the_calibrated_range_gets_intervals(tmp_path: Path) -> None:
+    cals = [calibration(width=3.0), camera_calibration((0.6, 2.0))]  # the pseudo camera's first, as bundled
+    a = analyse(read_result(focal_result(tmp_path)), calibrations=cals)
+    assert a.uncertainty_available and a.calibration_note == "calibrated"
+    for r in frame_rows(a, "symmetry_shank_deg"):  # the camera calibration's +-8, not the pseudo one's +-3
+        assert r.interval == "calibrated"
+        assert r.high_90 == pytest.approx(r.value + 8.0)
+    assert {r.interval for r in frame_rows(a, "left_knee_flexion_deg")} == {"calibrated"}
+
+
+def test_outside_the_calibrated_range_each_measure_says_so(tmp_path: Path) -> None:
+    cals = [calibration(), camera_calibration((1.2, 2.0))]
+    a = analyse(read_result(focal_result(tmp_path, depth=1.0)), calibrations=cals)
+    assert not a.uncertainty_available
+    for name in (*SYMMETRY_NAMES, "right_hip_flexion_deg"):
+        rows = frame_rows(a, name)
+        assert all(np.isnan(r.low_90) for r in rows)
+        assert {r.interval for r in rows} == {
+            "none: camera outside the calibrated range (root depth 1.00 m, focal length 1000 px; calibrated: "
+            "root depth 1.2-2 m, focal length 600-2500 px)"}  # fmt: skip
+    assert {r.call for r in frame_rows(a, "symmetry_thigh_deg")} == {"uncertain"}
+    narrow_focal = [calibration(), camera_calibration((0.6, 2.0), focal=(1500.0, 2500.0))]
+    b = analyse(read_result(focal_result(tmp_path)), calibrations=narrow_focal)
+    assert "focal length 1000 px" in frame_rows(b, "symmetry_thigh_deg")[0].interval
+
+
+def test_poses_are_matched_one_by_one_to_the_calibrated_depth_ranges(tmp_path: Path) -> None:
+    near, far = camera_calibration((0.6, 1.2), width=4.0), camera_calibration((1.2, 2.0), width=9.0)
+    depth = np.array([0.8, 1.5, 2.5, np.nan])
+    got = assign_calibrations([calibration(), near, far], CLI, JOINTS, depth, np.full(4, 1000.0))
+    assert got.calibrations == (near, far) and got.index.tolist() == [0, 1, -1, -1]
+    assert got.why_not[2].startswith("camera outside the calibrated range (root depth 2.50 m")
+    assert "states no root depth" in got.why_not[3]
+    pseudo = assign_calibrations([calibration(), near], PARAMS, JOINTS, depth, np.full(4, np.nan))
+    assert pseudo.index.tolist() == [0, 0, 0, 0]  # the pseudo camera's calibration has no range: every pose
+
+
+def test_a_root_frame_result_without_its_root_depth_says_why(tmp_path: Path) -> None:
+    res = read_result(focal_result(tmp_path))
+    res = replace(res, coordinate_frame="root", root_translation=None)
+    a = analyse(res, calibrations=[camera_calibration((0.6, 2.0))])
+    assert "states no root depth or camera" in frame_rows(a, "symmetry_shank_deg")[0].interval
+
+
+def test_pseudo_camera_results_are_analysed_as_before(tmp_path: Path) -> None:
+    doc = result_document(kicking_poses(20))
+    doc["params"].update(PARAMS)
+    path = write_document(tmp_path / "p.zedo.json", doc)
+    alone = analyse(read_result(path), calibrations=[calibration(width=3.0)])
+    both = analyse(read_result(path), calibrations=[calibration(width=3.0), camera_calibration((0.6, 2.0))])
+    keep = ("measure", "value", "low_90", "high_90", "call", "interval", "call_low", "call_high")
+
+    def cells(rows: list) -> list[list]:  # NaN as None: NaN != NaN
+        return [[None if isinstance(v, float) and v != v else v for v in (getattr(r, c) for c in keep)] for r in rows]
+
+    assert cells(alone.rows) == cells(both.rows)
+    cli = analyse(read_result(path), calibrations=[calibration()])  # and a pseudo result never takes a camera one
+    assert cli.calibration_note == "calibrated"
+    only_camera = analyse(read_result(path), calibrations=[camera_calibration((0.6, 2.0))])
+    assert only_camera.calibration_note == "no measure calibration for this camera (calibrated: cli, file)"
+
+
+def test_a_calibration_with_a_camera_range_reads_back_and_one_without_writes_as_before(tmp_path: Path) -> None:
+    pseudo, cam = calibration(), camera_calibration((0.6, 2.0))
+    assert "domain" not in pseudo.to_dict()
+    assert cam.to_dict()["domain"] == {"root_depth_m": [0.6, 2.0], "focal_px": [600.0, 2500.0]}
+    path = tmp_path / "m.json"
+    write_calibrations(path, [pseudo, cam])
+    assert read_calibrations(path) == [pseudo, cam]
+    assert cam.prior_sha256 == SHA
+
+
+def test_a_joint_filled_by_the_prior_takes_the_calibrations_wider_model_where_it_has_one(tmp_path: Path) -> None:
+    from test_calibration import document
+
+    from zedo_cli.analysis.calibration import LEVELS, MeasureModel
+
+    doc = document(kicking_poses(3))
+    doc["params"].update(CLI)
+    doc["frames"][0]["persons"][0]["observed"][JOINTS.index("left_wrist")] = False
+    path = write_document(tmp_path / "k.zedo.json", doc)
+    wide = {lv: (20.0,) for lv in LEVELS}
+    cal = camera_calibration((0.6, 2.0))
+    cal = replace(cal, filled={n: MeasureModel(20.0, 1.0, (), wide, wide, circular=False) for n in cal.measures})
+    a = analyse(read_result(path), calibrations=[cal])
+    forearm = frame_rows(a, "symmetry_forearm_deg")
+    assert forearm[0].interval == "calibrated with a joint filled by the prior: left_wrist"
+    assert forearm[0].high_90 == pytest.approx(forearm[0].value + 20.0)
+    assert forearm[1].interval == "calibrated" and forearm[1].high_90 == pytest.approx(forearm[1].value + 8.0)
+    p = [r.value for r in a.rows if r.measure == "symmetry_forearm_probability_asymmetric"]
+    assert all(np.isfinite(p))  # the filled frame has a probability too
+    without = analyse(read_result(path), calibrations=[camera_calibration((0.6, 2.0))])  # no such model: none
+    assert frame_rows(without, "symmetry_forearm_deg")[0].interval.startswith("none: joint filled by the prior")
+    path2 = tmp_path / "m.json"
+    write_calibrations(path2, [cal])
+    assert read_calibrations(path2) == [cal]
