@@ -1,18 +1,23 @@
-"""Cold start (docs/lifting.md, "Start-up"): help and option errors answer without loading torch, and
+"""Cold start (docs/lifting.md, "Start-up"): help and option errors answer without loading torch,
+`zedo --help` imports no command module (nor numpy, pydantic or the analysis package), and
 lifting never loads torch's compiler stack (torch._dynamo, which creating a torch.optim
 optimiser imports: about 0.8 s)."""
 
 from __future__ import annotations
 
+import inspect
 import json
 import subprocess
 import sys
 from pathlib import Path
 
-from zedo_cli.cli import app
+import typer
+
+from zedo_cli.cli import COMMANDS, PANELS, app
 
 HEAVY = ("torch", "matplotlib", "scipy", "cv2", "safetensors")
-COMMANDS = [c.name for c in app.registered_commands]
+# What the list of commands must not import: each of these takes tens to hundreds of milliseconds.
+NOT_FOR_THE_LIST = ("numpy", "pydantic", "zedo_cli.analysis", "zedo_cli.formats", "zedo_cli.data", "zedo_cli.lifting")
 
 # Runs the CLI in a fresh interpreter, then prints which modules it loaded.
 RUN_AND_LIST = """
@@ -55,6 +60,39 @@ def test_help_loads_no_heavy_library() -> None:
     loaded = json.loads(out.stdout.strip().splitlines()[-1])
     assert list(loaded) == [" ".join(a) for a in helps]
     assert not any(loaded.values()), {k: v for k, v in loaded.items() if v}
+
+
+def test_the_list_of_commands_imports_no_command() -> None:
+    commands = {f"zedo_cli.cli.{entry.module}" for entry in COMMANDS.values()}
+    for args in (["--help"], []):  # the list of commands, also of a bare `zedo`
+        loaded = loaded_modules(*args)
+        assert sorted(m for m in loaded if m.startswith(NOT_FOR_THE_LIST)) == [], args
+        assert not loaded & commands, (args, sorted(loaded & commands))
+    # an unknown command's did-you-mean reads the table's names (typer's option parsing loads pydantic)
+    loaded = loaded_modules("lifft")
+    assert not loaded & commands, sorted(loaded & commands)
+
+
+def test_a_command_imports_only_its_own_module() -> None:
+    loaded = loaded_modules("schema", "--help")
+    assert "zedo_cli.cli.schema" in loaded
+    others = {f"zedo_cli.cli.{entry.module}" for entry in COMMANDS.values()} - {"zedo_cli.cli.schema"}
+    assert not loaded & others, sorted(loaded & others)
+    assert "zedo_cli.analysis" not in loaded
+
+
+def test_the_summaries_are_the_docstrings_first_lines() -> None:
+    group = typer.main.get_command(app)
+    ctx = group.make_context("zedo", ["--help"], resilient_parsing=True)
+    assert group.list_commands(ctx) == list(COMMANDS) == [name for panel in PANELS.values() for name in panel]
+    for name, entry in COMMANDS.items():
+        function = entry.load()
+        assert entry.summary == inspect.getdoc(function).splitlines()[0], name
+        command = group.get_command(ctx, name)  # what `zedo --help` showed when it imported every command
+        assert command.name == name
+        assert command.rich_help_panel == group.commands.panel(name), name
+        assert entry.summary == command.get_short_help_str(limit=300), name
+    assert group.get_command(ctx, "no-such-command") is None
 
 
 def test_option_errors_answer_before_torch_loads(tmp_path: Path) -> None:

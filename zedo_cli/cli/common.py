@@ -15,14 +15,6 @@ from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 import typer
 from rich.console import Console
-from rich.progress import (
-    BarColumn,
-    MofNCompleteColumn,
-    Progress,
-    TextColumn,
-    TimeElapsedColumn,
-    TimeRemainingColumn,
-)
 from rich.table import Table
 from rich.text import Text
 
@@ -31,13 +23,17 @@ from ..files import check_writable, write_text_atomic
 from .checks import check_choice
 
 if TYPE_CHECKING:
+    from rich.progress import Progress
+
     from ..prior.training import TrainProgress
 
 
 # Data goes to stdout; progress, logs and errors to stderr. Off a terminal (a log file, a pipe)
 # lines are never wrapped at 80 columns nor padded, and tables are printed as plain lines.
+# No :emoji: codes: a file name such as `a:baby:.json` is printed as it is (and rich's table of
+# emoji codes is never loaded).
 def _console(stderr: bool) -> Console:
-    console = Console(stderr=stderr, highlight=False)
+    console = Console(stderr=stderr, highlight=False, emoji=False)
     console.soft_wrap = not console.is_terminal
     return console
 
@@ -257,8 +253,19 @@ def check_weights_output(weights: str, dtype: str) -> None:
 
 def progress_bar(quiet: bool) -> Progress | LineProgress:
     """A live bar on a terminal; periodic plain lines otherwise; nothing when quiet."""
-    if not quiet and not os.environ.get("ZEDO_NO_PROGRESS") and not err_console.is_terminal:
+    if quiet or os.environ.get("ZEDO_NO_PROGRESS"):
+        return LineProgress(interval=math.inf)  # the same calls, never a line
+    if not err_console.is_terminal:
         return LineProgress()
+    from rich.progress import (  # only for a live bar (start-up: docs/lifting.md)
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
     return Progress(
         TextColumn("{task.description}"),
         BarColumn(),
@@ -267,6 +274,5 @@ def progress_bar(quiet: bool) -> Progress | LineProgress:
         TimeElapsedColumn(),
         TimeRemainingColumn(),
         console=err_console,
-        disable=quiet or bool(os.environ.get("ZEDO_NO_PROGRESS")),
         transient=False,
     )

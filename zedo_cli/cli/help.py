@@ -7,7 +7,7 @@ from __future__ import annotations
 import inspect
 import sys
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import typer
@@ -17,6 +17,7 @@ from rich.table import Table
 from rich.text import Text
 from typer.core import TyperArgument, TyperCommand, TyperGroup
 
+from .lazy_commands import LazyCommand, LazyCommands
 from .usage import Abort, ClickException, usage_error_line
 
 # typer's click objects (its own vendored click in recent typer versions) are typed Any here: the
@@ -125,13 +126,11 @@ def _print_help(command: Any, ctx: Any, console: Console) -> None:
                 help_text += " [required]"
             rows.append((_names(param, ctx), help_text))
         console.print(_panel(title, rows))
-    if isinstance(command, TyperGroup):  # the commands in their panels (rich_help_panel), in order
+    if isinstance(command, ZedoGroup):  # the commands in their panels, in order, from the table: none imported
         panels: dict[str, list[tuple[str, str]]] = {}
         for name in command.list_commands(ctx):
-            sub = command.get_command(ctx, name)
-            if sub is not None and not sub.hidden:
-                title = getattr(sub, "rich_help_panel", None) or "Commands"
-                panels.setdefault(title, []).append((name, sub.get_short_help_str(limit=300)))
+            title = command.commands.panel(name) or "Commands"
+            panels.setdefault(title, []).append((name, command.commands.summary(name)))
         for title, rows in panels.items():
             console.print(_panel(title, rows))
 
@@ -166,9 +165,33 @@ class _ZedoHelp:
         formatter.write(render_help(self, ctx, Console(highlight=False)))
 
 
+def command_from_function(name: str, function: Callable[..., Any], panel: str, rich_markup_mode: Any) -> Any:
+    """The click command typer makes of `function` (its options from the annotations, its help
+    from the docstring), as `app.command(name, ...)` registers it, with zedo's help layout."""
+    one = typer.Typer(add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=rich_markup_mode)
+    one.command(name, no_args_is_help=True, cls=ZedoCommand, rich_help_panel=panel)(function)
+    return typer.main.get_command(one)
+
+
 class ZedoGroup(_ZedoHelp, TyperGroup):
     """The `zedo` group, with the same help layout as its commands, and usage errors of every
-    command as one line (cli/usage.py) instead of typer's boxed panel."""
+    command as one line (cli/usage.py) instead of typer's boxed panel. Its commands are the
+    subclass's `panels` (cli/__init__.py), each imported and made a click command only when it is
+    looked up (cli/lazy_commands.py)."""
+
+    panels: Mapping[str, Mapping[str, LazyCommand]] = {}
+
+    def __init__(self, **attrs: Any) -> None:
+        super().__init__(**attrs)
+        mode = self.rich_markup_mode
+        self.commands = LazyCommands(
+            self.panels, lambda name, function, panel: command_from_function(name, function, panel, mode)
+        )
+        for name, command in attrs.get("commands", {}).items():  # any typer registered the usual way
+            self.commands[name] = command
+
+    def list_commands(self, ctx: Any) -> list[str]:
+        return list(self.commands)  # the names only (typer's own reads every command)
 
     def main(self, args: Sequence[str] | None = None, prog_name: str | None = None, complete_var: str | None = None,
              standalone_mode: bool = True, **extra: Any) -> Any:  # fmt: skip
@@ -187,7 +210,7 @@ class ZedoGroup(_ZedoHelp, TyperGroup):
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
         if not args and self.no_args_is_help and not ctx.resilient_parsing:
-            sys.stdout.write(ctx.get_help())  # the list of commands, as before (typer drops it otherwise)
+            sys.stdout.write(ctx.get_help() + "\n")  # the list of commands, as --help (typer drops it otherwise)
             raise typer.Exit(2)
         return super().parse_args(ctx, args)
 

@@ -7,13 +7,16 @@ points `(..., J, 3)`, pixels `(..., J, 2)`, matrices `(..., 3, 3)`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import torch
 
-from ..camera.files import CameraFile, read_camera_file
 from ..camera.model import CameraModel, lens_groups
 from ..errors import CameraInputError, ConfigError, IntrinsicsError
+
+if TYPE_CHECKING:
+    from ..camera.files import CameraFile
 
 PSEUDO_FOCAL_PX = 2000.0  # the paper's pseudo focal length when the camera is unknown
 # Pixel quantities (coordinates, image sizes, principal points, focal lengths) are bounded by
@@ -216,7 +219,11 @@ def resolve_cameras(
     check_principal_point(principal_point)
     if camera is not None and intrinsics_file is None:
         raise ConfigError("--camera picks a camera of an --intrinsics file: give the file too")
-    calib = read_camera_file(intrinsics_file, camera) if intrinsics_file else None
+    calib = None
+    if intrinsics_file:  # its pydantic models load only for a calibration file (start-up)
+        from ..camera.files import read_camera_file
+
+        calib = read_camera_file(intrinsics_file, camera)
     pairs = list(zip(image_ids, file_names, strict=True))
     if (
         calib is not None
