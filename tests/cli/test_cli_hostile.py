@@ -58,6 +58,13 @@ def test_a_malformed_single_input_fails_before_the_prior(tiny_prior_path: Path, 
     assert result.exit_code == 3 and "pose_keypoints_2d" in result.output, result.output
 
 
+def test_a_name_that_looks_like_an_emoji_code_is_printed_as_it_is(tmp_path: Path, no_prior: None) -> None:
+    """rich would print `:baby:` as an emoji; zedo's consoles print names as they are."""
+    src = tmp_path / "clip:baby:.json"
+    result = runner.invoke(app, ["lift", str(src), "-o", str(tmp_path / "o.zedo.json")])
+    assert result.exit_code == 3 and f"zedo: error: {src}: file not found" in result.output, result.output
+
+
 @pytest.mark.parametrize(("out", "said"), [("/dev/null", "is a character device"), ("FOLDER", "is a folder")])
 def test_an_output_that_is_not_a_file_is_refused_even_with_overwrite(
     tiny_prior_path: Path, tmp_path: Path, no_prior: None, out: str, said: str

@@ -106,3 +106,6 @@ def test_lifting_does_not_load_the_compiler_stack(tmp_path: Path) -> None:
     assert (tmp_path / "out.json").is_file()
     assert "torch" in loaded
     assert "torch._dynamo" not in loaded
+    # nor what this lift does not use: the result schema, the analysis, calibration files, a live bar
+    unused = ("zedo_cli.analysis", "zedo_cli.formats.result_schema", "zedo_cli.camera.files", "rich.progress")
+    assert sorted(loaded & set(unused)) == []

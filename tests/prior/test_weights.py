@@ -10,7 +10,14 @@ import torch
 from safetensors.torch import load_file, save_file
 
 from zedo_cli.errors import WeightsError
-from zedo_cli.prior.weights import BUNDLED_PRIORS, DEFAULT_PRIOR, bundled_prior_path, load_prior, resolve_prior_path
+from zedo_cli.prior.weights import (
+    BUNDLED_PRIORS,
+    DEFAULT_PRIOR,
+    all_finite,
+    bundled_prior_path,
+    load_prior,
+    resolve_prior_path,
+)
 
 
 def _rewrite(src: Path, dst: Path, *, meta: dict[str, str] | None = None, drop: str | None = None,
@@ -79,6 +86,32 @@ def test_strict_loading_rejects_altered_files(
     bad = _rewrite(tiny_prior_path, tmp_path / "bad.safetensors", **change)
     with pytest.raises(WeightsError, match=message):
         load_prior(bad)
+
+
+@pytest.mark.parametrize("dtype", [torch.float16, torch.bfloat16, torch.float32])
+def test_all_finite_finds_any_nan_or_infinity(dtype: torch.dtype) -> None:
+    generator = torch.Generator().manual_seed(0)
+    for size in (1, 7, 33, 4097, 100_003):  # sizes that end inside and outside a SIMD register
+        clean = torch.randn(size, generator=generator).to(dtype)
+        assert all_finite(clean) and all_finite(clean.reshape(1, -1))
+        for value in (float("nan"), float("inf"), float("-inf")):
+            for where in {0, size // 2, size - 1}:
+                bad = clean.clone()
+                bad[where] = value
+                assert not all_finite(bad), (size, value, where)
+    assert all_finite(torch.empty(0, dtype=dtype))
+
+
+def test_the_loaded_weights_are_the_files(tiny_prior_path: Path) -> None:
+    """The network is built on the meta device and given the file's tensors: every parameter is
+    the file's value in float32, on the CPU, trainable as a built network's are."""
+    prior = load_prior(tiny_prior_path)
+    stored = load_file(str(tiny_prior_path))
+    params = dict(prior.model.named_parameters())
+    assert set(params) == {k.removeprefix("model.") for k in stored if k.startswith("model.")}
+    for name, param in params.items():
+        assert param.device.type == "cpu" and param.dtype == torch.float32 and param.requires_grad
+        assert torch.equal(param.detach(), stored[f"model.{name}"].float())
 
 
 def test_declared_sizes_are_checked_against_the_tensors_before_any_allocation(

@@ -201,9 +201,19 @@ def read_safetensors(path: Path) -> tuple[dict[str, str], dict[str, torch.Tensor
     except (SafetensorError, OSError, ValueError) as exc:
         raise WeightsError(f"{path}: not a readable safetensors file ({_one_line(exc)})") from None
     for name, tensor in tensors.items():
-        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
+        if tensor.is_floating_point() and not all_finite(tensor):
             raise WeightsError(f"{path}: tensor {name!r} holds NaN or infinite values")
     return meta, tensors
+
+
+def all_finite(tensor: torch.Tensor) -> bool:
+    """No NaN or infinity in `tensor`: its minimum and maximum are finite (torch.aminmax
+    propagates NaN). One pass without isfinite's boolean copy: 3 ms instead of 30 ms for the
+    7.2M weights of a bundled prior."""
+    if tensor.numel() == 0:
+        return True
+    low, high = torch.aminmax(tensor)
+    return bool(torch.isfinite(low) & torch.isfinite(high))
 
 
 def _one_line(exc: BaseException) -> str:
@@ -281,10 +291,11 @@ def read_network_configs(meta: dict[str, str], path: Path) -> tuple[Skeleton, Pr
 def check_tensor_header(
     path: Path, header: dict[str, tuple[tuple[int, ...], str]], build: Callable[[], nn.Module],
     other_tensors: dict[str, tuple[int, ...]] | None = None,
-) -> None:  # fmt: skip
+) -> nn.Module:  # fmt: skip
     """The file's tensors (names, shapes, dtypes from `header`) against the network that
     `build()` makes from the metadata, built on the meta device: no memory is allocated, so a
-    file whose metadata declares a huge network fails here, before any allocation."""
+    file whose metadata declares a huge network fails here, before any allocation. Returns that
+    network (on the meta device: `load_model_state(..., assign=True)` gives it the file's tensors)."""
     with torch.device("meta"):
         model = build()
     expected = {MODEL_PREFIX + k: tuple(v.shape) for k, v in model.state_dict().items()} | (other_tensors or {})
@@ -301,16 +312,20 @@ def check_tensor_header(
                                f"the metadata's model_config needs {list(shape)})")  # fmt: skip
         if dtype not in TENSOR_DTYPES:
             raise WeightsError(f"{path}: tensor {name!r} is {dtype}, not one of {', '.join(TENSOR_DTYPES)}")
+    return model
 
 
 def load_model_state(
-    model: nn.Module, tensors: dict[str, torch.Tensor], path: Path, *, other_tensors: tuple[str, ...] = ()
-) -> None:
+    model: nn.Module, tensors: dict[str, torch.Tensor], path: Path, *, other_tensors: tuple[str, ...] = (),
+    assign: bool = False,
+) -> None:  # fmt: skip
     """Load the `model.*` tensors strictly into `model` (float32); any tensor that is neither
-    the model's nor one of `other_tensors` is an error."""
-    state = {k[len(MODEL_PREFIX) :]: v.float() for k, v in tensors.items() if k.startswith(MODEL_PREFIX)}
+    the model's nor one of `other_tensors` is an error. `assign`: the tensors (float32 copies)
+    become the parameters, for a `model` built on the meta device."""
+    state = {k[len(MODEL_PREFIX) :]: v.to(torch.float32, copy=True) for k, v in tensors.items()
+             if k.startswith(MODEL_PREFIX)}  # fmt: skip
     try:
-        model.load_state_dict(state, strict=True)
+        model.load_state_dict(state, strict=True, assign=assign)
     except RuntimeError as exc:
         first = str(exc).splitlines()[0]
         raise WeightsError(f"{path}: tensors do not match the model ({first})") from None
@@ -343,17 +358,18 @@ def load_prior(path: str | Path, *, skeleton: str | None = None, device: str = "
 
     members = _member_count(meta, path) if architecture == "ensemble" else 0
 
-    def build(generator: torch.Generator | None = None) -> nn.Module:
+    def build() -> nn.Module:
         if architecture == "ensemble":
             return EnsembleScoreNet([ScoreNet(cfg) for _ in range(members)])
         if architecture == "control":
-            return ControlledScoreNet(ScoreNet(cfg), prompt_generator=generator)
+            return ControlledScoreNet(ScoreNet(cfg))  # the prompt's initial values are the file's
         return ScoreNet(cfg)
 
-    check_tensor_header(path, header, build, {"template": (skel.num_joints, 3)})
+    model = check_tensor_header(path, header, build, {"template": (skel.num_joints, 3)})  # on the meta device
     _, tensors = read_safetensors(path)
-    model = build(torch.Generator().manual_seed(0))  # the prompt's initial values are overwritten by the file
-    load_model_state(model, tensors, path, other_tensors=("template",))
+    # The file's tensors become the parameters: no random initial weights are drawn only to be
+    # overwritten (about a third of loading a prior; docs/lifting.md, "Start-up and large batches").
+    load_model_state(model, tensors, path, other_tensors=("template",), assign=True)
     template = tensors["template"]
     model.to(device).eval()
     parsed = ("model_config", "sde_config", "training", "data", "adapted_from")
