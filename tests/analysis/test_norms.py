@@ -216,3 +216,23 @@ def test_published_z_matches_the_published_code(tmp_path: Path) -> None:
     for c in [*clips, *new]:
         ours = compare(c.values, norms, c.age_weeks).published.z
         assert ours == pytest.approx(theirs[c.source], abs=0.05), c.source
+
+
+def test_an_age_outside_0_to_200_weeks_is_refused_by_both_commands(tmp_path: Path) -> None:
+    from typer.testing import CliRunner
+
+    from zedo_cli.analysis.norms import check_age_weeks
+    from zedo_cli.cli import app
+
+    check_age_weeks(None)
+    check_age_weeks(12.0)
+    with pytest.raises(ConfigError, match="between 0 and 200 weeks, got 500"):
+        check_age_weeks(500.0)
+    runner = CliRunner()
+    (tmp_path / "r.zedo.json").write_text("{}")
+    for args in (
+        ["norms", str(tmp_path / "r.zedo.json"), "-o", str(tmp_path / "n.json"), "--age-weeks", "-1"],
+        ["analyze", str(tmp_path / "r.zedo.json"), "--norms", str(tmp_path / "n.json"), "--age-weeks", "500"],
+    ):
+        result = runner.invoke(app, args)
+        assert result.exit_code == 2 and "--age-weeks must be between 0 and 200 weeks" in result.output, result.output

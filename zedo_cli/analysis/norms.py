@@ -66,6 +66,15 @@ ASYMMETRY_PREFIX = "asym_logratio_"
 _MIN_SD = 1e-9  # a feature that does not vary across the reference cannot score a clip
 
 
+MAX_AGE_WEEKS = 200.0
+
+
+def check_age_weeks(age_weeks: float | None) -> None:
+    """--age-weeks, where given, is an infant's age: 0 to 200 weeks."""
+    if age_weeks is not None and not 0 <= age_weeks <= MAX_AGE_WEEKS:
+        raise ConfigError(f"--age-weeks must be between 0 and {MAX_AGE_WEEKS:g} weeks, got {age_weeks:g}")
+
+
 def age_bracket(age_weeks: float | None, with_ages: bool) -> str:
     """The bracket of a clip: the published split at 10 weeks, or `all` for a reference without ages."""
     if not with_ages:
@@ -222,9 +231,7 @@ def _fitted(norms: Norms, bracket: str, names: Sequence[str]) -> tuple[list[str]
 
 def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) -> Comparison:
     """The clip's z per feature and its published and extended surprise."""
-    if norms.with_ages and age_weeks is None:
-        raise ConfigError("the reference is split by age (<= 10 and > 10 weeks): give --age-weeks")
-    bracket = age_bracket(age_weeks, norms.with_ages)
+    bracket = age_bracket(age_weeks, norms.with_ages)  # a reference split by age needs the age
     if bracket not in norms.fits:
         raise InputFormatError(f"no reference clips in the age bracket {bracket} (the reference has "
                                f"{', '.join(norms.brackets)}): this clip is outside its age brackets")  # fmt: skip

@@ -359,12 +359,11 @@ def _reference(norms: Path | None, age_weeks: float | None) -> Reference | None:
         if age_weeks is not None:
             raise ConfigError("--age-weeks picks the age bracket of a reference: give it with --norms")
         return None
-    if age_weeks is not None and not 0 <= age_weeks <= 200:
-        raise ConfigError(f"--age-weeks must be between 0 and 200 weeks, got {age_weeks:g}")
-    from ..analysis.norms import age_bracket
+    from ..analysis.norms import age_bracket, check_age_weeks
     from ..analysis.norms_file import read_norms
     from ..version import __version__
 
+    check_age_weeks(age_weeks)
     reference = read_norms(norms, __version__)
     age_bracket(age_weeks, reference.with_ages)  # a reference split by age needs the infant's age
     return Reference(reference, age_weeks)

@@ -9,7 +9,7 @@ import typer
 
 from ..analysis.analyse import AnalysisSettings, analyse
 from ..analysis.compare import features_by_person
-from ..analysis.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_norms
+from ..analysis.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_norms, check_age_weeks
 from ..analysis.norms_file import write_norms
 from ..errors import ConfigError, plural
 from ..files import check_writable
@@ -23,8 +23,8 @@ def ages_per_input(ages: list[float] | None, count: int) -> list[float | None]:
     """--age-weeks: none, one age for every input, or one per input in order."""
     if not ages:
         return [None] * count
-    if any(not 0 <= a <= 200 for a in ages):
-        raise ConfigError(f"--age-weeks must be between 0 and 200 weeks, got {ages}")
+    for age in ages:
+        check_age_weeks(age)
     if len(ages) == 1:
         return [ages[0]] * count
     if len(ages) != count:
