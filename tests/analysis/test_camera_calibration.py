@@ -139,3 +139,37 @@ def test_a_joint_filled_by_the_prior_takes_the_calibrations_wider_model_where_it
     path2 = tmp_path / "m.json"
     write_calibrations(path2, [cal])
     assert read_calibrations(path2) == [cal]
+
+
+def test_ranges_that_meet_read_as_one_and_a_near_pose_takes_the_near_range() -> None:
+    near, main = camera_calibration((0.4, 0.6), width=12.0), camera_calibration((0.6, 2.0))
+    depth = np.array([0.45, 0.6, 1.0, 0.3, 2.2])
+    got = assign_calibrations([calibration(), near, main], CLI, JOINTS, depth, np.full(5, 1000.0))
+    assert got.index.tolist() == [0, 0, 1, -1, -1]  # the first that holds the pose: 0.6 m is the near range's end
+    assert got.why_not[3] == ("camera outside the calibrated range (root depth 0.30 m, focal length 1000 px; "
+                              "calibrated: root depth 0.4-2 m, focal length 600-2500 px)")  # fmt: skip
+    apart = camera_calibration((1.2, 2.0))  # ranges that do not meet are named one by one
+    why = assign_calibrations([near, apart], CLI, JOINTS, np.array([1.0]), np.array([1000.0])).why_not[0]
+    assert why.endswith("calibrated: root depth 0.4-0.6 m, focal length 600-2500 px; root depth 1.2-2 m, "
+                        "focal length 600-2500 px)")  # fmt: skip
+
+
+def test_a_filled_joint_outside_the_calibrated_range_gives_the_cameras_reason(tmp_path: Path) -> None:
+    """A pose outside every range gets no interval because of its camera, filled joint or not: the `interval`
+    column names the camera, not the filled joint (the calibration has a model of filled joints inside)."""
+    from test_calibration import document
+
+    from zedo_cli.analysis.calibration import LEVELS, MeasureModel
+
+    doc = document(kicking_poses(2) + np.array([0.0, 0.0, -0.7]))  # 0.3 m from the camera
+    doc["params"].update(CLI)
+    doc["frames"][0]["persons"][0]["observed"][JOINTS.index("left_wrist")] = False
+    wide = {lv: (20.0,) for lv in LEVELS}
+    cal = camera_calibration((0.4, 2.0))
+    cal = replace(cal, filled={n: MeasureModel(20.0, 1.0, (), wide, wide, circular=False) for n in cal.measures})
+    forearm = frame_rows(analyse(read_result(write_document(tmp_path / "k.zedo.json", doc)), calibrations=[cal]),
+                         "symmetry_forearm_deg")  # fmt: skip
+    why = ("none: camera outside the calibrated range (root depth 0.30 m, focal length 1000 px; calibrated: root "
+           "depth 0.4-2 m, focal length 600-2500 px)")  # fmt: skip
+    assert [r.interval for r in forearm] == [why, why]  # the first with a filled wrist, the second without
+    assert all(np.isnan(r.low_90) for r in forearm)

@@ -197,7 +197,7 @@ def calibrated_measures(
                 known = np.isfinite(poses[k]).all(-1)
                 missing = [j for j, u, ok in zip(skeleton.joints, uses[name], known, strict=True) if u and not ok]
                 how[name][k] = "none: joint missing: " + ", ".join(missing) if missing else "none: undefined here"
-            elif filled[k].any():
+            elif filled[k].any() and assignment.index[k] >= 0:  # else the pose's own reason: no calibration holds it
                 names = [j for j, u in zip(skeleton.joints, uses[name], strict=True) if u]
                 gone = [j for j, f in zip(names, filled[k], strict=True) if f]
                 how[name][k] = "none: joint filled by the prior (not calibrated): " + ", ".join(gone)

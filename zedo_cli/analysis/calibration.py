@@ -180,6 +180,20 @@ class CameraDomain:
         return cls((d0, d1), (f0, f1))
 
 
+def describe_domains(domains: Sequence[CameraDomain]) -> str:
+    """The camera ranges of `domains` in words, those of one focal range whose root depths meet as one (a near
+    range of 0.4-0.6 m and one of 0.6-2 m: "root depth 0.4-2 m, ...")."""
+    merged: list[CameraDomain] = []
+    for d in sorted(set(domains), key=lambda d: (d.focal_px, d.root_depth_m)):
+        last = merged[-1] if merged else None
+        if last is not None and last.focal_px == d.focal_px and d.root_depth_m[0] <= last.root_depth_m[1]:
+            depth = (last.root_depth_m[0], max(last.root_depth_m[1], d.root_depth_m[1]))
+            merged[-1] = CameraDomain(depth, d.focal_px)
+        else:
+            merged.append(d)
+    return "; ".join(sorted(d.describe() for d in merged))
+
+
 @dataclass(frozen=True)
 class MeasureCalibration:
     """Models of every measure for one prior, lifting settings, temporal mode and camera (with
@@ -297,7 +311,7 @@ def assign_calibrations(
     why_not = np.full(m, "", dtype=object)
     out = index < 0
     if out.any():
-        ranges = "; ".join(sorted({c.domain.describe() for c in matching if c.domain is not None}))
+        ranges = describe_domains([c.domain for c in matching if c.domain is not None])
         stated = np.isfinite(depth_m) & np.isfinite(focal_px)
         why_not[out & ~stated] = ("the result states no root depth or camera for this pose (a root-frame CSV or "
                                   f"NPZ?), so the camera calibration ({ranges}) cannot be checked")  # fmt: skip
