@@ -115,6 +115,13 @@ class CameraRange:
 CAMERAS = CameraRange()
 F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the issue's target set-up
 CAMERA_DRAWS = 6  # cameras per held-out pose and 2D input (images)
+# More cases for the near range of lifted root depths (below NEAR_BELOW_M), where CAMERAS gives few: the same
+# cameras at true depths of 0.5-1.1 m. A pose lifted that near comes from a true depth under about 1.1 m (lifted
+# depths under half the true one are about 1 in 1000), where CAMERAS draws uniformly too, so these draws give the
+# near range the same mix of close poses and poses lifted too near as CAMERAS; they fit only the near range.
+NEAR = CameraRange(depth_m=(0.5, 1.1))
+NEAR_BELOW_M = 0.6
+NEAR_DRAWS, NEAR_CLIP_COUNT = 12, 48  # per held-out pose and 2D input; clips per fold and 2D input
 # per fold and 2D input; the jitter (noise_rel of the body's 2D size) is the pseudo clips' 3 px at 1 m
 CAMERA_CLIPS = {"count": 16, "keyposes": 8, "transition_s": 1.0, "fps": 30.0, "noise_px": 0.0, "drop": 0.03,
                 "gap": 3, "noise_rel": 0.0125}  # fmt: skip
@@ -193,7 +200,8 @@ def root_depth(data: dict[str, np.ndarray]) -> np.ndarray:
 def lift_camera_cases(args: argparse.Namespace) -> None:
     """Held-out poses seen by drawn cameras (`CAMERAS`), lifted with their true K: images from GT and FiDIP
     2D (mode none), clips in `--temporal smooth` and frame by frame; the f = 1000 px set-up (`F1000`) as
-    clips; the pseudo camera's clips frame by frame. One npz per fold, camera kind, mode and input in
+    clips; the pseudo camera's clips frame by frame (`--camera-kinds base`); and the near draws (`NEAR`,
+    `lift_near_cases`: `--camera-kinds near`). One npz per fold, camera kind, mode and input in
     `--cases`/cameras."""
     import time
 
@@ -212,6 +220,11 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
         start = time.perf_counter()
         kp = {key: v.to_skeleton(prior.skeleton) for key, v in inputs.items()}
         errors = relative_errors(kp["gt"].xy, kp["detected"].xy)
+        if "near" in args.camera_kinds:
+            lift_near_cases(out, k, prior, truth.poses, kp, errors)
+        if "base" not in args.camera_kinds:
+            print(f"fold {k}: near camera cases lifted in {time.perf_counter() - start:.0f} s")
+            continue
         rng = np.random.default_rng(1000 + k)
         for key in ("gt", "detected"):
             detected = key == "detected"
@@ -231,6 +244,36 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
                     np.savez(out / f"fold{k}-{kind}-{mode}-clips_{key}.npz", group=clips["tracks"],
                              **camera_cases(res, clips))  # fmt: skip
         print(f"fold {k}: camera cases lifted in {time.perf_counter() - start:.0f} s")
+
+
+def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, errors: np.ndarray) -> None:
+    """The near draws (`NEAR`) of fold `k`'s held-out `poses (P, J, 3)`: images from GT and FiDIP 2D, and clips in
+    `--temporal smooth` and frame by frame, saved as the kinds `near_<input>` of the intrinsics cases. Their own
+    random stream, so the other camera cases are the same with or without them."""
+    import torch
+    from temporal import make_sequences
+
+    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
+    from zedo_cli.lifting.solver import lift
+    from zedo_cli.lifting.temporal import lift_sequence
+
+    cfg = get_preset(DEFAULT_PRESET)
+    rng = np.random.default_rng(3000 + k)
+    for key in ("gt", "detected"):
+        detected = key == "detected"
+        data = camera_images(poses, errors if detected else None, kp[key].confidence if detected else None, rng,
+                             NEAR_DRAWS, NEAR)  # fmt: skip
+        res = lift(data["xy"], data["conf"], data["k"], prior, cfg, seed=0)
+        np.savez(out / f"fold{k}-intrinsics-none-near_{key}.npz", group=data["group"], **camera_cases(res, data))
+    for key in ("gt", "detected"):
+        torch.manual_seed(k)
+        clips = make_sequences(poses, rng, **{**CAMERA_CLIPS, "count": NEAR_CLIP_COUNT},
+                               place=lambda r, p, d: place_camera(r, p, d, NEAR),
+                               key_noise=errors if key == "detected" else None)  # fmt: skip
+        for mode in ("smooth", "none"):
+            res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=mode, tracks=clips["tracks"])
+            np.savez(out / f"fold{k}-intrinsics-{mode}-near_clips_{key}.npz", group=clips["tracks"],
+                     **camera_cases(res, clips))  # fmt: skip
 
 
 def load_cases(folder: Path, mode: str) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray]:
@@ -367,12 +410,16 @@ def print_table(figures: dict, mode: str) -> None:
                 print(f"  {lv:.2f} | {100 * (dec * w).sum() / w.sum():.1f} % | {100 * pooled_agree:.1f} %")
 
 
-DEPTH_EDGES = (0.6, 2.0)  # m: the calibrations of known cameras, one per range of the lifted root depth
+# m: the calibrations of known cameras, one per range of the lifted root depth; the near one (below NEAR_BELOW_M)
+# holds the poses lifted closer than the drawn 0.5 m allows, mostly ones lifted too near (their truth 0.5-1.1 m)
+DEPTH_EDGES = (0.4, NEAR_BELOW_M, 2.0)
 FOCAL_EDGES = (600.0, 1000.0, 1600.0, 2500.0)  # px: bins the held-out figures are reported by
-DEPTH_EDGES_REPORT = (0.0, 0.6, 0.9, 1.2, 1.6, 2.0, 9.0)  # m: likewise (the lifted root depth)
+DEPTH_EDGES_REPORT = (0.0, 0.4, 0.5, 0.6, 0.9, 1.2, 1.6, 2.0, 9.0)  # m: likewise (the lifted root depth)
 SIZE_EDGES = (0.0, 60.0, 120.0, 1e9)  # px: the body's 2D size (RMS distance of the joints from their mean)
 # what each mode is fitted on: frame by frame, images and clips' frames; --temporal smooth, clips
 CAMERA_FITS = {"none": ("gt", "detected", "clips_gt", "clips_detected"), "smooth": ("clips_gt", "clips_detected")}
+# the near draws' kinds (lift_near_cases), fitted and scored only in the ranges below NEAR_BELOW_M
+NEAR_FITS = {mode: tuple(f"near_{k}" for k in kinds) for mode, kinds in CAMERA_FITS.items()}
 
 
 @dataclass
@@ -384,6 +431,7 @@ class HeldOut:
     filled: list[dict[str, MeasureModel]]  # the same, of the cases with a joint the prior filled
     fold: int | None
     evaluate: np.ndarray  # (n,) bool, over the cases they were fitted from
+    cases: list[np.ndarray]  # per range, (n,) bool: the cases of its kinds lifted inside it (range_cases)
 
 
 FILLED_BINS, MIN_FILLED = 1, 100  # cases with a filled joint: one bin, and a model only from this many cases
@@ -408,38 +456,43 @@ def depth_bin(depth: np.ndarray) -> np.ndarray:
     return np.where((b >= 0) & (b < len(DEPTH_EDGES) - 1), b, -1)
 
 
+def range_cases(lifted_depth: np.ndarray, kind: np.ndarray, mode: str) -> list[np.ndarray]:
+    """Per range of DEPTH_EDGES, `(n,)` bool: the cases lifted inside it of the kinds it is fitted on (CAMERA_FITS;
+    below NEAR_BELOW_M also NEAR_FITS)."""
+    b = depth_bin(lifted_depth)
+    base, near = np.isin(kind, CAMERA_FITS[mode]), np.isin(kind, NEAR_FITS[mode])
+    return [(b == r) & (base | (near & (DEPTH_EDGES[r + 1] <= NEAR_BELOW_M))) for r in range(len(DEPTH_EDGES) - 1)]
+
+
 def camera_fits(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray, mode: str
                 ) -> tuple[list[HeldOut], HeldOut]:  # fmt: skip
     """The cross-fitted models of mode `mode` (one per split and depth range) and the models on every case."""
-    fit_base = np.isin(kind, CAMERA_FITS[mode])
-    b = depth_bin(cases["lifted_depth"])
-    ranges = range(len(DEPTH_EDGES) - 1)
+    every = range_cases(cases["lifted_depth"], kind, mode)
     folds = np.unique(fold)
     held = []
     for fit, evaluate in splits(fold, group):
-        models = [fit_all(cases, fit & fit_base & (b == r), BINS[mode]) for r in ranges]
-        filled = [fit_filled(cases, fit & fit_base & (b == r)) for r in ranges]
-        held.append(HeldOut(models, filled, int(fold[evaluate][0]) if len(folds) > 1 else None, evaluate))
-    every = [fit_base & (b == r) for r in ranges]
+        models = [fit_all(cases, fit & m, BINS[mode]) for m in every]
+        filled = [fit_filled(cases, fit & m) for m in every]
+        held.append(HeldOut(models, filled, int(fold[evaluate][0]) if len(folds) > 1 else None, evaluate, every))
     final = HeldOut([fit_all(cases, m, BINS[mode]) for m in every], [fit_filled(cases, m) for m in every], None,
-                    np.zeros(len(fold), bool))  # fmt: skip
+                    np.zeros(len(fold), bool), every)  # fmt: skip
     return held, final
 
 
 def apply_held_out(held: list[HeldOut], cases: dict[str, np.ndarray], fold: np.ndarray, same: bool,
                    filled: bool = False) -> list[tuple[dict[str, MeasureModel], np.ndarray]]:  # fmt: skip
     """(models, mask) of the held-out models on `cases`: on their own held-out part (`same`: the cases they were
-    fitted from), else on the cases of the fold they never saw (one fold: the first half's models)."""
+    fitted from, each range on its own kinds), else on the cases of the fold they never saw (one fold: the first
+    half's models)."""
     b = depth_bin(cases["lifted_depth"])
     out = []
     for i, h in enumerate(held):
         if same:
-            mask = h.evaluate
-        elif h.fold is None:
-            mask = np.full(len(fold), i == 0)
+            inside = h.cases
         else:
-            mask = fold == h.fold
-        out += [(m, mask & (b == r)) for r, m in enumerate(h.filled if filled else h.models)]
+            mask = np.full(len(fold), i == 0) if h.fold is None else fold == h.fold
+            inside = [mask & (b == r) for r in range(len(DEPTH_EDGES) - 1)]
+        out += [(m, (h.evaluate if same else True) & inside[r]) for r, m in enumerate(h.filled if filled else h.models)]
     return out
 
 
@@ -540,9 +593,9 @@ def share_figures(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]], cases
             "probability_bins": calib}  # fmt: skip
 
 
-def interval_share(pairs: list, filled: list, cases: dict[str, np.ndarray]) -> tuple[float, int]:
-    """The share of the lifted symmetry frame-pairs that get an interval (observed joints or filled ones), and
-    how many frame-pairs were lifted."""
+def covered_pairs(pairs: list, filled: list, cases: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Per symmetry pair and case `(4, n)`: lifted (a value, with observed joints or a filled one), and given an
+    interval by one of the held-out models."""
     lifted = np.stack([np.isfinite(cases[f"{n}|raw"]) | np.isfinite(cases[f"{n}|filled_raw"]) for n in SYMMETRY_NAMES])
     covered = np.zeros_like(lifted)
     for k, n in enumerate(SYMMETRY_NAMES):
@@ -550,7 +603,31 @@ def interval_share(pairs: list, filled: list, cases: dict[str, np.ndarray]) -> t
             covered[k] |= mask & np.isfinite(cases[f"{n}|raw"]) & (n in models)
         for models, mask in filled:
             covered[k] |= mask & np.isfinite(cases[f"{n}|filled_raw"]) & (n in models)
+    return lifted, covered
+
+
+def interval_share(pairs: list, filled: list, cases: dict[str, np.ndarray], among: np.ndarray | None = None
+                   ) -> tuple[float, int]:  # fmt: skip
+    """The share of the lifted symmetry frame-pairs (of the cases `among`, default all) that get an interval
+    (observed joints or filled ones), and how many frame-pairs were lifted."""
+    lifted, covered = covered_pairs(pairs, filled, cases)
+    if among is not None:
+        lifted = lifted & among
     return float(covered[lifted].mean()), int(lifted.sum())
+
+
+def missing_intervals(pairs: list, filled: list, cases: dict[str, np.ndarray]) -> dict[str, int]:
+    """The lifted symmetry frame-pairs without an interval, counted by why: lifted nearer or further than
+    DEPTH_EDGES, or a joint the prior filled where no model of such cases was fitted (`MIN_FILLED`)."""
+    lifted, covered = covered_pairs(pairs, filled, cases)
+    missing = lifted & ~covered
+    depth = np.broadcast_to(cases["lifted_depth"], missing.shape)
+    with_filled = np.stack([np.isfinite(cases[f"{n}|filled_raw"]) for n in SYMMETRY_NAMES])
+    near, far = missing & (depth < DEPTH_EDGES[0]), missing & (depth > DEPTH_EDGES[-1])
+    return {f"lifted nearer than {DEPTH_EDGES[0]:g} m": int(near.sum()),
+            f"lifted further than {DEPTH_EDGES[-1]:g} m": int(far.sum()),
+            "a filled joint, no model of such cases": int((missing & ~near & ~far & with_filled).sum()),
+            "other": int((missing & ~near & ~far & ~with_filled).sum())}  # fmt: skip
 
 
 def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[str, Any]) -> list[MeasureCalibration]:
@@ -576,7 +653,8 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
         for by, f in figures.items():
             print_pooled(f"known intrinsics, {mode}, by {by}", f)
         report[mode] = {by: {k: pooled(v) for k, v in f.items()} for by, f in figures.items()}
-        report[mode]["interval_share"], report[mode]["lifted_pairs"] = interval_share(pairs, filled, cases)
+        base = np.isin(kind, CAMERA_FITS[mode])  # the near draws cover only the near range: left out here
+        report[mode]["interval_share"], report[mode]["lifted_pairs"] = interval_share(pairs, filled, cases, base)
         clips = np.char.startswith(kind.astype(str), "clips")
         if clips.any():
             sh = share_figures([(m, k & clips) for m, k in pairs], cases, fold, kind, group, args.threshold, fps,
@@ -595,17 +673,31 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
             report["f1000"]["filled joint"] = {k: pooled(v) for k, v in f1000_filled.items()}
             share, lifted = interval_share(epairs, efilled, ext)
             report["f1000"]["interval_share"], report["f1000"]["lifted_pairs"] = share, lifted
-            print(f"f1000: {100 * share:.1f} % of the {lifted} lifted frame-pairs have an interval")
+            report["f1000"]["missing"] = missing_intervals(epairs, efilled, ext)
+            print(f"f1000: {100 * share:.1f} % of the {lifted} lifted frame-pairs have an interval; without one:",
+                  report["f1000"]["missing"])  # fmt: skip
+            # by the range that holds the pose: at about 1 m, a pose lifted under NEAR_BELOW_M is lifted too near
+            near = np.where(ext["lifted_depth"] < NEAR_BELOW_M, f"under {NEAR_BELOW_M:g} m", f"{NEAR_BELOW_M:g} m +")
+            for title, fig in (
+                ("", scored(epairs, ext, near, args.threshold)),
+                (", a filled joint", scored(efilled, filled_view(ext), near, args.threshold)),
+            ):
+                print_pooled(f"f = 1000 px, smooth clips{title}, by the range of the lifted root depth", fig)
+                report["f1000"]["by range" + title] = {k: pooled(v) for k, v in fig.items()}
             report["f1000"]["shares"] = share_figures(epairs, ext, efold, ekind, egroup, args.threshold, fps,
                                                       filled=efilled)  # fmt: skip
             print("clip shares asymmetric, f1000:", report["f1000"]["shares"])
         for r, (models, filled_models) in enumerate(zip(final.models, final.filled, strict=True)):
             domain = CameraDomain((DEPTH_EDGES[r], DEPTH_EDGES[r + 1]), CAMERAS.focal_px)
-            fitted = np.isin(kind, CAMERA_FITS[mode]) & (depth_bin(depth) == r)
+            fitted = final.cases[r]
+            near = DEPTH_EDGES[r + 1] <= NEAR_BELOW_M
             provenance = {
                 "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), seen by drawn known "
                 f"cameras (focal {CAMERAS.focal_px[0]:g}-{CAMERAS.focal_px[1]:g} px, root depth "
-                f"{CAMERAS.depth_m[0]:g}-{CAMERAS.depth_m[1]:g} m, 1280x720 and 1920x1080), from their projected GT "
+                f"{CAMERAS.depth_m[0]:g}-{CAMERAS.depth_m[1]:g} m"
+                + (f", and more at {NEAR.depth_m[0]:g}-{NEAR.depth_m[1]:g} m for the poses lifted nearer than "
+                   f"{NEAR_BELOW_M:g} m" if near else "")
+                + ", 1280x720 and 1920x1080), from their projected GT "
                 "2D and with their own FiDIP error, " + ("as images and synthetic 30 fps clips lifted frame by frame"
                                                         if mode == "none" else "as synthetic 30 fps clips")
                 + "; never Test100 or the synthetic rows",
@@ -616,7 +708,9 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
                 "bins": BINS[mode],
                 "bins_filled": FILLED_BINS,
                 "cameras": {"focal_px": list(CAMERAS.focal_px), "depth_m": list(CAMERAS.depth_m),
-                            "frames": [list(f) for f in CAMERAS.frames], "draws": CAMERA_DRAWS},
+                            "frames": [list(f) for f in CAMERAS.frames], "draws": CAMERA_DRAWS,
+                            **({"near": {"depth_m": list(NEAR.depth_m), "draws": NEAR_DRAWS,
+                                         "clips": NEAR_CLIP_COUNT}} if near else {})},
                 "clips": CAMERA_CLIPS,
                 "cross_fitted": report[mode],
             }  # fmt: skip
@@ -648,6 +742,25 @@ def pseudo_share_figures(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def replace_calibrations(old: list[MeasureCalibration], new: list[MeasureCalibration]) -> list[MeasureCalibration]:
+    """`old` with every calibration of the same prior, mode, cameras and scope as one of `new` (whatever its range
+    of cameras) replaced by `new`, in the place of the first replaced; the others stay as they are, in their order."""
+
+    def key(c: MeasureCalibration) -> tuple:
+        return c.prior_sha256, c.temporal_mode, c.cameras, c.scope
+
+    if not new:
+        return list(old)
+    replaced = {key(c) for c in new}
+    out: list[MeasureCalibration] = []
+    for c in old:
+        if key(c) not in replaced:
+            out.append(c)
+        elif not any(n is new[0] for n in out):
+            out += new
+    return out if any(n is new[0] for n in out) else out + new
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--syrip-dir", required=True)
@@ -658,6 +771,8 @@ def main() -> int:
     ap.add_argument("--cameras", action="store_true",
                     help="the calibrations of known intrinsics (CAMERAS) instead of the pseudo camera's")  # fmt: skip
     ap.add_argument("--lift-only", action="store_true", help="lift the held-out cases, then stop")
+    ap.add_argument("--camera-kinds", nargs="+", choices=("base", "near"), default=["base", "near"],
+                    help="--cameras --lift: the CAMERAS, F1000 and pseudo cases (base), NEAR's (near)")  # fmt: skip
     ap.add_argument("--fold-ids", type=int, nargs="+", default=None, help="--lift: these folds only (default all)")
     ap.add_argument("--write", action="store_true", help="write the calibrations for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="calibration file (default: the package's)")
@@ -703,14 +818,10 @@ def main() -> int:
     if args.write:
         out = args.out or bundled_path()
 
-        def key(c: MeasureCalibration) -> tuple:
-            return c.prior_sha256, c.temporal_mode, c.cameras, c.domain
-
-        new = {key(c) for c in calibrations}
         old = read_calibrations(out) if out.exists() else []
-        keep = [c for c in old if key(c) not in new]  # the other cameras' calibrations stay as they are
-        write_calibrations(out, keep + calibrations)
-        print(f"\nwrote {out}: {len(keep) + len(calibrations)} calibrations")
+        merged = replace_calibrations(old, calibrations)
+        write_calibrations(out, merged)
+        print(f"\nwrote {out}: {len(merged)} calibrations")
     else:
         print(json.dumps({c.temporal_mode: {n: m.to_dict() for n, m in list(c.measures.items())[:2]}
                           for c in calibrations}, indent=1))  # fmt: skip

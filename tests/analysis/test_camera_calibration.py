@@ -154,6 +154,42 @@ def test_ranges_that_meet_read_as_one_and_a_near_pose_takes_the_near_range() -> 
                         "focal length 600-2500 px)")  # fmt: skip
 
 
+def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_2_m() -> None:
+    """Each mode's calibrations of known cameras meet end to end over 0.4-2 m and 600-2500 px, each range fitted
+    on its own held-out cases with a model for every symmetry pair, observed and with a filled joint; the pseudo
+    camera's have no range (issue 35: every symmetry value of a clip at f = 1000 px about 1 m away)."""
+    from zedo_cli.analysis.calibration import bundled_calibrations, describe_domains
+
+    frames = [c for c in bundled_calibrations() if c.scope == "frames"]
+    assert all(c.domain is None for c in frames if c.cameras == ("pseudo",))
+    for mode in ("none", "smooth"):
+        known = sorted((c for c in frames if c.cameras == ("cli", "file") and c.temporal_mode == mode),
+                       key=lambda c: c.domain.root_depth_m)  # fmt: skip
+        assert [c.domain.root_depth_m for c in known] == [(0.4, 0.6), (0.6, 2.0)]
+        assert describe_domains([c.domain for c in known]) == "root depth 0.4-2 m, focal length 600-2500 px"
+        for c in known:
+            assert set(SYMMETRY_NAMES) <= set(c.measures) and set(SYMMETRY_NAMES) <= set(c.filled)
+            assert c.provenance["cases"] >= 1000 and c.provenance["cases_filled"] >= 100
+
+
+def test_the_recipe_replaces_every_range_of_a_mode_and_leaves_the_pseudo_cameras_in_place() -> None:
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    from calibrate_measures import replace_calibrations
+
+    pseudo, clips = calibration(), replace(calibration("smooth"), scope="clips")
+    old = [pseudo, camera_calibration((0.6, 2.0)), camera_calibration((0.6, 2.0), temporal="smooth"), clips]
+    new = [camera_calibration((0.4, 0.6), width=12.0), camera_calibration((0.6, 2.0), width=9.0),
+           camera_calibration((0.4, 0.6), temporal="smooth", width=12.0),
+           camera_calibration((0.6, 2.0), temporal="smooth", width=9.0)]  # fmt: skip
+    merged = replace_calibrations(old, new)
+    assert merged == [pseudo, *new, clips]  # the old ranges gone, whatever they were; the others where they were
+    assert merged[0] is pseudo and merged[-1] is clips
+    assert replace_calibrations(old, []) == old
+    assert replace_calibrations([pseudo], new[:1]) == [pseudo, new[0]]
+
+
 def test_a_filled_joint_outside_the_calibrated_range_gives_the_cameras_reason(tmp_path: Path) -> None:
     """A pose outside every range gets no interval because of its camera, filled joint or not: the `interval`
     column names the camera, not the filled joint (the calibration has a model of filled joints inside)."""
