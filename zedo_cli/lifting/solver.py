@@ -65,7 +65,7 @@ from .camera import pixel_rays, project, project_onto_rays, solve_root_translati
 from .chunks import BlockNoise, Chunk, deterministic_cuda, lift_workers, plan_chunks, run_chunks
 from .config import LiftConfig
 from .proportions import bone_proportion_step, template_fractions
-from .result import LIFTED, LiftResult
+from .result import LIFTED, LiftResult, hypothesis_spread
 from .twin_limbs import cap_twin_ratios, twin_limb_step
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
@@ -419,11 +419,13 @@ def lift(
     lifted = status == LIFTED
     cam[~lifted], reproj[~lifted] = np.nan, np.nan
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
+    spread = None
     if hypotheses is not None:
         hypotheses[~lifted] = np.nan
         hypotheses = hypotheses - hypotheses[:, :, prior.skeleton.root_indices].mean(axis=2, keepdims=True)
+        spread = hypothesis_spread(hypotheses, cam - root[:, None])
     return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start,
-                      status, hypotheses)  # fmt: skip
+                      status, hypotheses, hypothesis_spread_m=spread)  # fmt: skip
 
 
 def ray_pull(

@@ -232,7 +232,7 @@ def lift_sequence(
     rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks, frames)
     if mode == "smooth":
         smoothed = replace(first, poses_camera=rel + trans[:, None], poses_root_relative=rel, root_translation=trans,
-                           hypotheses=None)  # fmt: skip
+                           hypotheses=None, hypothesis_spread_m=None)  # fmt: skip
         return replace(_refit(smoothed, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
     # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
     # go through the detections smoothed by the same filter: rays through the raw pixels would bring
@@ -243,7 +243,7 @@ def lift_sequence(
     # An instance the first pass could not lift (its start is NaN) stays not lifted, for the same reason,
     # rather than being lifted cold from the smoothed pixels.
     status = np.where(first.lifted, second.status, first.status)
-    refined = replace(second, status=status, hypotheses=None)
+    refined = replace(second, status=status, hypotheses=None, hypothesis_spread_m=None)
     return replace(_refit(refined, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
 
 
