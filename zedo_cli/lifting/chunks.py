@@ -121,6 +121,8 @@ def run_chunks(
     """`work(chunk, tick)` for every chunk: on the CPU on `workers` threads of one intra-op thread
     each, elsewhere in order in this thread. `tick(steps)` reports steps done (`on_steps`, called
     under a lock, so in order); once a chunk fails, the others stop at their next tick."""
+    if not chunks:
+        return
     lock, stop = threading.Lock(), threading.Event()
 
     def tick(steps: int) -> None:
