@@ -163,3 +163,30 @@ def test_ray_pull_options_are_bounded_and_other_values_are_not_calibrated(
     cal = _calibration(tmp_path, tiny_prior_path, hypotheses=1)
     doc = _lift(tiny_prior_path, src, option, str(other), "--calibration", str(cal))
     assert doc["params"]["config"][field] == other and doc["params"]["uncertainty"]["uncertainty_m"] is False
+
+
+def test_hypotheses_give_each_person_their_spread_and_flag_an_unstable_one(
+    tiny_prior_path: Path, tmp_path: Path
+) -> None:
+    from zedo_cli.lifting.result import UNSTABLE_SPREAD_M
+
+    src = write_coco(tmp_path / "kp.json", n=4)
+    doc = _lift(tiny_prior_path, src, "--hypotheses", "3", "--save-hypotheses")
+    persons = [p for f in doc["frames"] for p in f["persons"]]
+    for person in persons:
+        hyps = np.array(person["hypotheses_m"])
+        reported = np.array(person["keypoints_3d_root_relative"])
+        spread_mm = np.sqrt(((hyps - reported) ** 2).sum(-1).mean(0)).max() * 1000  # the most different joint
+        assert person["hypothesis_spread_mm"] == pytest.approx(spread_mm, abs=0.06)
+        assert ("unstable_solution" in person["flags"]) == (spread_mm > UNSTABLE_SPREAD_M * 1000)
+    assert all("hypothesis_spread_mm" not in p for f in _lift(tiny_prior_path, src)["frames"] for p in f["persons"])
+    # the other formats: a CSV column, NPZ arrays
+    for ext in ("csv", "npz"):
+        result = runner.invoke(app, lift_args(tiny_prior_path, str(src), "-o", str(tmp_path / f"r.{ext}"),
+                                              "--hypotheses", "3"))  # fmt: skip
+        assert result.exit_code == 0, result.output
+    header = (tmp_path / "r.csv").read_text().splitlines()[0].split(",")
+    assert header[-1] == "hypothesis_spread_mm"
+    npz = np.load(tmp_path / "r.npz")
+    np.testing.assert_allclose(npz["hypothesis_spread_mm"], [p["hypothesis_spread_mm"] for p in persons], atol=0.06)
+    assert npz["unstable_solution"].tolist() == ["unstable_solution" in p["flags"] for p in persons]

@@ -59,7 +59,12 @@ def variants() -> list[tuple[str, Any, Any, dict[str, Any]]]:
     return [
         ("default", kp, res, {}),
         ("mm-root", kp, res, {"units": "mm", "frame": "root"}),
-        ("uncertainty-hypotheses", kp, replace(res, uncertainty_m=radii, hypotheses=hyps), {}),
+        (
+            "uncertainty-hypotheses",
+            kp,
+            replace(res, uncertainty_m=radii, hypotheses=hyps, hypothesis_spread_m=np.where(res.lifted, 0.09, np.nan)),
+            {},
+        ),  # fmt: skip
         ("string-ids", replace(kp, image_ids=["a", "a", "b", "c"]), res, {"units": "mm"}),
     ]
 

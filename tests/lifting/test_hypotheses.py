@@ -205,3 +205,24 @@ def test_unsure_joints_are_held_less_to_their_rays(tiny_prior: Prior) -> None:
     assert alike.lifted.all() and doubted.lifted.all()
     miss_alike, miss_doubted = alike.reprojection_error_px[:, ::2], doubted.reprojection_error_px[:, ::2]
     assert np.nanmean(miss_doubted) > np.nanmean(miss_alike)  # the prior holds doubted joints off their rays
+
+
+def test_the_spread_of_hypotheses_is_measured_at_the_most_different_joint() -> None:
+    from zedo_cli.lifting.result import hypothesis_spread
+
+    reported = np.zeros((3, 2, 3))
+    hyps = np.zeros((3, 3, 2, 3))
+    hyps[0, 1, 1, 2] = 0.3  # one hypothesis has joint 1 30 cm deeper: RMS over 3 is 0.3 / sqrt(3)
+    hyps[1, 1:] = np.nan  # only the reported hypothesis usable: nothing to compare
+    hyps[2] = np.nan  # not lifted
+    spread = hypothesis_spread(hyps, reported)
+    np.testing.assert_allclose(spread[0], 0.3 / np.sqrt(3))
+    assert np.isnan(spread[1:]).all()
+
+
+def test_a_lift_with_hypotheses_reports_their_spread_and_one_without_none(tiny_prior: Prior) -> None:
+    xy, conf, k = _inputs(3)
+    assert lift(xy, conf, k, tiny_prior, BASE).hypothesis_spread_m is None
+    res = lift(xy, conf, k, tiny_prior, SPREAD)
+    assert res.hypothesis_spread_m is not None and (res.hypothesis_spread_m > 0).all()
+    assert res.unstable() is not None and res.unstable().shape == (3,)

@@ -121,11 +121,24 @@ def lift_params(prior: Prior, cfg: LiftConfig, *, seed: int, device: str, min_co
         "noise_t": [cfg.t_start, cfg.t_end],
         "min_confidence": min_confidence,
         "hypotheses": cfg.hypotheses,
+        "stability": stability_note(cfg.hypotheses),
         "seed": seed,
         "device": device,
         "prior": {"file": Path(prior.path).name, "sha256": prior.sha256, "skeleton": prior.skeleton.name},
         "config": cfg.to_dict(),
     }
+
+
+def stability_note(hypotheses: int) -> str:
+    """What the output says about poses that may have landed in another solution (issue 38)."""
+    from ..lifting.result import UNSTABLE_SPREAD_M
+
+    limit = f"{UNSTABLE_SPREAD_M * 1000:g} mm"
+    if hypotheses > 1:
+        return (f"each person's hypothesis_spread_mm: how far its hypotheses lie apart; over {limit} its flags say "
+                "unstable_solution (it may be another solution, e.g. a limb at another depth)")  # fmt: skip
+    return ("not measured: one hypothesis; --hypotheses 8 gives each person's hypothesis_spread_mm and flags "
+            f"unstable_solution where its hypotheses lie over {limit} apart")  # fmt: skip
 
 
 def uncertainty_params(res: LiftResult) -> dict[str, Any]:

@@ -73,6 +73,9 @@ def _person(
     if missing and res.lifted[i]:
         flags.append("joints_filled_by_prior: " + ", ".join(missing))
     flags += sanity.flags(i)  # implausible_distance, keypoints_outside_image (camera.sanity)
+    unstable = res.unstable()
+    if unstable is not None and unstable[i]:  # K > 1: hypotheses far apart (lifting.result.UNSTABLE_SPREAD_M)
+        flags.append("unstable_solution")
     d = opts.digits
     return {
         "instance_index": i,
@@ -118,13 +121,16 @@ def other_keypoints_block(kp: Keypoints2D) -> dict[str, Any] | None:
 
 
 def _uncertainty_fields(res: LiftResult, i: int) -> dict[str, Any]:
-    """`uncertainty_m` (per joint, metres, whatever the units) when the lift has it, and the K
-    hypotheses `hypotheses_m` (root-relative, metres) when they were kept (--save-hypotheses)."""
+    """`uncertainty_m` (per joint, metres, whatever the units) when the lift has it, the K
+    hypotheses `hypotheses_m` (root-relative, metres) when they were kept (--save-hypotheses), and
+    with K > 1 their `hypothesis_spread_mm` (null where not measured)."""
     out: dict[str, Any] = {}
     if res.uncertainty_m is not None:
         out["uncertainty_m"] = [_num(r, 4) for r in res.uncertainty_m[i]]
     if res.hypotheses is not None:
         out["hypotheses_m"] = [_points(h) for h in res.hypotheses[i]] if res.lifted[i] else None
+    if res.hypothesis_spread_m is not None:
+        out["hypothesis_spread_mm"] = _num(res.hypothesis_spread_m[i] * 1000, 1)
     return out
 
 

@@ -102,12 +102,19 @@ class Person(_Closed):
     joint_confidence: list[float | None]
     keypoints_2d: list[Point2 | None]
     reprojection_error_px: list[NonNegative | None]
-    flags: list[str] = Field(description="e.g. not_lifted_<reason>, joints_filled_by_prior: <joints>")
+    flags: list[str] = Field(
+        description="e.g. not_lifted_<reason>, joints_filled_by_prior: <joints>, unstable_solution"
+    )
     uncertainty_m: list[NonNegative | None] | None = Field(
         None, description="90 % ball radius per joint in metres (root-relative); absent when not calibrated"
     )
     hypotheses_m: list[list[Point3] | None] | None = Field(
         None, description="the K hypotheses, root-relative, metres (--save-hypotheses)"
+    )
+    hypothesis_spread_mm: NonNegative | None = Field(
+        None,
+        description="with --hypotheses K > 1: the hypotheses' RMS distance (mm) from the reported pose at their most "
+        "different joint; over 80 mm the flags say unstable_solution; null where not measured; absent with K = 1",
     )
     other_keypoints_2d: list[Point2 | None] | None = Field(
         None,

@@ -64,13 +64,16 @@ def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:
     return [f"{axis}_{tag}_{opts.units}" for axis in "xyz"]
 
 
-def csv_columns(units: str = "m", frame: str = "camera", *, uncertainty: bool = False) -> list[str]:
-    """The header row; `uncertainty_m` last when the result has a calibrated uncertainty."""
+def csv_columns(
+    units: str = "m", frame: str = "camera", *, uncertainty: bool = False, spread: bool = False
+) -> list[str]:
+    """The header row; `uncertainty_m` when the result has a calibrated uncertainty, then
+    `hypothesis_spread_mm` when it has K > 1 hypotheses."""
     return [
         "frame_index", "image_id", "file_name", "person", "instance_index", "joint", "joint_index",
         *coordinate_columns(units, frame), "observed", "lifted", "status", "confidence", "u_px", "v_px",
         "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source", "camera_model", "dist",
-        *(["uncertainty_m"] if uncertainty else []),
+        *(["uncertainty_m"] if uncertainty else []), *(["hypothesis_spread_mm"] if spread else []),
     ]  # fmt: skip
 
 
@@ -96,8 +99,9 @@ def csv_rows(
     opts = OutputOptions(units, frame)
     poses = output_poses(res, opts)  # (N, J, 3)
     groups = group_frames(kp.image_ids, kp.frame_indices)
-    radii = res.uncertainty_m
-    yield csv_columns(units, frame, uncertainty=radii is not None)
+    radii, spread = res.uncertainty_m, res.hypothesis_spread_m
+    yield csv_columns(units, frame, uncertainty=radii is not None, spread=spread is not None)
+    blanks = [""] * ((radii is not None) + (spread is not None))  # the other keypoints' last cells
     for members in groups.members:
         for i in members:
             k = intrinsics[i]
@@ -114,12 +118,13 @@ def csv_rows(
                     _cell(kp.xy[i, j, 0], 3), _cell(kp.xy[i, j, 1], 3),
                     _cell(res.reprojection_error_px[i, j], 3), *camera,
                     *([] if radii is None else [_cell(radii[i, j], 4)]),
+                    *([] if spread is None else [_cell(spread[i] * 1000, 1)]),
                 ]  # fmt: skip
-            yield from _other_rows(kp, i, head, [_bool(res.lifted[i]), str(res.status[i])], camera, radii is not None)
+            yield from _other_rows(kp, i, head, [_bool(res.lifted[i]), str(res.status[i])], camera, blanks)
 
 
 def _other_rows(
-    kp: Keypoints2D, i: int, head: list[Any], instance: list[str], camera: list[Any], uncertainty: bool
+    kp: Keypoints2D, i: int, head: list[Any], instance: list[str], camera: list[Any], blanks: list[str]
 ) -> Iterator[list[Any]]:
     """Instance `i`'s keypoints that were not lifted (`kp.other`), one row each after its lifted
     joints: the name, an empty joint_index, no 3D, the input's confidence and pixels as given."""
@@ -130,7 +135,7 @@ def _other_rows(
         u, v = kp.other.xy[i, e]
         yield [
             *head, name, "", "", "", "", "", *instance, _cell(conf, 4) if conf > 0 else "", _cell(u, 3), _cell(v, 3),
-            "", *camera, *([""] if uncertainty else []),
+            "", *camera, *blanks,
         ]  # fmt: skip
 
 
@@ -184,6 +189,9 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
         "before lifting when there are some; reprojection errors are in the original image)",
         "uncertainty_m": "only when calibrated: radius in metres (whatever the units) of the ball around the "
         "root-relative joint that holds the true joint with 90 % probability; empty where not lifted",
+        "hypothesis_spread_mm": "only with --hypotheses K > 1: the person's hypotheses' RMS distance (mm) from the "
+        "reported pose at their most different joint; over 80 mm the pose may be another solution (a depth "
+        "flip; the JSON's unstable_solution flag); empty where not measured",
     }
 
 

@@ -26,6 +26,8 @@ Arrays (N instances, J joints); NaN marks every missing value, never 0:
     other_keypoint_names   (E,) str           their names (E = 0: the input had none)
     uncertainty_m          (N, J)    float64  only when calibrated: 90 % radius in metres; NaN where not lifted
     hypotheses             (N, K, J, 3) float64  only with --save-hypotheses: root-relative, metres, camera axes
+    hypothesis_spread_mm   (N,)      float64  only with --hypotheses K > 1: the hypotheses' spread; NaN: not measured
+    unstable_solution      (N,)      bool     only with K > 1: spread over 80 mm (lifting.result.UNSTABLE_SPREAD_M)
     units, coordinate_frame  0-d str; axes (3,) str: the directions of x, y, z
     metadata               0-d str: JSON of the result's header and summary (skeleton, input, params, ...)
 
@@ -129,6 +131,10 @@ def _uncertainty_arrays(res: LiftResult) -> dict[str, np.ndarray]:
         out["uncertainty_m"] = res.uncertainty_m.astype(np.float64)
     if res.hypotheses is not None:
         out["hypotheses"] = res.hypotheses.astype(np.float64)
+    unstable = res.unstable()
+    if res.hypothesis_spread_m is not None and unstable is not None:
+        out["hypothesis_spread_mm"] = res.hypothesis_spread_m.astype(np.float64) * 1000
+        out["unstable_solution"] = unstable
     return out
 
 

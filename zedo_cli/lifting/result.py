@@ -11,6 +11,33 @@ import numpy as np
 from .config import LiftConfig
 
 LIFTED = "lifted"  # `LiftResult.status` of a lifted instance; else a reason (`solver.NOT_LIFTED`)
+# A pose whose K hypotheses lie further apart than this (`hypothesis_spread_m`) may land in another
+# solution (a limb or the whole pose at another depth): flagged `unstable_solution`. Chosen on held-out
+# SyRIP folds (benchmarks/hypothesis_spread.py; docs/lifting.md, "Same answer on every machine").
+UNSTABLE_SPREAD_M = 0.08
+
+
+def joint_spread(hypotheses: np.ndarray | None, reported: np.ndarray) -> np.ndarray:
+    """RMS distance `(N, J)` of the hypotheses `(N, K, J, 3)` (NaN: unusable) from the reported
+    root-relative poses `(N, J, 3)`; 0 without hypotheses."""
+    if hypotheses is None:
+        return np.zeros(reported.shape[:2])
+    d2 = ((hypotheses - reported[:, None]) ** 2).sum(-1)  # (N, K, J)
+    usable = np.isfinite(d2)
+    count = usable.sum(axis=1)
+    # NaN where no hypothesis is usable (an instance not lifted), without nanmean's empty-slice warning
+    mean = np.where(usable, d2, 0.0).sum(axis=1) / np.maximum(count, 1)
+    return np.where(count > 0, np.sqrt(mean), np.nan)
+
+
+def hypothesis_spread(hypotheses: np.ndarray, reported: np.ndarray) -> np.ndarray:
+    """Per pose `(N,)`, the largest over joints of `joint_spread`: how far (metres, RMS over the
+    usable hypotheses) the hypotheses `(N, K, J, 3)` lie from the reported pose `(N, J, 3)` at
+    their most different joint; NaN where fewer than two hypotheses are usable (nothing to compare)."""
+    spread = joint_spread(hypotheses, reported)
+    usable = np.isfinite(hypotheses).all(axis=(2, 3)).sum(1)
+    measured = (usable >= 2) & np.isfinite(spread).all(1)
+    return np.where(measured, np.nan_to_num(spread).max(1, initial=0.0), np.nan)
 
 
 @dataclass
@@ -34,6 +61,15 @@ class LiftResult:
     uncertainty_m: np.ndarray | None = None
     uncertainty_note: str = "not computed"
     uncertainty_coverage: float | None = None  # the probability the radii hold (the calibration's)
+    # (N,) `hypothesis_spread`, NaN where not lifted; None when K = 1 (nothing to compare).
+    hypothesis_spread_m: np.ndarray | None = None
+
+    def unstable(self) -> np.ndarray | None:
+        """`(N,)` lifted poses whose hypotheses spread over UNSTABLE_SPREAD_M; None when K = 1."""
+        if self.hypothesis_spread_m is None:
+            return None
+        with np.errstate(invalid="ignore"):
+            return self.lifted & (self.hypothesis_spread_m > UNSTABLE_SPREAD_M)
 
     def __post_init__(self) -> None:
         if self.status is None:  # results built by hand know only "lifted" and "too few joints"

@@ -13,9 +13,11 @@
    length ratios (`twin_limbs.cap_twin_ratios`).
 
 Vectorised over all poses of a chunk: no per-pose Python loop, no host copies inside the loop,
-no per-iteration history. Deviations from the reference, all documented in docs/benchmarks.md: missing
-joints are left out of the fit, the projection and the translation solve (the prior fills
-them); the output is re-centred on the skeleton's root.
+no per-iteration history. On the CPU, chunks run at once on torch's threads, one intra-op thread
+each, so that the result does not depend on the thread count (`chunks.py`). Deviations from the
+reference, all documented in docs/benchmarks.md: missing joints are left out of the fit, the
+projection and the translation solve (the prior fills them); the output is re-centred on the
+skeleton's root.
 
 Presets: `faithful` is the reference's loop (1000 prior steps of delta 1/1000, 500 fit steps).
 `fast` (the CLI default) starts at t = 0.2 and takes 20 prior steps of delta 0.03, re-solves the
@@ -60,9 +62,10 @@ from ..prior.sampling import diffusion_scale, probability_flow_step
 from ..prior.weights import Prior
 from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
+from .chunks import BlockNoise, Chunk, deterministic_cuda, lift_workers, plan_chunks, run_chunks
 from .config import LiftConfig
 from .proportions import bone_proportion_step, template_fractions
-from .result import LIFTED, LiftResult
+from .result import LIFTED, LiftResult, hypothesis_spread
 from .twin_limbs import cap_twin_ratios, twin_limb_step
 
 # A pinhole image of a joint more than ~87 degrees off the optical axis is not a real camera's:
@@ -200,11 +203,11 @@ def fit_rotation_depth(
 @torch.no_grad()
 def _lift_chunk(
     prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None, cfg: LiftConfig,
-    tick: Callable[[int], None], generator: torch.Generator,
+    tick: Callable[[int], None], draws: BlockNoise | None,
 ) -> _ChunkResult:  # fmt: skip
     """Root-relative poses X `(B, K, J, 3)` and translations T `(B, K, 3)` of one chunk's K
-    hypotheses (`cfg.hypotheses`; the perturbations drawn from `generator`); `pull (B, J)` from
-    `ray_pull`."""
+    hypotheses (`cfg.hypotheses`; the perturbations drawn from `draws`, given when K > 1); `pull
+    (B, J)` from `ray_pull`."""
     skel = prior.skeleton
     obs = w > 0
     rays = pixel_rays(xy, k)  # (B, J, 3), z = 1
@@ -223,13 +226,14 @@ def _lift_chunk(
     count = cfg.hypotheses
     noise = None
     if count > 1:  # hypothesis 0 of each instance is the deterministic lift, the others are perturbed
+        assert draws is not None
         x, trans, rays, unit, w = (t.repeat_interleave(count, 0) for t in (x, trans, rays, unit, w))
         pull = None if pull is None else pull.repeat_interleave(count, 0)
         other = (torch.arange(x.shape[0], device=x.device) % count != 0).to(x.dtype)[:, None, None]
-        jitter = torch.randn(x.shape[:2], generator=generator, device=x.device, dtype=x.dtype)[..., None]
+        jitter = draws.randn(x.shape[1:2], x.dtype)[..., None]
         x = x + other * cfg.start_jitter_m * torch.where(w[..., None] > 0, jitter * unit, 0.0)
         noise = other * cfg.hypothesis_noise
-    out = _prior_loop(prior, x, trans, rays, unit, w, pull, ts, release, cfg.delta, cfg, tick, noise, generator)
+    out = _prior_loop(prior, x, trans, rays, unit, w, pull, ts, release, cfg.delta, cfg, tick, noise, draws)
     return out.per_instance(count)
 
 
@@ -251,13 +255,13 @@ def _prior_loop(
     prior: Prior, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor, w: torch.Tensor,
     pull: torch.Tensor | None, ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig,
     tick: Callable[[int], None],
-    noise: torch.Tensor | None = None, generator: torch.Generator | None = None,
+    noise: torch.Tensor | None = None, draws: BlockNoise | None = None,
 ) -> _ChunkResult:  # fmt: skip
     """The loop (ALGORITHM.md 3.5) over the noise levels `ts`: translation re-solved from
     iteration `release` on, observed joints moved onto their rays (all the way, or the fraction
     `pull (B, J)` of it), twin limbs evened (`cfg.twin_rate`) and bone proportions kept
     (`cfg.proportion_rate`), one prior step; rows with a `noise (B, 1, 1)` factor above 0 also get
-    that fraction of the reverse SDE's noise (drawn from `generator`). After the loop, twin ratios
+    that fraction of the reverse SDE's noise (drawn from `draws`). After the loop, twin ratios
     over `cfg.twin_ratio_cap` are capped.
 
     A pose whose translation solve is singular keeps its previous translation and is reported;
@@ -288,7 +292,8 @@ def _prior_loop(
             eps = prior.model(x, ts[i]).to(x.dtype)
         x = probability_flow_step(x, eps, ts[i], prior.sde, delta, cfg.flow)
         if noise is not None:
-            z = torch.randn(x.shape, generator=generator, device=x.device, dtype=x.dtype)
+            assert draws is not None
+            z = draws.randn(x.shape[1:], x.dtype)
             x = x + noise * diffusion_scale(ts[i], prior.sde, delta) * z
         if (i + 1) % every == 0 or i + 1 == steps:
             tick(i + 1 - reported)
@@ -318,6 +323,7 @@ def lift(
     start_translation: np.ndarray | None = None,
     seed: int = 0,
     cameras: Sequence[CameraModel | None] | None = None,
+    threads: int | None = None,
 ) -> LiftResult:
     """Lift pixels `xy (N, J, 2)` with confidences `(N, J)` and intrinsics `(N, 3, 3)` to 3D.
 
@@ -338,6 +344,11 @@ def lift(
     With `config.hypotheses` K > 1, each instance is lifted K times in one batch (hypothesis 0 as
     with K = 1, the others perturbed from `seed`: same seed, same output) and the reported pose
     is their `config.aggregate`, over the hypotheses that were lifted; the status is hypothesis 0's.
+
+    On the CPU, chunks of the batch run on `threads` threads at once (default: torch's thread count),
+    each with one intra-op thread: the result is the same to the bit for any thread count and
+    batch size (`chunks.py`). On CUDA, torch's deterministic settings are switched on
+    (`chunks.deterministic_cuda`).
     """
     start = time.perf_counter()
     n, joints = xy.shape[:2]
@@ -351,13 +362,15 @@ def lift(
     warm = _warm_mask(start_poses, start_translation, n, joints) & todo_all
     todo, todo_warm = np.flatnonzero(todo_all & ~warm), np.flatnonzero(warm)
     count = config.hypotheses
-    size = max(1, config.chunk_size // count)  # chunk_size counts the loop's rows
-    chunks = [todo[i : i + size] for i in range(0, len(todo), size)]
-    warm_chunks = [todo_warm[i : i + size] for i in range(0, len(todo_warm), size)]
+    workers = lift_workers(device, threads)
+    if torch.device(device).type == "cuda":
+        deterministic_cuda()
+    chunks = plan_chunks(len(todo), count, config.chunk_size, workers)  # chunk_size counts the loop's rows
+    warm_chunks = plan_chunks(len(todo_warm), 1, config.chunk_size, workers)
     total = len(chunks) * (config.init_steps + config.steps) + len(warm_chunks) * config.warm_steps
     done = 0
 
-    def tick(steps: int) -> None:
+    def on_steps(steps: int) -> None:  # called under run_chunks' lock
         nonlocal done
         done += steps
         if callback is not None:
@@ -370,21 +383,29 @@ def lift(
         return None if a is None else tensor(a[idx])
 
     def store(idx: np.ndarray, out: _ChunkResult) -> None:
-        hyp = out.pose.shape[1]
-        cam[idx, :hyp] = (out.pose + out.translation[:, :, None]).double().cpu().numpy()
-        singular[idx, :hyp], flipped[idx, :hyp] = out.singular.cpu().numpy(), out.flipped.cpu().numpy()
+        hyp, real = out.pose.shape[1], len(idx)  # the rows after `real` are the chunk's padding
+        cam[idx, :hyp] = (out.pose[:real] + out.translation[:real, :, None]).double().cpu().numpy()
+        singular[idx, :hyp], flipped[idx, :hyp] = out.singular[:real].cpu().numpy(), out.flipped[:real].cpu().numpy()
+
+    def cold(chunk: Chunk, tick: Callable[[int], None]) -> None:
+        idx = todo[chunk.positions()]
+        draws = BlockNoise(seed, chunk, count, device) if count > 1 else None
+        store(todo[chunk.start : chunk.stop],
+              _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+                          rows(pull, idx), config, tick, draws))  # fmt: skip
+
+    def warm_start(chunk: Chunk, tick: Callable[[int], None]) -> None:
+        assert start_poses is not None and start_translation is not None
+        idx = todo_warm[chunk.positions()]
+        store(todo_warm[chunk.start : chunk.stop],
+              _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+                          rows(pull, idx), tensor(start_poses[idx]), tensor(start_translation[idx]), config,
+                          tick))  # fmt: skip
 
     cam = np.full((n, count, joints, 3), np.nan)
     singular, flipped = np.zeros((n, count), dtype=bool), np.zeros((n, count), dtype=bool)
-    generator = torch.Generator(device=device).manual_seed(seed)
-    for idx in chunks:
-        store(idx, _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               rows(pull, idx), config, tick, generator))  # fmt: skip
-    for idx in warm_chunks:
-        assert start_poses is not None and start_translation is not None
-        store(idx, _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                               rows(pull, idx), tensor(start_poses[idx]), tensor(start_translation[idx]), config,
-                               tick))  # fmt: skip
+    run_chunks(chunks, cold, workers, device, on_steps)
+    run_chunks(warm_chunks, warm_start, workers, device, on_steps)
     hypotheses = aggregate = None
     if count > 1:
         bones = bone_ratio(cam.reshape(n * count, joints, 3), prior).reshape(n, count)
@@ -398,11 +419,13 @@ def lift(
     lifted = status == LIFTED
     cam[~lifted], reproj[~lifted] = np.nan, np.nan
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
+    spread = None
     if hypotheses is not None:
         hypotheses[~lifted] = np.nan
         hypotheses = hypotheses - hypotheses[:, :, prior.skeleton.root_indices].mean(axis=2, keepdims=True)
+        spread = hypothesis_spread(hypotheses, cam - root[:, None])
     return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start,
-                      status, hypotheses)  # fmt: skip
+                      status, hypotheses, hypothesis_spread_m=spread)  # fmt: skip
 
 
 def ray_pull(

@@ -41,6 +41,7 @@ import numpy as np
 from ..camera.model import CameraModel, undistort_instances
 from ..errors import ConfigError
 from ..prior.weights import Prior
+from .chunks import lift_workers, plan_chunks
 from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
 from .sequence import check_sequence
 from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, poor_fit, reprojection_error_px
@@ -171,10 +172,6 @@ class _Progress:
         self.offset += steps
 
 
-def _chunks(count: int, size: int) -> int:
-    return -(-count // size)
-
-
 def lift_sequence(
     xy: np.ndarray,
     confidence: np.ndarray,
@@ -223,8 +220,10 @@ def lift_sequence(
     lifted = observed.sum(1) >= config.min_observed
     cold_cost = config.init_steps + config.steps
     passes = 2 if mode == "two-pass" else 1
-    batches = _chunks(int(lifted.sum()), max(1, config.chunk_size // config.hypotheses))
-    progress = _Progress(batches * cold_cost + (passes - 1) * batches * config.warm_steps, callback)
+    workers = lift_workers(device)
+    batches = len(plan_chunks(int(lifted.sum()), config.hypotheses, config.chunk_size, workers))
+    warm_batches = len(plan_chunks(int(lifted.sum()), 1, config.chunk_size, workers))
+    progress = _Progress(batches * cold_cost + (passes - 1) * warm_batches * config.warm_steps, callback)
     first = lift(xy, confidence, intrinsics, prior, config, callback=progress.part(),
                  min_confidence=min_confidence, device=device, seed=seed, cameras=cameras)  # fmt: skip
     progress.advance(batches * cold_cost)
@@ -233,7 +232,7 @@ def lift_sequence(
     rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks, frames)
     if mode == "smooth":
         smoothed = replace(first, poses_camera=rel + trans[:, None], poses_root_relative=rel, root_translation=trans,
-                           hypotheses=None)  # fmt: skip
+                           hypotheses=None, hypothesis_spread_m=None)  # fmt: skip
         return replace(_refit(smoothed, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
     # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
     # go through the detections smoothed by the same filter: rays through the raw pixels would bring
@@ -244,7 +243,7 @@ def lift_sequence(
     # An instance the first pass could not lift (its start is NaN) stays not lifted, for the same reason,
     # rather than being lifted cold from the smoothed pixels.
     status = np.where(first.lifted, second.status, first.status)
-    refined = replace(second, status=status, hypotheses=None)
+    refined = replace(second, status=status, hypotheses=None, hypothesis_spread_m=None)
     return replace(_refit(refined, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
 
 

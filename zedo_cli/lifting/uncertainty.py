@@ -29,6 +29,7 @@ import numpy as np
 
 from ..versioned_json import read_models, write_items
 from .config import LiftConfig, calibration_settings, settings_match
+from .result import joint_spread
 from .solver import LiftResult
 
 COVERAGE = 0.9  # the probability each radius is calibrated to hold
@@ -56,19 +57,6 @@ class UncertaintyModel:
         return cls(d["prior_sha256"], d["settings"], float(d["coverage"]), tuple(d["joints"]),
                    np.asarray(d["floor_m"], dtype=np.float64), np.asarray(d["scale"], dtype=np.float64),
                    d.get("provenance", {}))  # fmt: skip
-
-
-def joint_spread(hypotheses: np.ndarray | None, reported: np.ndarray) -> np.ndarray:
-    """RMS distance `(N, J)` of the hypotheses `(N, K, J, 3)` (NaN: unusable) from the reported
-    root-relative poses `(N, J, 3)`; 0 without hypotheses."""
-    if hypotheses is None:
-        return np.zeros(reported.shape[:2])
-    d2 = ((hypotheses - reported[:, None]) ** 2).sum(-1)  # (N, K, J)
-    usable = np.isfinite(d2)
-    count = usable.sum(axis=1)
-    # NaN where no hypothesis is usable (an instance not lifted), without nanmean's empty-slice warning
-    mean = np.where(usable, d2, 0.0).sum(axis=1) / np.maximum(count, 1)
-    return np.where(count > 0, np.sqrt(mean), np.nan)
 
 
 def radius_m(model: UncertaintyModel, spread: np.ndarray) -> np.ndarray:
