@@ -21,7 +21,8 @@ LAYERS: list[set[str]] = [
     {"lifting"},
     {"formats"},
     {"analysis", "footage"},
-    {"augment", "evaluation"},
+    {"augment", "evaluation", "settings"},
+    {"pipeline"},
     {"cli"},
     {"__main__"},
 ]
