@@ -39,15 +39,16 @@ MODELS = {
     "calibrate": ("calibrate", "CalibrateOptions"),
 }
 CONFIG_HELP = (
-    "Settings from a TOML file: its [{command}] table, options by their long names (steps = 30); "
+    "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
     'flags given here win (docs/cli.md, "Config files").{result}'
 )
+EXAMPLES = {"lift": "steps = 30", "analyze": "fps = 30.0", "render": "side-view = true", "calibrate": "square = 0.025"}
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 
 
 def config_option(command: str, panel: str | None = None) -> Any:
     result = " A zedo result lifts again with its recorded settings." if command == "lift" else ""
-    return typer.Option("--config", metavar="FILE", help=CONFIG_HELP.format(command=command, result=result),
+    return typer.Option("--config", metavar="FILE", help=CONFIG_HELP.format(command=command, example=EXAMPLES.get(command, "seed = 3"), result=result),
                         rich_help_panel=panel, show_default=False)  # fmt: skip
 
 
