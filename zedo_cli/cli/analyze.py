@@ -24,7 +24,7 @@ from ..files import check_writable, make_output_folder
 from ..formats.openpose import is_openpose_folder
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
-from ..pipeline.analyze import Reference, analyse_result, read_reference, write_analysis
+from ..pipeline.analyze_result import Reference, analyse_result, read_reference, write_analysis
 from ..settings.analyze import AnalyzeOptions
 from .checks import DEVICE_HELP, check_device
 from .common import (

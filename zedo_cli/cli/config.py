@@ -12,7 +12,6 @@ from __future__ import annotations
 import importlib
 import sys
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import typer
@@ -132,7 +131,6 @@ def resolve_options(model: type[Options]) -> Resolved:
         for key, why in config.needs.items():
             if key not in explicit:
                 raise ConfigError(why)
-    values = {k: (Path(v) if isinstance(v, Path) else v) for k, v in values.items()}
     options = model.validated(values)
     if ctx.params.get("print_config"):
         sys.stdout.write(config_toml(options, config.path if config is not None else None))

@@ -15,6 +15,6 @@ __getattr__, __dir__, __all__ = lazy_exports(
     globals(),
     {
         ".lift": ["LiftPlan", "LiftedInput", "lift_file", "plan_lift"],
-        ".analyze": ["analyze"],
+        ".analyze_result": ["analyze"],
     },
 )

@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated, Any, ClassVar, Literal, Optional
 
-from pydantic import Field
+from pydantic import Field, field_validator
 
-from ..data.skeleton import SKELETONS
+from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError
 from ..formats import INPUT_FORMATS, OUTPUT_FORMATS
 from ..formats.markers import MARKER_AXES
@@ -15,7 +15,7 @@ from ..formats.writers import FRAMES, UNITS
 from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, MAX_HYPOTHESES, PRESETS, TEMPORAL_MODES, LiftConfig
 from ..lifting.people import PERSON_MODES
 from .limits import DEVICE_HELP, MAX_FOCAL_PX, MAX_FPS, MAX_SEED, MAX_SIGMA_FRAMES, MAX_STEPS
-from .model import Options, option_name, show
+from .model import Options, show
 
 ENGINES = ("local", "ray")
 _FAST = PRESETS["fast"]
@@ -43,8 +43,10 @@ class LiftOptions(Options):
 
     # Input
     format: Literal[INPUT_FORMATS] = Field("auto", description="Input layout, when detection is not wanted.")  # type: ignore[valid-type]
-    skeleton: Optional[Literal[tuple(SKELETONS)]] = Field(  # type: ignore[valid-type]
-        None, description=f"Joint set of an input without joint names: {', '.join(SKELETONS)}."
+    skeleton: Optional[str] = Field(
+        None,
+        description=f"Joint set of an input without joint names: {', '.join(SKELETONS)}.",
+        json_schema_extra={"expected": f"one of {', '.join(SKELETONS)}"},
     )
     person: Literal[PERSON_MODES] = Field(  # type: ignore[valid-type]
         "auto",
@@ -190,14 +192,22 @@ class LiftOptions(Options):
         None, ge=1, description="Ray workers (prior loads). Default: the CPUs / the local engine's threads."
     )
 
+    @field_validator("skeleton")
+    @classmethod
+    def _a_joint_set(cls, value: str | None) -> str | None:
+        if value is not None:
+            try:
+                get_skeleton(value)  # the joint sets' own refusal, by name
+            except ConfigError as exc:
+                raise ValueError(str(exc)) from None
+        return value
+
     def check(self) -> None:
         cap = self.twin_ratio_cap
         if cap is not None and cap != 0 and cap < 1:
             raise ConfigError(f"--twin-ratio-cap must be {self.expected('twin_ratio_cap')}, got {show(cap)}")
         if self.camera is not None and self.intrinsics is None:
             raise ConfigError("--camera picks a camera of an --intrinsics file: give the file too")
-        if self.principal_point is not None and not all(v == v for v in self.principal_point):
-            raise ConfigError(f"{option_name('principal_point')} must be two finite numbers")
 
     def lift_config(self) -> LiftConfig:
         """The preset's LiftConfig with the numbers these options set."""
