@@ -64,17 +64,19 @@ def option_key(param: Any) -> str | None:
 
 
 def config_argument(args: list[str]) -> str | None:
-    """The value of --config on a command line (None: none given, or --help asked)."""
+    """The value of --config on a command line, the last one given as click reads it (None: none
+    given, or --help asked)."""
+    found = None
     for i, word in enumerate(args):
         if word == "--":
-            return None
+            break
         if word in ("--help", "-h"):
             return None
-        if word == "--config":
-            return args[i + 1] if i + 1 < len(args) else None  # no value: click says so
-        if word.startswith("--config="):
-            return word.split("=", 1)[1]
-    return None
+        if word == "--config" and i + 1 < len(args):  # without a value, click says so
+            found = args[i + 1]
+        elif word.startswith("--config="):
+            found = word.split("=", 1)[1]
+    return found
 
 
 def model_of(command: str) -> type[Options]:
