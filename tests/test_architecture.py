@@ -21,7 +21,8 @@ LAYERS: list[set[str]] = [
     {"lifting"},
     {"formats"},
     {"analysis", "footage"},
-    {"augment", "evaluation"},
+    {"augment", "evaluation", "settings"},
+    {"pipeline"},
     {"cli"},
     {"__main__"},
 ]
@@ -132,7 +133,8 @@ def test_the_top_package_stays_light_and_exports_the_api():
         "import sys, zedo_cli\n"
         "heavy = sorted(m for m in ('torch', 'matplotlib', 'scipy', 'typer') if m in sys.modules)\n"
         "assert not heavy, heavy\n"
-        "from zedo_cli import lift, load_prior, read_keypoints, write_result\n"
+        "from zedo_cli import analyze, lift, lift_file, load_prior, read_keypoints, write_result\n"
+        "assert callable(lift_file) and callable(analyze)\n"
         "assert callable(lift) and callable(load_prior) and callable(read_keypoints) and callable(write_result)\n"
         "assert set(zedo_cli.__all__) <= set(dir(zedo_cli))\n"
     )

@@ -1,8 +1,13 @@
 """zedo: lift 2D infant body keypoints to 3D with a diffusion pose prior (ZeDO-i).
 
-The Python API, importable from here without knowing the tree::
+The Python API, importable from here without knowing the tree; one file lifted and analysed,
+with the settings of `zedo lift` and `zedo analyze` by their option names::
 
-    from zedo_cli import read_keypoints, load_prior, resolve_intrinsics, lift, write_result
+    import zedo_cli
+    lifted = zedo_cli.lift_file("examples/prior_samples_coco.json", steps=30)
+    table = zedo_cli.analyze(lifted).to_pandas()
+
+and the steps underneath: read_keypoints, load_prior, resolve_intrinsics, lift, write_result.
 
 Names load on first use (PEP 562), so `import zedo_cli` stays light: torch is imported only
 when a lifting or prior name is first touched. The layout: docs/ARCHITECTURE.md.
@@ -24,6 +29,9 @@ __getattr__, __dir__, _names = lazy_exports(
         ".camera": ["CameraModel", "read_camera_file"],
         ".formats": ["INPUT_FORMATS", "OUTPUT_FORMATS", "read_keypoints", "write_result"],
         ".augment": ["convert_poses", "load_augmenter"],
+        ".pipeline.lift": ["LiftedInput", "lift_file"],
+        ".pipeline.analyze_result": ["analyze"],
+        ".settings": ["AnalyzeOptions", "LiftOptions"],
         ".evaluation": ["mpjpe_mm", "pa_mpjpe_mm", "run_syrip_benchmark"],
     },
 )  # fmt: skip

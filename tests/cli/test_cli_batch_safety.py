@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from test_cli import lift_args, runner, write_coco
 
-import zedo_cli.cli.lift as lift_module
+import zedo_cli.pipeline.lift as lift_module  # the per-input steps zedo lift runs
 from zedo_cli.cli import app
 
 

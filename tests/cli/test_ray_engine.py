@@ -95,7 +95,7 @@ def test_ray_engine_never_overwrites(tiny_prior_path: Path, tmp_path: Path) -> N
     [
         (["--engine", "bogus"], "--engine must be one of"),
         (["--engine", "ray", "-o", "-"], "stdin (-) and -o - need --engine local"),
-        (["--engine", "ray", "--workers", "0"], "--workers must be >= 1"),
+        (["--engine", "ray", "--workers", "0"], "--workers must be an integer >= 1, got 0"),
     ],
 )
 def test_engine_usage_errors(tiny_prior_path: Path, tmp_path: Path, extra: list[str], message: str) -> None:

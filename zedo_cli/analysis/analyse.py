@@ -138,6 +138,23 @@ class Analysis:
     probabilities: dict[str, np.ndarray] = field(default_factory=dict)
     head: HeadFrames | None = None  # the head measures of the analysed poses (from the input's 2D)
 
+    def columns(self) -> dict[str, list[Any]]:
+        """The tidy table by column (COLUMNS -> one value per row): the CSV's rows, with None and
+        NaN where a value is unknown."""
+        return {c: [getattr(r, c) for r in self.rows] for c in COLUMNS}
+
+    def to_pandas(self) -> Any:
+        """The tidy table as a pandas DataFrame: the CSV's columns, one row per frame, person and
+        measure, then the per-clip features (frame_index <NA>). pandas is an optional extra."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError(
+                "Analysis.to_pandas() needs pandas, an optional extra of zedo: pip install 'zedo[pandas]' "
+                "(Analysis.columns() gives the same table as plain lists)"
+            ) from None
+        return pd.DataFrame(self.columns(), columns=list(COLUMNS)).astype({"frame_index": "Int64"})
+
     @property
     def uncertainty_available(self) -> bool:
         """Whether any pose has calibrated intervals (`calibration_note` is "calibrated" when every pose has)."""

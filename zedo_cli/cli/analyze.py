@@ -3,7 +3,7 @@ accuracy on SyRIP Test100)."""
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
@@ -11,23 +11,21 @@ import typer
 from rich.table import Table
 
 from ..analysis.analyse import (
-    DEFAULT_MAX_VELOCITY_DEG_S,
     SYMMETRY_NAMES,
     Analysis,
     AnalysisSettings,
-    analyse,
     poses_counted,
     summary,
 )
-from ..analysis.calibration import DEFAULT_CALL_LEVEL, DEFAULT_LEVEL, LEVELS
 from ..analysis.joint_angles import ANGLE_NAMES
-from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
 from ..formats.openpose import is_openpose_folder
 from ..formats.result_reader import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
+from ..pipeline.analyze_result import Reference, analyse_result, read_reference, write_analysis
+from ..settings.analyze import AnalyzeOptions
 from .checks import DEVICE_HELP, check_device
 from .common import (
     EXIT_PARTIAL,
@@ -43,21 +41,12 @@ from .common import (
     report_figures,
     stdout_console,
 )
+from .config import config_option, print_config_option, resolve_options
 from .lift_plan import STDIN, expand_inputs, output_stem
 
 if TYPE_CHECKING:
-    from ..analysis.norms import Norms
-    from ..analysis.report import Footage
     from ..evaluation.symmetry_benchmark import SymmetryBenchmark
     from ..lifting.solver import LiftProgress
-
-
-@dataclass(frozen=True)
-class Reference:
-    """--norms and --age-weeks: the reference of typical infants and the infant's age."""
-
-    norms: Norms
-    age_weeks: float | None
 
 
 _RESULT_SUFFIXES = (".json", ".jsonl", ".ndjson", ".csv", ".npz")
@@ -75,6 +64,15 @@ def _result_files(folder: Path) -> list[str]:
     if not found:
         raise InputFormatError(f"{folder}: folder holds no zedo results (*.zedo.json/.jsonl/.csv/.npz)")
     return found
+
+
+def _opt(key: str, *names: str) -> typer.models.OptionInfo:
+    """The option `key` of AnalyzeOptions, with the model's help text."""
+    return typer.Option(*names, help=AnalyzeOptions.help(key))
+
+
+def _D(key: str) -> object:  # noqa: N802  (the option's default, from the model)
+    return AnalyzeOptions.default(key)
 
 
 def expand_results(args: list[str]) -> list[str]:
@@ -149,29 +147,12 @@ def _summary_table(a: Analysis) -> Table:
     return table
 
 
-def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSettings, *, overwrite: bool,
-                 quiet: bool, comparison: Reference | None = None, video: Path | None = None,
-                 images: Path | None = None) -> Analysis:  # fmt: skip
+def analyze_file(source: str, plan: dict[str, str | None], options: AnalyzeOptions,
+                 comparison: Reference | None = None) -> Analysis:  # fmt: skip
     """Read, analyse and write one result (errors are raised; the batch loop isolates them)."""
-    res = read_result(source)
-    if video is not None:
-        from ..footage.thumbnails import check_video_fits
-
-        check_video_fits(res, video)  # refused before anything is written
-    a = analyse(res, settings)
-    if comparison is not None:
-        from ..analysis.compare import add_comparison
-
-        a.comparisons = add_comparison(a, comparison.norms, comparison.age_weeks)
-    if plan["csv"]:
-        write_csv(a, plan["csv"], overwrite=overwrite)
-    if plan["json"]:
-        write_json(a, plan["json"], overwrite=overwrite)
-    if plan["report"]:
-        from ..analysis.report import write_report  # matplotlib loads only when a report is asked for
-
-        write_report(a, plan["report"], overwrite=overwrite, footage=_footage(a, video, images))
-    if not quiet:
+    a = analyse_result(read_result(source), options, comparison)
+    write_analysis(a, plan, options)
+    if not options.quiet:
         print_table(_summary_table(a))
         for note in a.notes:
             err_console.print(f"note: {note}", markup=False, soft_wrap=True)
@@ -179,22 +160,6 @@ def analyze_file(source: str, plan: dict[str, str | None], settings: AnalysisSet
         if written:
             err_console.print(f"wrote {', '.join(written)}", markup=False, soft_wrap=True)
     return a
-
-
-def _footage(a: Analysis, video: Path | None, images: Path | None) -> Footage | None:
-    """For a clip's report: the frames to review, with thumbnails when the footage is given."""
-    if not a.is_sequence:
-        return None
-    from ..analysis.clip_report import review_picks
-    from ..analysis.report import Footage
-
-    picks = review_picks(a)
-    if video is None and images is None:
-        return Footage(picks)
-    from ..footage.thumbnails import cut_thumbnails
-
-    thumbs = cut_thumbnails(a.result, [r.frame_index for r in picks], video=video, images=images)
-    return Footage(picks, thumbs)
 
 
 @error_boundary
@@ -207,76 +172,24 @@ def analyze_command(
             show_default=False,
         ),
     ],
-    output: Annotated[
-        Optional[str],
-        output_option(
-            "The tidy CSV (.csv) or the JSON (.json) of one input; - : the CSV on stdout. Default: "
-            "<stem>.analysis.csv and .json beside the input."
-        ),  # fmt: skip
-    ] = None,
+    output: Annotated[Optional[str], output_option(AnalyzeOptions.help("output"))] = None,
     csv_out: Annotated[Optional[str], typer.Option("--csv", hidden=True, help="Older spelling of -o x.csv.")] = None,
-    output_dir: Annotated[
-        Optional[Path],
-        typer.Option(help="Write <stem>.analysis.csv and .json of every input into this folder (made if missing)."),
-    ] = None,
-    as_json: Annotated[
-        bool, typer.Option("--json", help="Print the JSON (rows, settings, summary) on stdout instead.")
-    ] = False,
-    report: Annotated[
-        Optional[Path],
-        typer.Option(help="Also write a self-contained HTML report per input, <stem>.report.html, into this folder."),
-    ] = None,
-    symmetry_threshold: Annotated[
-        float,
-        typer.Option(help="Symmetric when the symmetry angle is at most this many degrees (the paper's 3D value)."),
-    ] = DEFAULT_THRESHOLD_DEG,
-    fps: Annotated[
-        Optional[float],
-        typer.Option(
-            help="Frame rate: treat the result as a video (movement features). Default: the fps zedo lift "
-            "recorded, else the frames are separate images."
-        ),  # fmt: skip
-    ] = None,
-    level: Annotated[
-        float, typer.Option(help=f"Coverage of the intervals: one of {', '.join(map(str, LEVELS))}.")
-    ] = DEFAULT_LEVEL,
-    call_level: Annotated[
-        float,
-        typer.Option(
-            help="The symmetry calls use the interval of this level (0.8: each end misses the truth at "
-            "most 10 % of the time, so a call is right about 9 times in 10; 0.9: fewer calls)."
-        ),
-    ] = DEFAULT_CALL_LEVEL,
-    max_angular_velocity: Annotated[
-        float,
-        typer.Option(
-            help="Joint angles changing faster than this (deg/s) are flagged too_fast and left out of "
-            "the movement features."
-        ),
-    ] = DEFAULT_MAX_VELOCITY_DEG_S,
-    norms: Annotated[
-        Optional[Path],
-        typer.Option(
-            help="A reference of typical infants (from zedo norms): each clip feature's z, and the published "
-            "and extended comparisons (surprise_*_z, surprise_*_p)."
-        ),
-    ] = None,
-    age_weeks: Annotated[
-        Optional[float], typer.Option(help="The infant's age in weeks, for a reference split by age (--norms).")
-    ] = None,
-    video: Annotated[
-        Optional[Path],
-        typer.Option(
-            help="The clip's video (with --report): thumbnails of the frames to review, the skeleton "
-            "drawn over them. A video that does not fit the result (frames, size) is refused."
-        ),  # fmt: skip
-    ] = None,
-    images: Annotated[
-        Optional[Path],
-        typer.Option(help="The clip's frames as a folder of images (with --report), instead of --video."),
-    ] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace output files that exist.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No summary on stderr.")] = False,
+    output_dir: Annotated[Optional[Path], _opt("output_dir")] = None,
+    as_json: Annotated[bool, _opt("json", "--json")] = False,
+    report: Annotated[Optional[Path], _opt("report")] = None,
+    symmetry_threshold: Annotated[float, _opt("symmetry_threshold")] = _D("symmetry_threshold"),
+    fps: Annotated[Optional[float], _opt("fps")] = None,
+    level: Annotated[float, _opt("level")] = _D("level"),
+    call_level: Annotated[float, _opt("call_level")] = _D("call_level"),
+    max_angular_velocity: Annotated[float, _opt("max_angular_velocity")] = _D("max_angular_velocity"),
+    norms: Annotated[Optional[Path], _opt("norms")] = None,
+    age_weeks: Annotated[Optional[float], _opt("age_weeks")] = None,
+    video: Annotated[Optional[Path], _opt("video")] = None,
+    images: Annotated[Optional[Path], _opt("images")] = None,
+    overwrite: Annotated[bool, _opt("overwrite")] = False,
+    quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("analyze")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Clinical measures of lifted poses: symmetry, joint angles, movement.
 
@@ -317,33 +230,38 @@ def analyze_command(
       zedo analyze clip.zedo.csv --fps 30 --report report/
       zedo analyze results/ --output-dir analysis/ --symmetry-threshold 30
     """
-    settings = AnalysisSettings(symmetry_threshold, fps, level, call_level, max_angular_velocity)
     if csv_out is not None:  # --csv PATH, the older spelling of -o PATH.csv
         if output is not None:
             raise ConfigError("give -o/--output (the older --csv is the same option), not both")
         if csv_out != STDIN and Path(csv_out).suffix.lower() != ".csv":
             raise ConfigError(f"--csv {csv_out}: a .csv file name, or -")
-        output = csv_out
-    comparison = _reference(norms, age_weeks)
+    o: AnalyzeOptions = resolve_options(AnalyzeOptions).options
+    if csv_out is not None:
+        o = o.replace(output=csv_out)
+    analyze_batch(results, o)
+
+
+def analyze_batch(results: list[str], o: AnalyzeOptions) -> None:
+    """Analyse every result with the settings `o`: the reference and every output checked first."""
+    comparison = read_reference(o.norms, o.age_weeks)
     sources = expand_results(results)
-    if video is not None or images is not None:
-        if report is None:
+    if o.video is not None or o.images is not None:
+        if o.report is None:
             raise ConfigError("--video / --images give the report its thumbnails: give them with --report DIR")
-        if video is not None and images is not None:
+        if o.video is not None and o.images is not None:
             raise ConfigError("give the footage as --video FILE or as --images DIR, not both")
         if len(sources) != 1:
             raise ConfigError("--video / --images are the footage of one result: give one input")
-    plans = plan_outputs(sources, output, output_dir, report, as_json, overwrite)
-    if report is not None:
-        make_output_folder(report)
+    plans = plan_outputs(sources, o.output, o.output_dir, o.report, o.as_json, o.overwrite)
+    if o.report is not None:
+        make_output_folder(o.report)
     if len(sources) == 1:
-        analyze_file(sources[0], plans[0], settings, overwrite=overwrite, quiet=quiet, comparison=comparison,
-                     video=video, images=images)  # fmt: skip
+        analyze_file(sources[0], plans[0], o, comparison)
         return
     codes = []
     for source, plan in zip(sources, plans, strict=True):
         try:
-            analyze_file(source, plan, settings, overwrite=overwrite, quiet=quiet, comparison=comparison)
+            analyze_file(source, plan, o, comparison)
         except ZedoError as exc:
             err_console.print(f"zedo: error: {one_line(str(exc))}", markup=False, soft_wrap=True)
             codes.append(exc.exit_code)
@@ -351,22 +269,6 @@ def analyze_command(
         raise typer.Exit(
             EXIT_PARTIAL if len(codes) < len(sources) else codes[0] if len(set(codes)) == 1 else EXIT_RUNTIME
         )
-
-
-def _reference(norms: Path | None, age_weeks: float | None) -> Reference | None:
-    """--norms read and checked before any work; --age-weeks is for a reference split by age."""
-    if norms is None:
-        if age_weeks is not None:
-            raise ConfigError("--age-weeks picks the age bracket of a reference: give it with --norms")
-        return None
-    from ..analysis.norms import age_bracket, check_age_weeks
-    from ..analysis.norms_file import read_norms
-    from ..version import __version__
-
-    check_age_weeks(age_weeks)
-    reference = read_norms(norms, __version__)
-    age_bracket(age_weeks, reference.with_ages)  # a reference split by age needs the infant's age
-    return Reference(reference, age_weeks)
 
 
 def _benchmark_tables(bench: SymmetryBenchmark) -> list[Table]:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Optional
 
 import typer
 
@@ -11,14 +11,19 @@ from ..camera.calibration import (
     DEFAULT_VIDEO_FRAMES,
     MAX_RMS_PX,
     MIN_VIEWS,
-    Board,
     Calibration,
-    CalibrationSettings,
     calibrate_files,
 )
 from ..camera.calibration_writer import storage_format, write_calibration
 from ..files import check_writable
+from ..settings.calibrate import CalibrateOptions
 from .common import err_console, error_boundary, output_option, step_progress
+from .config import config_option, print_config_option, resolve_options
+
+
+def _opt(key: str, *names: str, **extra: object) -> typer.models.OptionInfo:
+    """The option `key` of CalibrateOptions, with the model's help text."""
+    return typer.Option(*names, help=CalibrateOptions.help(key), **extra)  # type: ignore[arg-type]
 
 
 def _report(cal: Calibration, output: str) -> None:
@@ -43,23 +48,19 @@ def calibrate_command(
             help="Images of the board, folders of images, or videos (frames sampled evenly).", show_default=False
         ),  # fmt: skip
     ],
-    board: Annotated[
-        str,
-        typer.Option(
-            help="Inner corners COLSxROWS, where four squares meet (a board of 10 x 7 squares: 9x6).",
-            show_default=False,
-        ),  # fmt: skip
-    ],
-    square: Annotated[float, typer.Option(help="Side of one square in metres (e.g. 0.025).", show_default=False)],
-    out: Annotated[str, output_option("The camera file: .yml / .yaml / .json / .xml (OpenCV FileStorage).")],
-    fisheye: Annotated[bool, typer.Option(help="Fit OpenCV's fisheye model (k1..k4) instead of the pinhole.")] = False,
-    frames: Annotated[int, typer.Option(help="Frames sampled evenly from each video.")] = DEFAULT_VIDEO_FRAMES,
-    min_views: Annotated[int, typer.Option(help="Refuse with fewer views where the board was found.")] = MIN_VIEWS,
-    max_rms: Annotated[float, typer.Option(help="Refuse an RMS reprojection error above this, px.")] = MAX_RMS_PX,
-    k3: Annotated[bool, typer.Option(help="Pinhole: fit k3 as well (needs many views spread to the corners).")] = False,
-    tangential: Annotated[bool, typer.Option(help="Pinhole: fit the tangential p1, p2 as well.")] = False,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or report on stderr.")] = False,
+    board: Annotated[str, _opt("board", show_default=False)],
+    square: Annotated[float, _opt("square", show_default=False)],
+    out: Annotated[str, output_option(CalibrateOptions.help("output"))],
+    fisheye: Annotated[bool, _opt("fisheye")] = False,
+    frames: Annotated[int, _opt("frames")] = DEFAULT_VIDEO_FRAMES,
+    min_views: Annotated[int, _opt("min_views")] = MIN_VIEWS,
+    max_rms: Annotated[float, _opt("max_rms")] = MAX_RMS_PX,
+    k3: Annotated[bool, _opt("k3")] = False,
+    tangential: Annotated[bool, _opt("tangential")] = False,
+    overwrite: Annotated[bool, _opt("overwrite")] = False,
+    quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("calibrate")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Calibrate a camera from views of a printed checkerboard.
 
@@ -81,11 +82,12 @@ def calibrate_command(
 
       zedo calibrate board.mp4 --board 9x6 --square 0.025 --frames 40 -o cam.yml
     """
-    settings = CalibrationSettings(Board.parse(board, square), fisheye, min_views, max_rms, frames, k3, tangential)
-    storage_format(out)
-    check_writable(Path(out), overwrite)  # before any work
-    with step_progress(quiet, "calibrate") as on_view:
+    o: CalibrateOptions = resolve_options(CalibrateOptions).options
+    settings = o.calibration_settings()
+    storage_format(o.output)
+    check_writable(Path(o.output), o.overwrite)  # before any work
+    with step_progress(o.quiet, "calibrate") as on_view:
         cal = calibrate_files(inputs, settings, on_view)
-    write_calibration(out, cal, overwrite=overwrite)
-    if not quiet:
-        _report(cal, out)
+    write_calibration(o.output, cal, overwrite=o.overwrite)
+    if not o.quiet:
+        _report(cal, o.output)

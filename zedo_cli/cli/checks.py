@@ -7,14 +7,9 @@ import math
 from collections.abc import Iterable
 
 from ..data.datasets import SYRIP_SPLITS
-from ..errors import ConfigError, plural
-
-MAX_SEED = 2**63 - 1  # torch and numpy take seeds in [0, 2**63)
-MAX_STEPS = 100_000  # prior / diffusion steps: 100x faithful's 1000
-MAX_COUNT = 1_000_000  # poses written by `zedo augment`
-MAX_SIGMA_FRAMES = 1_000.0  # the temporal filter's width: a window of 6000 frames
-MAX_FPS = 100_000.0
-DEVICE_HELP = "cpu, cuda, cuda:N or auto (CUDA when torch sees a GPU, else cpu)."  # --device of every command
+from ..errors import ConfigError
+from ..settings.device import check_device  # noqa: F401  (every command's --device)
+from ..settings.limits import DEVICE_HELP, MAX_COUNT, MAX_FPS, MAX_SEED, MAX_SIGMA_FRAMES, MAX_STEPS  # noqa: F401
 
 
 def check_range(
@@ -50,28 +45,3 @@ def check_choice(option: str, value: str, choices: Iterable[str]) -> None:
 
 def check_syrip_split(split: str, option: str = "--split") -> None:
     check_choice(option, split, SYRIP_SPLITS)
-
-
-def check_device(device: str) -> str:
-    """The device to run on: `cpu`, `cuda` / `cuda:N` when torch sees that GPU, `mps` where
-    available, or `auto` (CUDA when torch sees a GPU, else the CPU)."""
-    import torch
-
-    if device == "auto":
-        return "cuda" if torch.cuda.is_available() else "cpu"
-    try:
-        dev = torch.device(device)
-    except (RuntimeError, ValueError):
-        raise ConfigError(f"--device must be cpu, cuda, cuda:N or auto, got {device!r}") from None
-    if dev.type == "cpu":
-        return device
-    if dev.type == "cuda":
-        if not torch.cuda.is_available():
-            raise ConfigError(f"--device {device}: no CUDA GPU is available to this torch ({torch.__version__}); "
-                              "use --device cpu")  # fmt: skip
-        if dev.index is not None and dev.index >= torch.cuda.device_count():
-            raise ConfigError(f"--device {device}: torch sees {plural(torch.cuda.device_count(), 'CUDA GPU')}")
-        return device
-    if dev.type == "mps" and torch.backends.mps.is_available():
-        return device
-    raise ConfigError(f"--device must be cpu, cuda, cuda:N or auto, got {device!r}")

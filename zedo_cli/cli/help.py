@@ -222,6 +222,12 @@ class ZedoCommand(_ZedoHelp, TyperCommand):
         if not args and self.no_args_is_help and not ctx.resilient_parsing:
             sys.stderr.write(short_usage(self, ctx) + "\n")
             raise typer.Exit(2)  # a usage error: the required arguments are missing
+        if any(p.name == "config" for p in self.params):
+            from .config import config_argument, load_config
+
+            path = config_argument(args)
+            if path is not None:  # its values are the defaults the command line overrides
+                load_config(ctx, self, path)
         try:
             return super().parse_args(ctx, args)
         except ClickException as exc:  # the parser's own errors come without the command: named in the message

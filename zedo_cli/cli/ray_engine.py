@@ -1,7 +1,7 @@
 """`zedo lift --engine ray`: the same batch over a Ray cluster, one prior load per worker.
 
 Each worker is a Ray Data actor that loads the prior once and runs the local engine's per-file
-function (`cli.lift.lift_file`) on the inputs it is given with the local engine's torch thread
+function (`cli.lift.lift_and_write`) on the inputs it is given with the local engine's torch thread
 count, so the outputs are exactly those of `--engine local` on the same kind of machine (same
 names, same content apart from timestamps, written atomically by the worker). Outputs were checked before any work by the driver (`lift_plan.plan_outputs`); an
 input's error comes back as data and is reported and counted as in the local engine.
@@ -26,9 +26,9 @@ from ..errors import ConfigError, ZedoError
 from .common import internal_error
 
 if TYPE_CHECKING:
-    from .lift import LiftSettings
+    from ..pipeline.lift import LiftPlan
 
-# lift_file(source, output, prior, settings) -> an outcome with .instances, .lifted, .seconds, .warnings, .written
+# lift_and_write(source, output, prior, plan) -> an outcome with .instances, .lifted, .seconds, .warnings, .written
 LiftOne = Callable[[str, str, Any, Any], Any]
 
 RAY_MISSING = "--engine ray needs Ray, an optional extra: pip install 'zedo[ray]'"
@@ -37,14 +37,14 @@ RAY_MISSING = "--engine ray needs Ray, an optional extra: pip install 'zedo[ray]
 class LiftWorker:
     """A Ray Data actor: loads the prior once, then lifts one input per call."""
 
-    def __init__(self, prior_path: str, settings: LiftSettings, threads: int, lift_one: LiftOne) -> None:
+    def __init__(self, prior_path: str, settings: LiftPlan, threads: int, lift_one: LiftOne) -> None:
         import torch
 
         from ..prior.weights import load_prior
 
         torch.set_num_threads(threads)  # one worker per CPU by default: no oversubscription
         self.prior = load_prior(prior_path, device=settings.device)
-        self.settings = replace(settings, quiet=True)  # the driver reports each input
+        self.settings = replace(settings, options=settings.options.replace(quiet=True))  # the driver reports each input
         self.lift_one = lift_one
 
     def __call__(self, batch: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -102,7 +102,7 @@ def lift_files_on_ray(
     sources: list[str],
     outputs: list[str],
     prior_path: str,
-    settings: LiftSettings,
+    settings: LiftPlan,
     lift_one: LiftOne,
     *,
     address: str | None = None,

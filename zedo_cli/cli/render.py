@@ -7,10 +7,17 @@ from typing import Annotated, Optional
 
 import typer
 
-from ..errors import ConfigError, plural
+from ..errors import plural
 from ..footage.render import RenderSettings, render_images, render_video
 from ..formats.result_reader import read_result
+from ..settings.render import RenderOptions
 from .common import err_console, error_boundary, output_option, step_progress
+from .config import config_option, print_config_option, resolve_options
+
+
+def _opt(key: str, *names: str) -> typer.models.OptionInfo:
+    """The option `key` of RenderOptions, with the model's help text."""
+    return typer.Option(*names, help=RenderOptions.help(key))
 
 
 @error_boundary
@@ -18,19 +25,14 @@ def render_command(
     result: Annotated[
         str, typer.Argument(help="A zedo result, .json or .jsonl (zedo lift's output).", show_default=False)
     ],
-    out: Annotated[str, output_option("An .mp4 file (with --video), or a folder for the PNGs (with --images).")],
-    video: Annotated[
-        Optional[Path], typer.Option(help="The video the keypoints came from (frame i <-> the result's frame_index i).")
-    ] = None,
-    images: Annotated[
-        Optional[Path],
-        typer.Option(help="The folder of images the keypoints came from (matched by file_name, else image_id)."),
-    ] = None,
-    side_view: Annotated[
-        bool, typer.Option(help="Add a panel beside each frame: the skeletons from the side (depth against height).")
-    ] = False,
-    overwrite: Annotated[bool, typer.Option(help="Replace outputs that exist.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary on stderr.")] = False,
+    out: Annotated[str, output_option(RenderOptions.help("output"))],
+    video: Annotated[Optional[Path], _opt("video")] = None,
+    images: Annotated[Optional[Path], _opt("images")] = None,
+    side_view: Annotated[bool, _opt("side_view")] = False,
+    overwrite: Annotated[bool, _opt("overwrite")] = False,
+    quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("render")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Draw the lifted skeletons over the footage, to see how well the 3D poses fit.
 
@@ -47,18 +49,17 @@ def render_command(
 
       zedo render photos.zedo.json --images photos/ -o rendered/ --side-view
     """
-    if (video is None) == (images is None):
-        raise ConfigError("give exactly one of --video FILE and --images DIR")
+    o: RenderOptions = resolve_options(RenderOptions).options
     res = read_result(result)
-    settings = RenderSettings(side_view, overwrite)
-    with step_progress(quiet, "render") as on_frame:
-        if video is not None:
-            summary = render_video(res, video, out, settings, on_frame)
+    settings = RenderSettings(o.side_view, o.overwrite)
+    with step_progress(o.quiet, "render") as on_frame:
+        if o.video is not None:
+            summary = render_video(res, o.video, o.output, settings, on_frame)
         else:
-            summary = render_images(res, images, out, settings, on_frame)
-    if not quiet:
+            summary = render_images(res, o.images, o.output, settings, on_frame)
+    if not o.quiet:
         rate = summary.frames / summary.seconds if summary.seconds > 0 else float("nan")
-        wrote = summary.output if video is not None else f"{plural(summary.frames, 'PNG')} into {summary.output}"
+        wrote = summary.output if o.video is not None else f"{plural(summary.frames, 'PNG')} into {summary.output}"
         err_console.print(f"rendered {plural(summary.frames, 'frame')} ({summary.drawn} with people, "
                           f"{plural(summary.persons, 'skeleton')}) in {summary.seconds:.1f} s ({rate:.0f} frames/s); "
                           f"wrote {wrote}", markup=False, soft_wrap=True)  # fmt: skip

@@ -1,0 +1,174 @@
+"""`--config FILE` and `--print-config` (issue 37, item 2): a TOML config and the same flags give
+identical poses, flags given on the command line win, a zedo result reruns its lift, and a bad
+file is one line with exit code 2."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+
+import numpy as np
+from test_cli import runner, write_coco
+
+from zedo_cli.cli import app
+
+
+def _lift(*args: str) -> dict:
+    result = runner.invoke(app, ["lift", *args, "-q"])
+    assert result.exit_code == 0, result.output
+    return result
+
+
+def _poses(path: Path) -> np.ndarray:
+    doc = json.loads(path.read_text())
+    return np.array([p["keypoints_3d"] for f in doc["frames"] for p in f["persons"]], dtype=float)
+
+
+def _printed(*args: str) -> dict:
+    result = runner.invoke(app, [*args, "--print-config"])
+    assert result.exit_code == 0, result.output
+    return tomllib.loads(result.stdout)
+
+
+def test_a_config_and_the_same_flags_give_identical_poses(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    config = tmp_path / "study.toml"
+    config.write_text(f'[lift]\nprior = "{tiny_prior_path}"\nsteps = 5\nseed = 3\nfocal = 1500\n')
+    _lift(str(src), "--config", str(config), "-o", str(tmp_path / "a.json"))
+    _lift(str(src), "--prior", str(tiny_prior_path), "--steps", "5", "--seed", "3", "--focal", "1500",
+          "-o", str(tmp_path / "b.json"))  # fmt: skip
+    np.testing.assert_array_equal(_poses(tmp_path / "a.json"), _poses(tmp_path / "b.json"))
+    # the config's values were used: another focal gives other poses
+    config.write_text(f'[lift]\nprior = "{tiny_prior_path}"\nsteps = 5\nseed = 3\nfocal = 900\n')
+    _lift(str(src), "--config", str(config), "-o", str(tmp_path / "c.json"))
+    assert not np.allclose(_poses(tmp_path / "a.json"), _poses(tmp_path / "c.json"))
+
+
+def test_a_result_as_config_lifts_again_to_identical_poses(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    first = tmp_path / "first.zedo.json"
+    _lift(str(src), "--prior", str(tiny_prior_path), "--steps", "5", "--focal", "1800", "--principal-point", "300",
+          "200", "--hypotheses", "2", "--seed", "9", "--twin-rate", "0.5", "-o", str(first))  # fmt: skip
+    again = tmp_path / "again.zedo.json"
+    _lift(str(src), "--config", str(first), "-o", str(again))
+    np.testing.assert_array_equal(_poses(first), _poses(again))
+    a, b = (json.loads(p.read_text())["params"] for p in (first, again))
+    assert a["options"] == b["options"] and a["config"] == b["config"] and a["options"]["focal"] == 1800.0
+    # a flag still wins over what the result records
+    assert _printed("lift", str(src), "--config", str(first), "--steps", "7")["lift"]["steps"] == 7
+
+
+def test_flags_given_beat_the_config_and_defaults_fill_the_rest(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[lift]\nsteps = 30\nfocal = 1500\nperson = "all"\nquiet = true\n')
+    printed = _printed("lift", "kp.json", "--config", str(config), "--focal", "1800", "--seed", "2")["lift"]
+    assert (printed["steps"], printed["focal"], printed["seed"], printed["person"]) == (30, 1800.0, 2, "all")
+    assert printed["preset"] == "fast" and "skeleton" not in printed  # a default, and an option not set
+    # a flag equal to the default still wins (an explicit --person auto over the file's all)
+    assert _printed("lift", "kp.json", "--config", str(config), "--person", "auto")["lift"]["person"] == "auto"
+
+
+def test_the_printed_config_read_back_gives_the_same_settings(tmp_path: Path) -> None:
+    first = _printed("lift", "kp.json", "--steps", "12", "--image-size", "640", "480", "--units", "mm")
+    config = tmp_path / "printed.toml"
+    config.write_text(runner.invoke(app, ["lift", "kp.json", "--steps", "12", "--image-size", "640", "480",
+                                          "--units", "mm", "--print-config"]).stdout)  # fmt: skip
+    assert _printed("lift", "kp.json", "--config", str(config)) == first
+
+
+def test_a_bad_config_is_one_line_and_exit_code_2(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    for text, needle in (
+        (
+            "[lift]\nstpes = 30\n",
+            f"zedo: error: {config}: [lift] stpes: no such option of zedo lift; did you mean steps?",
+        ),
+        (
+            '[lift]\nsteps = "many"\n',
+            f"zedo: error: {config}: [lift] steps: expected an integer in [1, 100000], got 'many'",
+        ),
+        (
+            "[lift]\nseed = -1\n",
+            f"zedo: error: {config}: [lift] seed: expected an integer in [0, 9223372036854775807], got -1",
+        ),
+    ):
+        config.write_text(text)
+        result = runner.invoke(app, ["lift", "kp.json", "--config", str(config)])
+        assert result.exit_code == 2, result.output
+        assert result.output == needle + "\n"
+    result = runner.invoke(app, ["lift", "kp.json", "--config", str(tmp_path / "none.toml")])
+    assert result.exit_code == 2 and result.output.count("\n") == 1 and "cannot read the --config file" in result.output
+
+
+def test_another_commands_table_is_ignored_with_a_note(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text("[analyze]\nfps = 30.0\n[calibrate]\nsquare = 0.025\n[lift]\nsteps = 9\n")
+    result = runner.invoke(app, ["lift", "kp.json", "--config", str(config), "--steps", "4", "--print-config"])
+    assert result.exit_code == 0 and tomllib.loads(result.stdout)["lift"]["steps"] == 4
+    analyze = runner.invoke(app, ["analyze", "r.zedo.json", "--config", str(config), "--print-config"])
+    assert analyze.exit_code == 0 and tomllib.loads(analyze.stdout)["analyze"]["fps"] == 30.0
+
+
+def test_analyze_render_and_calibrate_take_a_config(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[analyze]\nsymmetry-threshold = 30.0\nlevel = 0.8\n[render]\noutput = "out.mp4"\n'
+                      'video = "clip.mp4"\nside-view = true\n[calibrate]\nboard = "9x6"\nsquare = 0.025\n'
+                      'output = "cam.yml"\nmin-views = 8\n')  # fmt: skip
+    analyze = _printed("analyze", "r.zedo.json", "--config", str(config))["analyze"]
+    assert analyze["symmetry_threshold"] == 30.0 and analyze["level"] == 0.8
+    render = _printed("render", "r.zedo.json", "--config", str(config))["render"]
+    assert render == {"output": "out.mp4", "video": "clip.mp4", "side_view": True, "overwrite": False, "quiet": False}
+    # the required --board, --square and -o come from the file
+    calibrate = _printed("calibrate", "board.png", "--config", str(config), "--square", "0.03")["calibrate"]
+    assert (calibrate["board"], calibrate["square"], calibrate["min_views"]) == ("9x6", 0.03, 8)
+    config.write_text("[calibrate]\nmin-views = 2\n")
+    bad = runner.invoke(app, ["calibrate", "b.png", "--board", "9x6", "--square", "0.03", "-o", "c.yml",
+                              "--config", str(config)])  # fmt: skip
+    assert (
+        bad.exit_code == 2
+        and bad.output == f"zedo: error: {config}: [calibrate] min_views: expected an integer >= 3, got 2\n"
+    )
+
+
+def test_a_result_is_a_config_of_lift_only(tmp_path: Path) -> None:
+    result_file = tmp_path / "r.zedo.json"
+    result_file.write_text(json.dumps({"schema": "zedo.pose3d/1", "params": {}}))
+    result = runner.invoke(app, ["analyze", "x.zedo.json", "--config", str(result_file)])
+    assert result.exit_code == 2 and "a zedo result is a --config of zedo lift" in result.output
+    other = tmp_path / "other.json"
+    other.write_text('{"steps": 3}')
+    result = runner.invoke(app, ["lift", "kp.json", "--config", str(other)])
+    assert result.exit_code == 2 and "not a zedo result" in result.output
+
+
+def test_a_result_lifted_with_another_prior_is_refused(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json", n=1)
+    first = tmp_path / "first.zedo.json"
+    _lift(str(src), "--prior", str(tiny_prior_path), "--steps", "3", "-o", str(first))
+    doc = json.loads(first.read_text())
+    doc["params"]["prior"]["sha256"] = "0" * 64  # as if the weights file had changed since
+    first.write_text(json.dumps(doc))
+    result = runner.invoke(app, ["lift", str(src), "--config", str(first), "-o", str(tmp_path / "b.json"), "-q"])
+    assert result.exit_code == 2 and "lifted with a prior of sha256 000000000000..." in result.output
+    assert result.output.count("\n") == 1
+    # --prior on the command line: the user's choice
+    _lift(str(src), "--config", str(first), "--prior", str(tiny_prior_path), "-o", str(tmp_path / "c.json"))
+
+
+def test_an_older_result_without_its_options_lifts_again(tiny_prior_path: Path, tmp_path: Path) -> None:
+    src = write_coco(tmp_path / "kp.json")
+    first = tmp_path / "first.zedo.json"
+    _lift(str(src), "--prior", str(tiny_prior_path), "--steps", "4", "--twin-rate", "0.3", "-o", str(first))
+    doc = json.loads(first.read_text())
+    del doc["params"]["options"]  # as zedo wrote results before params.options
+    first.write_text(json.dumps(doc))
+    refused = runner.invoke(app, ["lift", str(src), "--config", str(first), "-q"])
+    assert refused.exit_code == 2 and "is not bundled" in refused.output and "--prior" in refused.output
+    again = tmp_path / "again.json"
+    _lift(str(src), "--config", str(first), "--prior", str(tiny_prior_path), "-o", str(again))
+    np.testing.assert_array_equal(_poses(first), _poses(again))
+    doc["params"]["camera_sources"] = ["cli"]  # --focal, which such a result does not record
+    first.write_text(json.dumps(doc))
+    refused = runner.invoke(app, ["lift", str(src), "--config", str(first), "--prior", str(tiny_prior_path)])
+    assert refused.exit_code == 2 and "lifted with a camera from cli" in refused.output
