@@ -1,4 +1,4 @@
-"""Tests of the OpenPose reader (zedo_cli.formats.openpose): single files, directories, skeletons, errors."""
+"""Tests of the OpenPose reader (zedo_cli.formats.readers.openpose): single files, directories, skeletons, errors."""
 
 from __future__ import annotations
 

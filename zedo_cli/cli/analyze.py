@@ -25,8 +25,8 @@ from ..analysis.outputs import write_csv, write_json
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
-from ..formats.openpose import is_openpose_folder
-from ..formats.result_reader import read_result
+from ..formats.readers.openpose import is_openpose_folder
+from ..formats.readers.result import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from .checks import DEVICE_HELP, check_device
 from .common import (

@@ -20,10 +20,10 @@ from ..errors import ConfigError, InputFormatError, IntrinsicsError, ZedoError, 
 from ..files import check_can_create, output_failure
 from ..footage.video_check import check_against_video, video_options
 from ..formats import INPUT_FORMATS, input_sha256, read_keypoints
-from ..formats.markers import MARKER_AXES, marker_frame_numbers
-from ..formats.readers import fill_image_sizes
-from ..formats.writers import FRAMES, MARKER_FORMATS, OUTPUT_FORMATS, UNITS, output_format, write_result
-from ..formats.writers_common import group_frames
+from ..formats.readers.inputs import fill_image_sizes
+from ..formats.writers.common import group_frames
+from ..formats.writers.markers import MARKER_AXES, marker_frame_numbers
+from ..formats.writers.outputs import FRAMES, MARKER_FORMATS, OUTPUT_FORMATS, UNITS, output_format, write_result
 from ..lifting.config import (
     DEFAULT_PRESET,
     DEFAULT_SIGMA_FRAMES,
@@ -162,7 +162,7 @@ class LiftSettings:
     save_hypotheses: bool = False
     calibrations: tuple[UncertaintyModel, ...] | None = None  # --calibration's models, read once; None: bundled
     video: VideoInfo | None = None  # --video: the keypoints are checked against it (footage.video_check)
-    marker_axes: str = "level"  # TRC / C3D axes (formats.markers.MARKER_AXES)
+    marker_axes: str = "level"  # TRC / C3D axes (formats.writers.markers.MARKER_AXES)
     camera: str | None = None  # --camera: the camera of a calibration file of several
 
 

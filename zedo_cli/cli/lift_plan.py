@@ -10,10 +10,10 @@ from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_can_create, check_output_folder, check_output_kind
-from ..formats.openpose import is_openpose_folder, is_zedo_output
-from ..formats.source import check_input_file
-from ..formats.writers import check_stdout, default_output_name, output_format
-from ..formats.writers_csv import sidecar_path
+from ..formats.readers.openpose import is_openpose_folder, is_zedo_output
+from ..formats.readers.source import check_input_file
+from ..formats.writers.outputs import check_stdout, default_output_name, output_format
+from ..formats.writers.result_csv import sidecar_path
 
 STDIN = "-"
 _INPUT_SUFFIXES = (".json", ".jsonl", ".ndjson")

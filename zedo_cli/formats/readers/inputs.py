@@ -27,9 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import Skeleton, get_skeleton
-from ..errors import ConfigError
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import Skeleton, get_skeleton
+from ...errors import ConfigError
 from .alphapose import is_alphapose_entry, read_alphapose
 from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read_coco_results
 from .jsonl import looks_like_jsonl, read_zedo_jsonl, read_zedo_jsonl_text
