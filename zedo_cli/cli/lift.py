@@ -255,6 +255,8 @@ def lift_file(source: str, output: str, prior: Prior, st: LiftSettings, kp: Keyp
 
     warnings: list[str] = []
     kp = _with_image_size(source, read_input(source, st) if kp is None else kp, st, warnings)
+    for note in kp.notes:  # what the reader left out (annotation labels that name no joint, ...)
+        warn(warnings, note)
     kp, places, counts = read_selected(source, prior, st, kp)
     _report_left_out(source, counts, warnings)
     video = check_against_video(kp, st.video, source) if st.video is not None else None
