@@ -72,8 +72,8 @@ def main() -> int:
     from folds import fold_priors
 
     from zedo_cli.data.keypoints import Keypoints2D
-    from zedo_cli.formats.result_json import build_result_document
-    from zedo_cli.formats.result_reader import read_result
+    from zedo_cli.formats.readers.result import read_result
+    from zedo_cli.formats.writers.result_json import build_result_document
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from zedo_cli.data.keypoints import Keypoints2D
 from zedo_cli.data.skeleton import root_point
-from zedo_cli.formats.writers import write_result
+from zedo_cli.formats.writers.outputs import write_result
 from zedo_cli.lifting.config import LiftConfig, get_preset
 from zedo_cli.lifting.solver import LiftResult, lift
 from zedo_cli.prior.weights import load_prior, resolve_prior_path

@@ -26,7 +26,7 @@ import numpy as np
 from zedo_cli.camera.video import iter_frames
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.footage.render import RenderSettings, render_video
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 # A syrip12 infant lying on its back, seen from above (metres, camera frame before placing).
 POSE = {
@@ -51,7 +51,7 @@ def result_document(frames: int, width: int, height: int, fps: float) -> dict:
     from zedo_cli.camera.model import CameraModel
     from zedo_cli.data.keypoints import Keypoints2D
     from zedo_cli.data.skeleton import root_point
-    from zedo_cli.formats.result_json import build_result_document
+    from zedo_cli.formats.writers.result_json import build_result_document
     from zedo_cli.lifting.config import LiftConfig
     from zedo_cli.lifting.solver import LiftResult
 

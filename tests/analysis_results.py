@@ -13,7 +13,7 @@ from helpers import K_TEST
 
 from zedo_cli.data.keypoints import Keypoints2D
 from zedo_cli.data.skeleton import root_point
-from zedo_cli.formats.result_json import build_result_document
+from zedo_cli.formats.writers.result_json import build_result_document
 from zedo_cli.lifting.config import LiftConfig
 from zedo_cli.lifting.solver import LiftResult
 

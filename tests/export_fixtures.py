@@ -13,7 +13,7 @@ from helpers import project_poses, synthetic_poses
 from typer.testing import CliRunner
 
 from zedo_cli.cli import app
-from zedo_cli.formats.markers import MARKER_AXES
+from zedo_cli.formats.writers.markers import MARKER_AXES
 
 FRAMES, FPS, EMPTY, PARTIAL, UNLIFTED = 61, 30, 30, 40, 50
 

@@ -104,6 +104,29 @@ def test_imports_go_down_the_layers_only():
     assert not upward, "imports against the layering rule:\n" + "\n".join(sorted(upward))
 
 
+# Inside formats/ readers live apart from writers (docs/ARCHITECTURE.md): only the orchestration
+# that reads a stored result and writes it again, and the package's exports, may use both.
+BOTH_READERS_AND_WRITERS = {"zedo_cli.formats", "zedo_cli.formats.export"}
+
+
+def test_no_formats_module_both_reads_and_writes():
+    def side(module: str) -> str | None:
+        parts = module.split(".")
+        return parts[2] if len(parts) > 2 and parts[1] == "formats" and parts[2] in ("readers", "writers") else None
+
+    graph = import_graph()
+    assert any(side(m) == "readers" for m in graph) and any(side(m) == "writers" for m in graph)
+    mixed = []
+    for module, targets in graph.items():
+        if group_of(module) != "formats" or module in BOTH_READERS_AND_WRITERS:
+            continue
+        sides = {side(t) for t in targets} - {None}
+        own = side(module)
+        if len(sides | ({own} if own else set())) > 1:
+            mixed.append(f"{module} -> {sorted(t for t in targets if side(t))}")
+    assert not mixed, "formats modules that hold both reading and writing:\n" + "\n".join(sorted(mixed))
+
+
 def test_no_import_cycles():
     graph = import_graph(runtime_only=True)  # an annotation-only import cannot close a cycle
     # a package's __init__ importing its own modules is how it exports them, not a cycle

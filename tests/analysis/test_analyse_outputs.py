@@ -18,7 +18,7 @@ from analysis_results import kicking_poses, result_document, write_document
 from zedo_cli.analysis.analyse import COLUMNS, AnalysisSettings, analyse
 from zedo_cli.analysis.outputs import analysis_document, csv_text, write_csv, write_json
 from zedo_cli.errors import ConfigError, InputFormatError
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 
 @pytest.fixture()
@@ -203,7 +203,7 @@ def test_matplotlib_is_loaded_only_for_a_report(kick: Path) -> None:
     code = (
         "import sys\n"
         "from zedo_cli.analysis import analyse, write_csv\n"
-        "from zedo_cli.formats.result_reader import read_result\n"
+        "from zedo_cli.formats.readers.result import read_result\n"
         f"write_csv(analyse(read_result({str(kick)!r})), '-')\n"
         "assert 'matplotlib' not in sys.modules\n"
     )

@@ -29,7 +29,7 @@ from zedo_cli.analysis.calibration import (
 )
 from zedo_cli.analysis.symmetry import CALLS
 from zedo_cli.errors import WeightsError
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 from zedo_cli.lifting.config import LiftConfig, calibration_settings
 
 SHA = "ab" * 32

@@ -20,7 +20,7 @@ from zedo_cli.analysis.calibration import (
     read_calibrations,
     write_calibrations,
 )
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 CLI = {**PARAMS, "camera_sources": ["cli"]}
 

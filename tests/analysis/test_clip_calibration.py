@@ -22,7 +22,7 @@ from zedo_cli.analysis.calibration import (
     write_calibrations,
 )
 from zedo_cli.analysis.clip_features import feature_range
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 from zedo_cli.lifting.config import LiftConfig, calibration_settings
 
 KNEE = "3d_mean_angle_RKnee"

@@ -16,7 +16,7 @@ from zedo_cli.analysis.features_3d import PREFIX
 from zedo_cli.analysis.plain_words import describe, has_words
 from zedo_cli.analysis.published_features import PREREGISTERED
 from zedo_cli.cli import app
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 
 @pytest.fixture()

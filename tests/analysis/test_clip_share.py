@@ -21,7 +21,7 @@ from zedo_cli.analysis.clip_share import (
     share_interval,
 )
 from zedo_cli.analysis.symmetry import CALLS
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 
 def normal_cdf(x: float) -> float:

@@ -22,7 +22,7 @@ from zedo_cli.analysis.block_bootstrap import (
 )
 from zedo_cli.analysis.head import FLAG_EYES_REVERSED, HeadSettings, head_tilt, head_turn
 from zedo_cli.data.keypoints import OtherKeypoints
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 # An infant's face in head coordinates (cm): x its own left, y towards the top of its head, z out of its face.
 FACE_CM = {"nose": (0.0, -0.8, 6.5), "left_eye": (1.95, 1.2, 5.2), "right_eye": (-1.95, 1.2, 5.2),

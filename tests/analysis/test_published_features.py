@@ -21,7 +21,7 @@ from zedo_cli.analysis.published_features import (
     body_frame,
     published_features,
 )
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 # A still infant on its back seen from above, its head up in the image and its left on the image's right:
 # upper arms along the trunk with the forearms out (elbows at 90 degrees), legs straight, in pixels.

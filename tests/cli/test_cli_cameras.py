@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 
 from tests.helpers import write_coco
 from zedo_cli.cli import app
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 runner = CliRunner()
 LENS_DIST = (-0.3, 0.1, 0.0, 0.0, 0.0)

@@ -97,7 +97,7 @@ def test_hypotheses_out_of_range_are_usage_errors(tiny_prior_path: Path, tmp_pat
 
 
 def test_every_writer_carries_the_uncertainty(tiny_prior_path: Path, tmp_path: Path) -> None:
-    from zedo_cli.formats.result_reader import read_result
+    from zedo_cli.formats.readers.result import read_result
 
     src = write_coco(tmp_path / "kp.json")
     cal = _calibration(tmp_path, tiny_prior_path, hypotheses=2)

@@ -16,7 +16,7 @@ from zedo_cli.camera.model import CameraModel
 from zedo_cli.cli import app
 from zedo_cli.footage.draw import LEFT, RIGHT
 from zedo_cli.footage.render import RenderSettings, people, render_video
-from zedo_cli.formats.result_reader import read_result
+from zedo_cli.formats.readers.result import read_result
 
 runner = CliRunner()
 W, H, N = 640, 480, 12

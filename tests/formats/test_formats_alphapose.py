@@ -1,4 +1,4 @@
-"""Tests of the AlphaPose results reader (zedo_cli.formats.alphapose)."""
+"""Tests of the AlphaPose results reader (zedo_cli.formats.readers.alphapose)."""
 
 from __future__ import annotations
 

@@ -48,7 +48,8 @@ from hypothesis import strategies as st
 from zedo_cli.data.keypoints import Keypoints2D
 from zedo_cli.data.skeleton import SKELETONS
 from zedo_cli.errors import InputFormatError, ZedoError
-from zedo_cli.formats import INPUT_FORMATS, read_keypoints, read_keypoints_text, read_parsed, source
+from zedo_cli.formats import INPUT_FORMATS, read_keypoints, read_keypoints_text, read_parsed
+from zedo_cli.formats.readers import source
 
 _PERM = [3, 0, 16, 5, 1, 2, 4, 6, 8, 7, 10, 9, 12, 11, 15, 14, 13]
 _H36M_NAMES = ["root (pelvis)", "left_hip", "left_knee", "left_foot", "right_hip", "right_knee", "right_foot", "spine",

@@ -26,10 +26,10 @@ from zedo_cli.data.datasets import load_npy
 from zedo_cli.errors import CameraInputError, DataError, InputFormatError, OutputError, WeightsError
 from zedo_cli.files import atomic_path
 from zedo_cli.formats import read_keypoints_text, read_parsed
-from zedo_cli.formats.openpose import is_openpose_folder
-from zedo_cli.formats.sniff import file_kind
-from zedo_cli.formats.validate import natural_key, trailing_number
-from zedo_cli.formats.writers_jsonl import JsonlWriter
+from zedo_cli.formats.readers.openpose import is_openpose_folder
+from zedo_cli.formats.readers.sniff import file_kind
+from zedo_cli.formats.readers.validate import natural_key, trailing_number
+from zedo_cli.formats.writers.result_jsonl import JsonlWriter
 from zedo_cli.lifting.camera import resolve_intrinsics
 from zedo_cli.prior.weights import _config_object, _member_count, json_field
 

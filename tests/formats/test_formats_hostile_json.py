@@ -18,8 +18,8 @@ from writer_fixtures import INPUT_INFO, PARAMS, make_case
 from zedo_cli.camera.files import read_camera_file
 from zedo_cli.errors import CameraInputError, InputFormatError, WeightsError
 from zedo_cli.formats import read_keypoints_text
-from zedo_cli.formats.result_reader import read_result, read_result_bytes
-from zedo_cli.formats.writers import write_result
+from zedo_cli.formats.readers.result import read_result, read_result_bytes
+from zedo_cli.formats.writers.outputs import write_result
 from zedo_cli.prior.weights import json_field
 from zedo_cli.strict_json import DuplicateKeyError, loads
 from zedo_cli.versioned_json import read_items

@@ -28,8 +28,8 @@ from hypothesis import strategies as st
 
 from zedo_cli.errors import InputFormatError
 from zedo_cli.formats import read_keypoints, read_keypoints_text, read_parsed
-from zedo_cli.formats.jsondoc import JsonArray, scan_document
-from zedo_cli.formats.source import parse_document, parse_json
+from zedo_cli.formats.readers.jsondoc import JsonArray, scan_document
+from zedo_cli.formats.readers.source import parse_document, parse_json
 from zedo_cli.strict_json import DuplicateKeyError
 
 

@@ -1,4 +1,4 @@
-"""Tests of the zedo JSON Lines reader (zedo_cli.formats.jsonl): files, stdin, detection, errors."""
+"""Tests of the zedo JSON Lines reader (zedo_cli.formats.readers.jsonl): files, stdin, detection, errors."""
 
 from __future__ import annotations
 

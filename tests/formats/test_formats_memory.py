@@ -18,7 +18,7 @@ _CHILD = """
 import resource, sys, types
 import numpy as np
 from zedo_cli.formats import read_keypoints
-from zedo_cli.formats.writers import write_result
+from zedo_cli.formats.writers.outputs import write_result
 kp = read_keypoints(sys.argv[1])
 n, j = kp.xy.shape[:2]
 poses = np.zeros((n, j, 3)) + [0.0, 0.0, 2.0]

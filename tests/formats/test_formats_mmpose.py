@@ -1,4 +1,4 @@
-"""Tests of the MMPose readers (zedo_cli.formats.mmpose): the three layouts of FORMATS.md 3.5."""
+"""Tests of the MMPose readers (zedo_cli.formats.readers.mmpose): the three layouts of FORMATS.md 3.5."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tests of the OpenPose reader (zedo_cli.formats.openpose): single files, directories, skeletons, errors."""
+"""Tests of the OpenPose reader (zedo_cli.formats.readers.openpose): single files, directories, skeletons, errors."""
 
 from __future__ import annotations
 
@@ -148,7 +148,7 @@ def test_directory_errors_name_the_file(tmp_path: Path) -> None:
     write_json(clip / "c_000000000002_keypoints.json", openpose_frame())
     write_json(clip / "d_000000000001_keypoints.json", openpose_frame(1.0))
     assert_error(clip, "frame 1 also comes from")
-    assert_error(clip, "only OpenPose output is read from a directory", format="coco-results")
+    assert_error(clip, "only OpenPose or LabelMe files are read from a directory", format="coco-results")
     nobody = tmp_path / "nobody"
     nobody.mkdir()
     write_json(nobody / "n_000000000000_keypoints.json", openpose_frame())

@@ -1,4 +1,4 @@
-"""Tests of the 2D keypoint readers (zedo_cli.formats.readers) on small fixtures written to tmp_path."""
+"""Tests of the 2D keypoint readers (zedo_cli.formats.readers.inputs) on small fixtures written to tmp_path."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from zedo_cli.data.keypoints import Keypoints2D
 from zedo_cli.data.skeleton import SKELETONS
 from zedo_cli.errors import ConfigError, InputFormatError
 from zedo_cli.formats import INPUT_FORMATS, detect_format, read_keypoints
-from zedo_cli.formats.readers import read_coco_results
+from zedo_cli.formats.readers.inputs import read_coco_results
 
 SYRIP = Path(__file__).resolve().parents[3] / "shared/data/syrip"
 COCO_NAMES = list(SKELETONS["coco17"].joints)

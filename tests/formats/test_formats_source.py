@@ -15,7 +15,8 @@ from typer.testing import CliRunner
 
 from zedo_cli.cli import app
 from zedo_cli.errors import InputFormatError
-from zedo_cli.formats import read_keypoints, source
+from zedo_cli.formats import read_keypoints
+from zedo_cli.formats.readers import source
 
 runner = CliRunner()
 

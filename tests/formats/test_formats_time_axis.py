@@ -15,8 +15,8 @@ from typer.testing import CliRunner
 from zedo_cli.cli import app
 from zedo_cli.cli.lift_plan import expand_inputs
 from zedo_cli.formats import read_keypoints, read_parsed
-from zedo_cli.formats.openpose import is_openpose_folder
-from zedo_cli.formats.writers_common import group_frames
+from zedo_cli.formats.readers.openpose import is_openpose_folder
+from zedo_cli.formats.writers.common import group_frames
 from zedo_cli.lifting.people import select_people
 
 runner = CliRunner()

@@ -15,7 +15,7 @@ import pytest
 from export_fixtures import EMPTY, FPS, FRAMES, UNLIFTED, json_markers, lift_clip
 
 from zedo_cli.data.skeleton import get_skeleton
-from zedo_cli.formats.markers import marker_name
+from zedo_cli.formats.writers.markers import marker_name
 
 POSE2SIM_COCO = "RHip LHip RKnee LKnee RAnkle LAnkle RShoulder LShoulder RElbow LElbow RWrist LWrist".split()
 MARKERS = [marker_name(j) for j in get_skeleton("syrip12").joints]  # in the skeleton's order

@@ -19,9 +19,9 @@ from zedo_cli.cli import app
 from zedo_cli.data.keypoints import Keypoints2D, OtherKeypoints
 from zedo_cli.data.skeleton import SKELETONS
 from zedo_cli.errors import InputFormatError
-from zedo_cli.formats.readers import read_keypoints, read_parsed
-from zedo_cli.formats.result_reader import RESULT_FORMATS, read_result
-from zedo_cli.formats.writers import write_result
+from zedo_cli.formats.readers.inputs import read_keypoints, read_parsed
+from zedo_cli.formats.readers.result import RESULT_FORMATS, read_result
+from zedo_cli.formats.writers.outputs import write_result
 
 SYRIP = SKELETONS["syrip12"]
 FACE = ("nose", "left_eye", "right_eye", "left_ear", "right_ear")

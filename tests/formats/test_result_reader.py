@@ -14,9 +14,9 @@ from writer_fixtures import INPUT_INFO, PARAMS, UNLIFTED, make_case
 
 from zedo_cli.errors import InputFormatError
 from zedo_cli.evaluation.result_scoring import read_result_file
-from zedo_cli.formats.result_reader import read_result, read_result_bytes
-from zedo_cli.formats.writers import write_result
-from zedo_cli.formats.writers_csv import csv_text
+from zedo_cli.formats.readers.result import read_result, read_result_bytes
+from zedo_cli.formats.writers.outputs import write_result
+from zedo_cli.formats.writers.result_csv import csv_text
 
 
 @pytest.mark.parametrize("fmt", ["json", "jsonl", "csv", "npz"])

@@ -22,7 +22,7 @@ from zedo_cli.formats.result_schema import (
     SummaryLine,
     result_json_schema,
 )
-from zedo_cli.formats.writers import write_result
+from zedo_cli.formats.writers.outputs import write_result
 
 jsonschema = pytest.importorskip("jsonschema")
 SCHEMA_FILE = Path(__file__).resolve().parents[2] / "docs" / "schema" / "zedo.pose3d-1.schema.json"

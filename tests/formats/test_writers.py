@@ -14,11 +14,11 @@ import pytest
 from writer_fixtures import INPUT_INFO, MISSING, PARAMS, UNLIFTED, make_case
 
 from zedo_cli.errors import ConfigError
-from zedo_cli.formats.result_json import build_result_document
-from zedo_cli.formats.result_reader import RESULT_FORMATS
-from zedo_cli.formats.writers import default_output_name, output_format, write_result
-from zedo_cli.formats.writers_csv import coordinate_columns, sidecar_path
-from zedo_cli.formats.writers_jsonl import JsonlWriter
+from zedo_cli.formats.readers.result import RESULT_FORMATS
+from zedo_cli.formats.writers.outputs import default_output_name, output_format, write_result
+from zedo_cli.formats.writers.result_csv import coordinate_columns, sidecar_path
+from zedo_cli.formats.writers.result_json import build_result_document
+from zedo_cli.formats.writers.result_jsonl import JsonlWriter
 from zedo_cli.lifting.config import LiftConfig
 from zedo_cli.lifting.solver import lift
 from zedo_cli.prior.weights import Prior

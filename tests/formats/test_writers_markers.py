@@ -12,9 +12,9 @@ from writer_fixtures import INPUT_INFO, MISSING, PARAMS, UNLIFTED, make_case
 
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.errors import ConfigError
-from zedo_cli.formats.markers import MARKER_AXES, MarkerTracks, marker_name
-from zedo_cli.formats.writers import output_format, write_result
-from zedo_cli.formats.writers_trc import write_trc
+from zedo_cli.formats.writers.markers import MARKER_AXES, MarkerTracks, marker_name
+from zedo_cli.formats.writers.outputs import output_format, write_result
+from zedo_cli.formats.writers.result_trc import write_trc
 
 POSE2SIM_COCO = "RHip LHip RKnee LKnee RAnkle LAnkle RShoulder LShoulder RElbow LElbow RWrist LWrist".split()
 FPS = {**PARAMS, "fps": 30.0}
@@ -57,7 +57,7 @@ def test_axes_are_rotations_with_y_up() -> None:
 def test_trc_header_bytes() -> None:
     tracks = MarkerTracks(("RHip", "LHip"), np.array([4, 5, 6]), np.array([4, 5, 6]) / 25.0, 25.0, 25.0, "level",
                           [np.zeros((3, 2, 3))])  # fmt: skip
-    from zedo_cli.formats.writers_trc import trc_header
+    from zedo_cli.formats.writers.result_trc import trc_header
 
     assert trc_header("a.trc", tracks) == (
         "PathFileType\t4\t(X/Y/Z)\ta.trc\n"

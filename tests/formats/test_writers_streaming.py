@@ -15,10 +15,10 @@ import pytest
 from writer_fixtures import INPUT_INFO, PARAMS, make_case
 
 from zedo_cli.data.keypoints import Keypoints2D
-from zedo_cli.formats import result_json, writers, writers_csv
-from zedo_cli.formats.result_json import build_result_document
-from zedo_cli.formats.writers import write_result
-from zedo_cli.formats.writers_common import json_pieces
+from zedo_cli.formats.writers import outputs, result_csv, result_json
+from zedo_cli.formats.writers.common import json_pieces
+from zedo_cli.formats.writers.outputs import write_result
+from zedo_cli.formats.writers.result_json import build_result_document
 
 CREATED = re.compile(r'"created": "[^"]*"')
 
@@ -89,11 +89,11 @@ def _watched(items: Iterator[Any], kind: type, keep: int = 2) -> Iterator[Any]:
 @pytest.mark.parametrize("fmt", ["json", "jsonl", "csv", "npz"])
 def test_writers_never_hold_every_frame(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: str) -> None:
     kp, res, mats, sources = _big_case()
-    frames, cameras, rows = result_json.iter_frames, writers._frame_cameras, writers_csv.csv_rows
+    frames, cameras, rows = result_json.iter_frames, outputs._frame_cameras, result_csv.csv_rows
     watched_frames = lambda *a, **k: _watched(frames(*a, **k), _Frame)  # noqa: E731
     monkeypatch.setattr(result_json, "iter_frames", watched_frames)
-    monkeypatch.setattr(writers, "iter_frames", watched_frames)
-    monkeypatch.setattr(writers, "_frame_cameras", lambda *a, **k: _watched(cameras(*a, **k), _Frame))
-    monkeypatch.setattr(writers_csv, "csv_rows", lambda *a, **k: _watched(rows(*a, **k), _Row))
+    monkeypatch.setattr(outputs, "iter_frames", watched_frames)
+    monkeypatch.setattr(outputs, "_frame_cameras", lambda *a, **k: _watched(cameras(*a, **k), _Frame))
+    monkeypatch.setattr(result_csv, "csv_rows", lambda *a, **k: _watched(rows(*a, **k), _Row))
     write_result(tmp_path / f"r.{fmt}", kp, res, mats, sources, PARAMS, INPUT_INFO)
     assert (tmp_path / f"r.{fmt}").stat().st_size > 0

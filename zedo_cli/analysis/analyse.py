@@ -24,7 +24,7 @@ import numpy as np
 
 from ..data.skeleton import Skeleton, root_point
 from ..errors import ConfigError, InputFormatError, plural
-from ..formats.result_reader import ResultPoses
+from ..formats.readers.result import ResultPoses
 from .calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,

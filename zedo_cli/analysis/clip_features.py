@@ -20,7 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..formats.result_reader import ResultPoses
+from ..formats.readers.result import ResultPoses
 from .calibration import DEFAULT_LEVEL, MeasureCalibration
 from .features_3d import PREFIX, features_3d
 from .published_features import ClipFeatures, published_features

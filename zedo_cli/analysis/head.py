@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ConfigError
-from ..formats.result_reader import ResultPoses
+from ..formats.readers.result import ResultPoses
 from .block_bootstrap import BootstrapSettings, ClipInterval, median_interval, share_intervals
 
 FACE_JOINTS = ("nose", "left_eye", "right_eye", "left_ear", "right_ear")

@@ -13,7 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ..errors import InputFormatError
 from ..files import write_text_atomic
-from ..formats.source import load_json
+from ..formats.readers.source import load_json
 from .norms import AGE_THRESHOLD_WEEKS, FEATURE_SET_VERSION, NORMS_SCHEMA, ClipValues, FeatureFit, Norms
 
 

@@ -21,8 +21,8 @@ from ..analysis.joint_angles import ANGLE_NAMES
 from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
-from ..formats.openpose import is_openpose_folder
-from ..formats.result_reader import read_result
+from ..formats.readers.openpose import is_openpose_folder
+from ..formats.readers.result import read_result
 from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
 from ..pipeline.analyze_result import Reference, analyse_result, read_reference, write_analysis
 from ..settings.analyze import AnalyzeOptions

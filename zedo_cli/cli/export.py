@@ -1,5 +1,5 @@
 """`zedo export`: a zedo result written again in another format (TRC, C3D, CSV, JSON Lines, ...),
-by the writers of `zedo lift` (formats.result_export), without lifting again."""
+by the writers of `zedo lift` (formats.export), without lifting again."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from typing import Annotated, Optional
 import typer
 
 from ..errors import ConfigError, plural
-from ..formats.markers import MARKER_AXES
-from ..formats.result_export import export_result
-from ..formats.writers import FRAMES, OUTPUT_FORMATS, UNITS, output_format
+from ..formats.export import export_result
+from ..formats.writers.markers import MARKER_AXES
+from ..formats.writers.outputs import FRAMES, OUTPUT_FORMATS, UNITS, output_format
 from ..lifting.people import PERSON_MODES
 from .checks import MAX_FPS, check_choice, check_range
 from .common import err_console, error_boundary, output_option

@@ -22,7 +22,7 @@ from ..camera.sanity import check_camera_sanity
 from ..errors import ConfigError, ZedoError, plural
 from ..files import check_can_create, output_failure
 from ..formats import INPUT_FORMATS
-from ..formats.writers import output_format
+from ..formats.writers.outputs import output_format
 from ..pipeline.lift import (
     LiftPlan,
     lift_prepared,

@@ -10,10 +10,11 @@ from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_can_create, check_output_folder, check_output_kind
-from ..formats.openpose import is_openpose_folder, is_zedo_output
-from ..formats.source import check_input_file
-from ..formats.writers import check_stdout, default_output_name, output_format
-from ..formats.writers_csv import sidecar_path
+from ..formats.readers.labelme import is_labelme_folder
+from ..formats.readers.openpose import is_openpose_folder, is_zedo_output
+from ..formats.readers.source import check_input_file
+from ..formats.writers.outputs import check_stdout, default_output_name, output_format
+from ..formats.writers.result_csv import sidecar_path
 
 STDIN = "-"
 _INPUT_SUFFIXES = (".json", ".jsonl", ".ndjson")
@@ -23,9 +24,9 @@ PLOT_ROLES = ("first", "median", "worst")  # formats.plots writes <prefix>.<role
 
 def _folder_inputs(folder: Path) -> list[str]:
     """An OpenPose folder (per-frame `*_keypoints.json`, or numbered frames such as Pose2Sim's
-    `cam01.0030.json`) is one input, a sequence; any other folder stands for its keypoint files
-    (zedo's own outputs left out)."""
-    if is_openpose_folder(folder):
+    `cam01.0030.json`) or a folder of LabelMe files is one input, a sequence; any other folder
+    stands for its keypoint files (zedo's own outputs left out)."""
+    if is_openpose_folder(folder) or is_labelme_folder(folder):
         return [str(folder)]
     files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not is_zedo_output(p))
     if not files:

@@ -13,7 +13,7 @@ from ..analysis.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_nor
 from ..analysis.norms_file import write_norms
 from ..errors import ConfigError, plural
 from ..files import check_writable
-from ..formats.result_reader import read_result
+from ..formats.readers.result import read_result
 from ..version import __version__
 from .analyze import expand_results
 from .common import err_console, error_boundary, output_option, progress_bar

@@ -9,7 +9,7 @@ import typer
 
 from ..errors import plural
 from ..footage.render import RenderSettings, render_images, render_video
-from ..formats.result_reader import read_result
+from ..formats.readers.result import read_result
 from ..settings.render import RenderOptions
 from .common import err_console, error_boundary, output_option, step_progress
 from .config import config_option, print_config_option, resolve_options

@@ -68,6 +68,9 @@ class Keypoints2D:
     # The input's keypoints outside `skeleton` (set by `to_skeleton`: what the conversion left out,
     # by name, as read); None where the record is the input as read, or was made by a caller.
     other: OtherKeypoints | None = None
+    # What the reader left out and the user should hear of (e.g. annotation labels that name no
+    # joint), one line each; `zedo lift` prints them as warnings.
+    notes: tuple[str, ...] = ()
 
     @property
     def source_skeleton(self) -> dict[str, str]:
@@ -87,7 +90,7 @@ class Keypoints2D:
             [self.image_ids[i] for i in idx], [self.file_names[i] for i in idx],
             self.image_sizes[idx], [self.scores[i] for i in idx], self.path, self.format,
             None if self.frame_indices is None else [self.frame_indices[i] for i in idx], self.source,
-            None if self.other is None else self.other.subset(idx),
+            None if self.other is None else self.other.subset(idx), self.notes,
         )  # fmt: skip
 
     def to_skeleton(self, dst: Skeleton) -> Keypoints2D:
@@ -106,5 +109,5 @@ class Keypoints2D:
         xy, conf = convert_points(self.xy, self.confidence, self.skeleton, dst)
         return Keypoints2D(
             xy, conf, dst, self.image_ids, self.file_names, self.image_sizes, self.scores,
-            self.path, self.format, self.frame_indices, self.source, other,
+            self.path, self.format, self.frame_indices, self.source, other, self.notes,
         )  # fmt: skip

@@ -10,7 +10,7 @@ import numpy as np
 from ..data.datasets import PoseSet
 from ..data.skeleton import Skeleton, center_on_root, convert_points, get_skeleton
 from ..errors import ConfigError, InputFormatError
-from ..formats.result_reader import read_result
+from ..formats.readers.result import read_result
 
 # protocol -> joint set scored; both sides are converted to it and centred on its root
 PROTOCOLS: dict[str, str] = {"syrip12": "syrip12", "h36m17": "h36m17"}

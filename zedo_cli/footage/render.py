@@ -23,7 +23,7 @@ from ..camera.video import QUEUE_DEPTH, VideoWriter, frames_ahead, probe_video
 from ..data.skeleton import center_on_root
 from ..errors import ConfigError, InputFormatError, ZedoError, plural
 from ..files import atomic_path, check_writable, make_output_folder
-from ..formats.result_reader import ResultPoses
+from ..formats.readers.result import ResultPoses
 from .draw import SideView, Style, draw_flag, draw_skeleton, flag_names, label, stamp
 
 VIDEO_SUFFIXES = (".mp4",)

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..camera.video import probe_video, read_frames
 from ..errors import InputFormatError, plural
-from ..formats.result_reader import ResultPoses
+from ..formats.readers.result import ResultPoses
 from .render import Painter, RenderSettings, _check_size, _rows_by_frame, list_images, match_images
 from .video_check import VideoMismatchError
 

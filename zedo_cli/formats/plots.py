@@ -21,7 +21,7 @@ from ..data.keypoints import Keypoints2D
 from ..data.skeleton import Skeleton
 from ..files import atomic_path, check_writable
 from .colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
-from .writers_common import OutputOptions, group_frames
+from .writers.common import OutputOptions, group_frames
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
     from ..lifting.solver import LiftResult

@@ -1,5 +1,5 @@
 """`LiftResult`: what a lift gives, a plain record of numpy arrays (no torch), so that the writers,
-the readers of stored results (`formats.result_export`) and the CLI's option handling can use it
+the readers of stored results (`formats.export`) and the CLI's option handling can use it
 without loading the network code."""
 
 from __future__ import annotations

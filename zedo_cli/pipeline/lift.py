@@ -26,11 +26,11 @@ from ..data.keypoints import Keypoints2D
 from ..errors import InputFormatError, IntrinsicsError, plural
 from ..footage.video_check import check_against_video
 from ..formats import input_sha256, read_keypoints
-from ..formats.markers import marker_frame_numbers
-from ..formats.readers import fill_image_sizes
-from ..formats.writers import MARKER_FORMATS, write_result
-from ..formats.writers import output_format as format_of
-from ..formats.writers_common import group_frames
+from ..formats.readers.inputs import fill_image_sizes
+from ..formats.writers.common import group_frames
+from ..formats.writers.markers import marker_frame_numbers
+from ..formats.writers.outputs import MARKER_FORMATS, write_result
+from ..formats.writers.outputs import output_format as format_of
 from ..lifting.config import LiftConfig
 from ..lifting.people import select_people
 from ..lifting.sequence import check_sequence
@@ -194,6 +194,8 @@ def prepare_input(source: str, prior: Prior, plan: LiftPlan, kp: Keypoints2D | N
 
     o = plan.options
     kp = _with_image_size(source, read_input(source, plan) if kp is None else kp, plan, warn)
+    for note in kp.notes:  # what the reader left out (annotation labels that name no joint, ...)
+        warn(note)
     kp, places, counts = read_selected(source, prior, plan, kp)
     _report_left_out(source, counts, warn)
     video = check_against_video(kp, plan.video, source) if plan.video is not None else None

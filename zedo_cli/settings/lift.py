@@ -10,8 +10,8 @@ from pydantic import Field, field_validator
 from ..data.skeleton import SKELETONS, get_skeleton
 from ..errors import ConfigError
 from ..formats import INPUT_FORMATS, OUTPUT_FORMATS
-from ..formats.markers import MARKER_AXES
-from ..formats.writers import FRAMES, UNITS
+from ..formats.writers.markers import MARKER_AXES
+from ..formats.writers.outputs import FRAMES, UNITS
 from ..lifting.config import DEFAULT_PRESET, DEFAULT_SIGMA_FRAMES, MAX_HYPOTHESES, PRESETS, TEMPORAL_MODES, LiftConfig
 from ..lifting.people import PERSON_MODES
 from .limits import DEVICE_HELP, MAX_FOCAL_PX, MAX_FPS, MAX_SEED, MAX_SIGMA_FRAMES, MAX_STEPS

@@ -3,7 +3,7 @@
 Every document states units, coordinate frame, axes and the K used per frame (and its source).
 Missing values are `null`, never 0. Instances are grouped into frames by `image_id`, in input
 order. By default coordinates are in metres in the camera frame; `units="mm"` and
-`frame="root"` (writers_common) change `keypoints_3d`, `keypoints_3d_root_relative` and
+`frame="root"` (common) change `keypoints_3d`, `keypoints_3d_root_relative` and
 `root_translation` alike (the last stays the root point's camera-frame position).
 
 The document is assembled from three parts that the writers stream one by one: `build_header`
@@ -23,11 +23,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..camera.sanity import CameraSanity, check_camera_sanity
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import Skeleton
-from ..version import __version__
-from .writers_common import (
+from ...camera.sanity import CameraSanity, check_camera_sanity
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import Skeleton
+from ...version import __version__
+from .common import (
     AXES,
     OutputOptions,
     camera_block,
@@ -40,8 +40,8 @@ from .writers_common import (
 )
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
-    from ..camera.model import CameraModel
-    from ..lifting.solver import LiftResult
+    from ...camera.model import CameraModel
+    from ...lifting.solver import LiftResult
 
 SCHEMA = "zedo.pose3d/1"
 __all__ = [

@@ -5,11 +5,11 @@
 Formats (`OUTPUT_FORMATS`), chosen by `fmt` or else by the output's extension:
 
 - `json`  (.json): one document, schema zedo.pose3d/1 (result_json). The default for stdout.
-- `jsonl` (.jsonl, .ndjson): header line, one line per frame, summary line (writers_jsonl).
-- `csv`   (.csv): one row per frame, person and joint, plus a `.meta.json` sidecar (writers_csv).
-- `npz`   (.npz): NumPy arrays, one row per instance (writers_npz). Not on stdout.
-- `trc`   (.trc): OpenSim / Pose2Sim marker files, metres, Y up, one per track (writers_trc). Not on stdout.
-- `c3d`   (.c3d): C3D marker files, millimetres, the TRC's axes, one per track (writers_c3d). Not on stdout.
+- `jsonl` (.jsonl, .ndjson): header line, one line per frame, summary line (result_jsonl).
+- `csv`   (.csv): one row per frame, person and joint, plus a `.meta.json` sidecar (result_csv).
+- `npz`   (.npz): NumPy arrays, one row per instance (result_npz). Not on stdout.
+- `trc`   (.trc): OpenSim / Pose2Sim marker files, metres, Y up, one per track (result_trc). Not on stdout.
+- `c3d`   (.c3d): C3D marker files, millimetres, the TRC's axes, one per track (result_c3d). Not on stdout.
 
 The marker files (trc, c3d; markers.py) hold the 3D joints only, in their readers' units and axes
 (`units` does not apply; `frame` and `marker_axes` do); the first four hold the whole result.
@@ -27,21 +27,21 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..errors import ConfigError
-from ..files import check_writable
+from ...data.keypoints import Keypoints2D
+from ...errors import ConfigError
+from ...files import check_writable
+from .common import FRAMES, UNITS, OutputOptions, camera_block, group_frames, lens_at
 from .markers import check_marker_axes, marker_tracks
+from .result_c3d import write_c3d
+from .result_csv import write_csv
 from .result_json import build_header, build_summary, iter_frames, write_document
-from .writers_c3d import write_c3d
-from .writers_common import FRAMES, UNITS, OutputOptions, camera_block, group_frames, lens_at
-from .writers_csv import write_csv
-from .writers_jsonl import write_jsonl
-from .writers_npz import write_npz
-from .writers_trc import write_trc
+from .result_jsonl import write_jsonl
+from .result_npz import write_npz
+from .result_trc import write_trc
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
-    from ..camera.model import CameraModel
-    from ..lifting.solver import LiftResult
+    from ...camera.model import CameraModel
+    from ...lifting.solver import LiftResult
 
 OUTPUT_FORMATS = ("json", "jsonl", "csv", "npz", "trc", "c3d")
 MARKER_FORMATS = ("trc", "c3d")  # marker files of biomechanics tools: the 3D joints only, one file per track

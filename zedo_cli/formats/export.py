@@ -3,7 +3,7 @@
     export_result("clip.zedo.json", "clip.trc")                 # or .c3d, .csv, .jsonl, .json, .npz
     export_result("clip.zedo.csv", "clip.c3d", marker_axes="overhead", person="largest")
 
-The result is read back by `result_reader.read_result` (any format it reads: JSON, JSON Lines,
+The result is read back by `readers.result.read_result` (any format it reads: JSON, JSON Lines,
 CSV with its sidecar, NPZ) as the lift that wrote it (`stored_lift`: the 2D input, the poses, the
 status, the cameras, the settings) and written by `writers.write_result`, with the same options
 and checks as `zedo lift -o` (format from the extension or `fmt`, `units`, `frame`, `marker_axes`,
@@ -31,9 +31,9 @@ from ..errors import ConfigError, InputFormatError
 from ..lifting.config import LiftConfig
 from ..lifting.people import PERSON_MODES, select_people
 from ..lifting.result import LiftResult
-from .result_reader import ResultPoses, read_result
-from .writers import output_format, write_result
-from .writers_common import FRAMES, UNITS
+from .readers.result import ResultPoses, read_result
+from .writers.common import FRAMES, UNITS
+from .writers.outputs import output_format, write_result
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
-from ..files import check_writable, open_temporary, output_failure, replace_into
+from ...files import check_writable, open_temporary, output_failure, replace_into
 
 
 def _line(obj: dict[str, Any]) -> str:

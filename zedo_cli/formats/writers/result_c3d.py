@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_path
+from ...files import atomic_path
 from .markers import MarkerTracks, check_track_paths, track_paths
 
 UNITS = "mm"

@@ -13,8 +13,8 @@ import stat
 import sys
 from typing import Any
 
-from ..errors import InputFormatError
-from ..strict_json import DuplicateKeyError, loads
+from ...errors import InputFormatError
+from ...strict_json import DuplicateKeyError, loads
 from .jsondoc import InvalidDocument, scan_document
 from .sniff import HEAD_BYTES, check_kind
 from .validate import error

@@ -20,8 +20,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, Skeleton
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import SKELETONS, Skeleton
 from .validate import (
     NAN_SIZE,
     Row,

@@ -24,12 +24,12 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import ConfigError
-from ..files import atomic_path
+from ...errors import ConfigError
+from ...files import atomic_path
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
-    from ..camera.model import CameraModel
-    from ..lifting.solver import LiftResult
+    from ...camera.model import CameraModel
+    from ...lifting.solver import LiftResult
 
 UNITS = ("m", "mm")
 FRAMES = ("camera", "root")

@@ -40,9 +40,9 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..files import atomic_path, check_writable
-from .writers_common import (
+from ...data.keypoints import Keypoints2D
+from ...files import atomic_path, check_writable
+from .common import (
     OutputOptions,
     camera_block,
     group_frames,
@@ -53,8 +53,8 @@ from .writers_common import (
 )
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
-    from ..camera.model import CameraModel
-    from ..lifting.solver import LiftResult
+    from ...camera.model import CameraModel
+    from ...lifting.solver import LiftResult
 
 
 def coordinate_columns(units: str = "m", frame: str = "camera") -> list[str]:

@@ -25,8 +25,8 @@ from collections.abc import Iterator, Sequence
 from json.decoder import scanstring
 from typing import Any, overload
 
-from ..strict_json import DECODER as _DECODER
-from ..strict_json import DuplicateKeyError
+from ...strict_json import DECODER as _DECODER
+from ...strict_json import DuplicateKeyError
 
 _WHITESPACE = re.compile(r"[ \t\n\r]*")  # JSON's whitespace, as the json module skips it
 

@@ -27,9 +27,9 @@ import re
 from pathlib import Path
 from typing import Any
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, Skeleton
-from ..errors import InputFormatError
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import SKELETONS, Skeleton
+from ...errors import InputFormatError
 from .source import load_json
 from .validate import (
     NAN_SIZE,

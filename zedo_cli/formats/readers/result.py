@@ -47,11 +47,11 @@ from typing import Any
 
 import numpy as np
 
-from ..camera.model import CameraModel
-from ..data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
-from ..errors import ConfigError, InputFormatError, IntrinsicsError, plural
-from ..strict_json import loads
-from .result_schema import (
+from ...camera.model import CameraModel
+from ...data.skeleton import Skeleton, get_skeleton, skeleton_from_joint_names
+from ...errors import ConfigError, InputFormatError, IntrinsicsError, plural
+from ...strict_json import loads
+from ..result_schema import (
     SCHEMA,
     Frame,
     FrameLine,
@@ -72,7 +72,7 @@ _FRAMES = {"cam": "camera", "root": "root"}
 @dataclass
 class LiftRecord:
     """What a result file keeps of its lift beyond the 3D poses: enough to write the result again
-    in another format (`result_export`, `zedo export`). Per row of `ResultPoses`."""
+    in another format (`formats.export`, `zedo export`). Per row of `ResultPoses`."""
 
     keypoints_2d: np.ndarray  # (N, J, 2) the input's pixels, in the prior's joints; NaN where missing
     confidence: np.ndarray  # (N, J) the input's confidence; 0 where missing
@@ -193,7 +193,7 @@ def _refuse_keypoints(doc: Any, name: str) -> None:
     """Refuse a 2D keypoint file (any layout `zedo lift` reads) with what to do instead: lift it."""
     if isinstance(doc, dict) and doc.get("schema") == SCHEMA:
         return
-    from .readers import detect_format  # the 2D readers, only for a file that is not a result
+    from .inputs import detect_format  # the 2D readers, only for a file that is not a result
 
     try:
         fmt = detect_format(doc, name)

@@ -26,13 +26,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..errors import ConfigError
-from ..files import check_writable
-from .writers_common import OutputOptions, group_frames, output_poses
+from ...data.keypoints import Keypoints2D
+from ...errors import ConfigError
+from ...files import check_writable
+from .common import OutputOptions, group_frames, output_poses
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
-    from ..lifting.solver import LiftResult
+    from ...lifting.solver import LiftResult
 
 # Camera (OpenCV: x right, y down, z forward) to marker axes (Y up), as rows of a rotation.
 MARKER_AXES: dict[str, np.ndarray] = {

@@ -23,9 +23,9 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from typing import Any
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import Skeleton
-from ..errors import InputFormatError
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import Skeleton
+from ...errors import InputFormatError
 from .source import blank, parse_document, parse_json
 from .validate import (
     NAN_SIZE,

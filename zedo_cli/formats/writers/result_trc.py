@@ -21,9 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_path
+from ...files import atomic_path
+from .common import write_pieces
 from .markers import MarkerTracks, check_track_paths, track_paths
-from .writers_common import write_pieces
 
 HEADER_KEYS = (
     "DataRate", "CameraRate", "NumFrames", "NumMarkers", "Units", "OrigDataRate", "OrigDataStartFrame", "OrigNumFrames",

@@ -15,8 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import (
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import (
     SKELETONS,
     JointNameMatch,
     Skeleton,
@@ -27,7 +27,7 @@ from ..data.skeleton import (
     skeleton_for_joint_count,
     skeleton_option_hint,
 )
-from ..errors import InputFormatError
+from ...errors import InputFormatError
 from .jsondoc import JsonArray
 
 ImageId = int | str

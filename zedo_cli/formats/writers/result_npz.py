@@ -43,14 +43,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..errors import ConfigError
-from ..files import atomic_path
-from .writers_common import AXES, OutputOptions, group_frames, json_pieces, lens_at, output_poses
+from ...data.keypoints import Keypoints2D
+from ...errors import ConfigError
+from ...files import atomic_path
+from .common import AXES, OutputOptions, group_frames, json_pieces, lens_at, output_poses
 
 if TYPE_CHECKING:  # the writers only read a result; importing the solver would load torch
-    from ..camera.model import CameraModel
-    from ..lifting.solver import LiftResult
+    from ...camera.model import CameraModel
+    from ...lifting.solver import LiftResult
 
 
 _INT64 = np.iinfo(np.int64)

@@ -27,8 +27,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import SKELETONS, JointNameMatch, Skeleton
 from .validate import (
     NAN_SIZE,
     ImageId,

@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, JointNameMatch, Skeleton, skeleton_for_joint_count, skeleton_option_hint
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import SKELETONS, JointNameMatch, Skeleton, skeleton_for_joint_count, skeleton_option_hint
 from .validate import (
     NAN_SIZE,
     ImageId,

@@ -23,8 +23,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import SKELETONS, Skeleton, skeleton_option_hint
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import SKELETONS, Skeleton, skeleton_option_hint
 from .validate import (
     NAN_SIZE,
     Row,

@@ -8,6 +8,8 @@ Formats (``--format`` names) and the module that reads each:
 - ``openpose``: `openpose.py` (one per-frame file, or a directory of them)
 - ``mmpose-image``, ``mmpose-video``, ``mmpose-demo``: `mmpose.py`; ``mmpose`` picks the layout
 - ``zedo-2d``: `zedo2d.py`; ``zedo-jsonl``: `jsonl.py` (JSON Lines, from a file or stdin)
+- ``labelme``: `labelme.py` (LabelMe point files, one image each, or a folder of them as one clip)
+- ``label-studio``: `labelstudio.py` (Label Studio keypoint exports, JSON or JSON_MIN)
 
 Coordinates are 0-indexed pixels from the image's top-left. Missing joints come out as NaN with
 confidence 0, never as positions. Every malformed input raises `InputFormatError` whose message
@@ -27,12 +29,14 @@ from typing import Any
 
 import numpy as np
 
-from ..data.keypoints import Keypoints2D
-from ..data.skeleton import Skeleton, get_skeleton
-from ..errors import ConfigError
+from ...data.keypoints import Keypoints2D
+from ...data.skeleton import Skeleton, get_skeleton
+from ...errors import ConfigError
 from .alphapose import is_alphapose_entry, read_alphapose
 from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read_coco_results
 from .jsonl import looks_like_jsonl, read_zedo_jsonl, read_zedo_jsonl_text
+from .labelme import is_labelme, is_labelme_folder, read_labelme, read_labelme_dir
+from .labelstudio import is_label_studio, read_label_studio
 from .mmpose import mmpose_layout, read_mmpose, read_mmpose_demo, read_mmpose_image, read_mmpose_video
 from .openpose import frame_files, read_openpose, read_openpose_dir
 from .source import STDIN, load_document, parse_document, read_text
@@ -55,13 +59,16 @@ _READERS: dict[str, Callable[[Any, str, Skeleton | None], Keypoints2D]] = {
     "mmpose-demo": read_mmpose_demo,
     "zedo-2d": read_zedo_2d,
     "zedo-jsonl": read_zedo_jsonl,
+    "labelme": read_labelme,
+    "label-studio": read_label_studio,
 }
 INPUT_FORMATS = ("auto", *_READERS)
 _JSONL_SUFFIXES = (".jsonl", ".ndjson")
 _EXPECTED = (
     "expected COCO annotations (images, annotations, categories), a COCO results or AlphaPose list "
     "(image_id, keypoints), OpenPose (people), MMPose (instance_info; or a list with frame_id and instances, "
-    "or with keypoints and keypoint_scores), zedo 2D (instances) or zedo JSONL (frame, persons)"
+    "or with keypoints and keypoint_scores), zedo 2D (instances), zedo JSONL (frame, persons), "
+    "LabelMe (shapes) or Label Studio (tasks with annotations, or JSON_MIN keypointlabels)"
 )
 
 
@@ -84,10 +91,12 @@ def detect_format(data: Any, path: str = "<input>") -> str:
 
     A dict: with images, annotations and categories COCO annotations; with people OpenPose;
     with instance_info the MMPose demo layout; with persons one zedo JSONL line; with instances
-    zedo 2D. A list: of dicts with image_id and flat keypoints COCO results (an empty list too:
-    a detector that found nobody), AlphaPose when the image_id is a string or idx/box are there;
+    zedo 2D; with shapes LabelMe; a Label Studio task (data and annotations). A list: of dicts
+    with image_id and flat keypoints COCO results (an empty list too: a detector that found
+    nobody), AlphaPose when the image_id is a string or idx/box are there;
     of dicts with frame_id and instances MMPose video; of dicts with nested keypoints and
-    keypoint_scores MMPose image.
+    keypoint_scores MMPose image; of Label Studio tasks, or of JSON_MIN items with keypointlabels,
+    Label Studio.
     """
     if isinstance(data, dict):
         if all(key in data for key in ("images", "annotations", "categories")):
@@ -96,10 +105,16 @@ def detect_format(data: Any, path: str = "<input>") -> str:
                          ("instances", "zedo-2d")):  # fmt: skip
             if key in data:
                 return fmt
+        if is_labelme(data):
+            return "labelme"
+        if is_label_studio(data):
+            return "label-studio"
         found = f"top-level JSON object has keys {_keys(data)}" if data else "top-level JSON object is empty"
     elif is_list(data):
         if not data or _is_results_entry(data[0]):
             return "alphapose" if data and is_alphapose_entry(data[0]) else "coco-results"
+        if is_label_studio(data):
+            return "label-studio"
         layout = mmpose_layout(data)
         if layout is not None:
             return layout
@@ -195,7 +210,7 @@ def read_keypoints(
     images: str | Path | None = None,
     skeleton: str | Skeleton | None = None,
 ) -> Keypoints2D:
-    """Read a 2D keypoint file ("-" = stdin), or a directory of OpenPose frame files, into
+    """Read a 2D keypoint file ("-" = stdin), or a directory of OpenPose or LabelMe frame files, into
     `Keypoints2D` (xy (N, J, 2) pixels, float64).
 
     `format`: one of `INPUT_FORMATS`; None or "auto" detects it. `images`: a companion COCO
@@ -209,9 +224,12 @@ def read_keypoints(
     forced = _skeleton_option(skeleton)
     size = _size_option(image_size) if image_size is not None else None
     if name != STDIN and Path(name).is_dir():
-        if fmt not in (None, "openpose"):
-            raise error(name, "", f"is a directory; only OpenPose output is read from a directory, not {fmt}")
-        kp = read_openpose_dir(name, forced)
+        if fmt not in (None, "openpose", "labelme"):
+            raise error(
+                name, "", f"is a directory; only OpenPose or LabelMe files are read from a directory, not {fmt}"
+            )
+        labelme = fmt == "labelme" or (fmt is None and is_labelme_folder(Path(name)))
+        kp = read_labelme_dir(name, forced) if labelme else read_openpose_dir(name, forced)
     else:
         kp = read_keypoints_text(read_text(name), name, format=fmt, skeleton=forced)
     if images is not None:
