@@ -343,8 +343,10 @@ def records(poses: np.ndarray, rng: np.random.Generator, known: list[Case], seco
         h = head_frames(clip.face2d, shoulders(clip.body2d))
         stats = head_clip_bootstrap(np.arange(len(clip.yaw)), h, clip.fps)
         assert [st.measure for st in stats] == list(MEASURES)
-        called = int((h.turn_call != "").sum())
+        calls = h.turn_call.astype(str)
+        called = int((calls != "").sum())
         p = np.array([st.value for st in stats[:3]])
+        assert np.array_equal(p, [(calls == c).sum() / called for c in CALLS]), "shares are not the calls counted"
         rows.append((np.array([st.value for st in stats]), np.array([st.interval.low for st in stats]),
                      np.array([st.interval.high for st in stats]), case.truth(),
                      np.append(case.share_of_calls, case.tilt_median),
