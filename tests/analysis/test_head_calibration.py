@@ -157,3 +157,22 @@ def test_scores_and_the_conformal_quantile() -> None:
         cal, new = rng.exponential(size=49), rng.exponential()
         hits.append(new <= conformal_factor(cal, 0.9))
     assert 0.86 <= np.mean(hits) <= 0.95
+
+
+def test_zedo_analyze_gives_the_head_intervals_at_its_level(tmp_path: Path) -> None:
+    from test_head import _result_with_faces
+
+    from zedo_cli.analysis.analyse import AnalysisSettings, analyse
+    from zedo_cli.formats.result_reader import read_result
+
+    yaws = np.concatenate([np.zeros(60), np.full(90, -50.0), np.linspace(-50, 50, 30), np.full(60, 45.0)])
+    res = read_result(_result_with_faces(tmp_path, yaws))
+    rows = {}
+    for level in (0.9, 0.95):
+        a = analyse(res, AnalysisSettings(level=level))
+        rows[level] = {r.measure: r for r in a.rows if r.frame_index is None and r.measure.startswith("head_")}
+    for measure in MEASURES:
+        at90, at95 = rows[0.9][measure], rows[0.95][measure]
+        assert at90.value == at95.value
+        assert at90.interval.startswith("calibrated") and "for 90%" in at90.interval and "for 95%" in at95.interval
+        assert at95.low_90 <= at90.low_90 <= at90.value <= at90.high_90 <= at95.high_90
