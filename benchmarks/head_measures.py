@@ -251,16 +251,6 @@ def frame_figures(clips: list[Clip]) -> dict[str, float]:
     return out
 
 
-def clip_shares(clip: Clip) -> tuple[np.ndarray, list, int]:
-    """The clip's shares (left, right, midline) counted from its frames' calls, head_clip's rows (the
-    bundled calibration's intervals) and the number of frames with a call."""
-    h = head_frames(clip.face2d, shoulders(clip.body2d))
-    stats = head_clip(np.arange(len(clip.yaw)), h, clip.fps)
-    calls = h.turn_call.astype(str)
-    counted = np.array([(calls == c).sum() / (calls != "").sum() for c in CALLS])
-    return counted, stats, int((calls != "").sum())
-
-
 @dataclass
 class Case:
     """A process (an infant's behaviour in one set-up) and its long-run truths."""
