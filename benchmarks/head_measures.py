@@ -1,14 +1,19 @@
 """The head measures (`head_turn`, `head_tilt_deg`, the clip shares and their intervals) on synthetic
-clips of an infant lying with its chest to the camera, a cot filmed from above (docs/clinical.md,
-"Head"):
+clips of an infant lying with its chest to the camera, a cot filmed from above, and the calibration
+of the clip intervals (docs/clinical.md, "Head"):
 
-    python benchmarks/head_measures.py --syrip-dir ../shared/data/syrip [--e2e-dir DIR]
+    python benchmarks/head_measures.py --syrip-dir ../shared/data/syrip [--write] [--e2e-dir DIR]
+
+`--write` writes the fitted calibration to `zedo_cli/weights/head.json` (the bundled one), with the
+held-out coverage it measured.
 
 The clips:
 
 - the body: SyRIP *training* poses (`load_syrip_3d(..., "train")`; never Test100, never the
   synthetic rows), each turned so that its chest faces the camera, its head towards a random
   direction of the picture, tipped by up to 10 degrees, and eased from one key pose to the next;
+  the calibration clips use the even rows of the training poses, every clip measured (held out)
+  the odd rows, each with its own seeds;
 - the head: nose, eyes and ears at an infant's offsets from the head's centre (the tragion
   midpoint, 7 cm above the shoulders' midpoint along the trunk), every clip's head stretched by
   up to +-15 % per axis (so the measure's head model is never exactly right), with a known yaw,
@@ -23,9 +28,13 @@ The clips:
 
 Measured: the calls against the true yaw (frames where the nose or an eye was detected), the
 tilt against its definition computed on the noiseless projected points, the clip shares against
-the frame rows, and the 90 % intervals' coverage of the process's long-run shares (its share of
-calls, the bootstrap's estimand, and its true share by the yaw; from 2 hours of the same
-process) for clips of 1, 3 and 10 minutes, and on the yaw process alone (no camera: the true
+the frame rows. The intervals: per process (random shares, holds, infant and set-up) its truths
+from 2 hours of it (the true share of frames by the yaw, the median of the tilt's definition on
+the noiseless points; also the long-run share of calls, the bootstrap's own estimand), and one
+clip of 1, 3 and 10 minutes of it. The calibration (`analysis.head_calibration`: split conformal
+on the bootstrap interval's arms) is fitted on the calibration processes' clips, and the coverage
+of the bootstrap alone and calibrated is measured on the held-out processes' clips, at 1 px and
+(fewer) at 0.5 and 2 px; also the bootstrap on the yaw process alone (no camera: the true
 categories as calls) for holds of 2, 4 and 6 s. With `--e2e-dir`, one clip also goes through
 `zedo lift` (COCO-17 with the face points) and `zedo analyze`, and the CSV's head rows are compared
 with the measure computed directly. SyRIP's terms (non-commercial research) hold for its poses.
@@ -39,13 +48,36 @@ import math
 import subprocess
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from zedo_cli.analysis.block_bootstrap import share_intervals
-from zedo_cli.analysis.head import FACE_JOINTS, HeadSettings, head_clip, head_frames, head_tilt
+from zedo_cli.analysis.calibration import LEVELS
+from zedo_cli.analysis.head import (
+    FACE_JOINTS,
+    HeadSettings,
+    head_clip,
+    head_clip_bootstrap,
+    head_frames,
+    head_tilt,
+)
+from zedo_cli.analysis.head_calibration import (
+    BOUNDS,
+    MEASURES,
+    HeadCalibration,
+    HeadMeasureCalibration,
+    MeasureFactor,
+    bundled_head_calibrations,
+    bundled_path,
+    conformal_factor,
+    head_settings_key,
+    scores,
+    widened_arms,
+    write_head_calibrations,
+)
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 
@@ -219,47 +251,49 @@ def frame_figures(clips: list[Clip]) -> dict[str, float]:
     return out
 
 
-def clip_shares(clip: Clip) -> tuple[np.ndarray, list, int]:
-    """The clip's shares (left, right, midline) counted from its frames' calls, head_clip's rows and
-    the number of frames with a call."""
-    h = head_frames(clip.face2d, shoulders(clip.body2d))
-    stats = head_clip(np.arange(len(clip.yaw)), h, clip.fps)
-    calls = h.turn_call.astype(str)
-    counted = np.array([(calls == c).sum() / (calls != "").sum() for c in CALLS])
-    return counted, stats, int((calls != "").sum())
-
-
 @dataclass
 class Case:
-    """A process (an infant's behaviour in one set-up) and its long-run shares (left, right, midline)."""
+    """A process (an infant's behaviour in one set-up) and its long-run truths."""
 
     shares: tuple[float, float, float]
     dwell_s: float
     setup_seed: int
-    share_of_calls: np.ndarray  # (3,) of 2 hours of the process, measured as the clips are
+    share_of_calls: np.ndarray  # (3,) left, right, midline of 2 hours of the process, measured as the clips are
     true_share: np.ndarray  # (3,) of 2 hours of the process, by the true yaw
+    tilt_median: float  # of 2 hours: the median of head_tilt_deg on the noiseless points
+    tilt_median_measured: float  # of the same 2 hours: the median of head_tilt_deg as measured
+
+    def measured(self) -> np.ndarray:
+        """`(4,)` the long-run values as measured, MEASURES' order."""
+        return np.append(self.share_of_calls, self.tilt_median_measured)
+
+    def truth(self) -> np.ndarray:
+        return np.append(self.true_share, self.tilt_median)
 
 
-def cases(train: np.ndarray, rng: np.random.Generator, count: int, hours: float = 2.0) -> list[Case]:
+def cases(poses: np.ndarray, rng: np.random.Generator, count: int, hours: float = 2.0) -> list[Case]:
     out = []
     for _ in range(count):
         shares = tuple(float(p) for p in rng.dirichlet([2.0, 2.0, 2.0]))
         dwell, setup_seed = float(rng.uniform(2.0, 6.0)), int(rng.integers(1 << 31))
-        long = make_clip(train, np.random.default_rng(setup_seed + 1), hours * 3600.0, shares=shares, dwell_s=dwell,
+        long = make_clip(poses, np.random.default_rng(setup_seed + 1), hours * 3600.0, shares=shares, dwell_s=dwell,
                          setup=np.random.default_rng(setup_seed))  # fmt: skip
-        calls = head_frames(long.face2d, shoulders(long.body2d)).turn_call.astype(str)
+        h = head_frames(long.face2d, shoulders(long.body2d))
+        calls = h.turn_call.astype(str)
         truth = true_calls(long.yaw)
+        clean, _, _ = head_tilt(long.face_clean, shoulders(long.body_clean))
         out.append(Case(shares, dwell, setup_seed, np.array([(calls == c).sum() / (calls != "").sum() for c in CALLS]),
-                        np.array([(truth == c).mean() for c in CALLS])))  # fmt: skip
+                        np.array([(truth == c).mean() for c in CALLS]), float(np.nanmedian(clean)),
+                        float(np.nanmedian(h.tilt_deg))))  # fmt: skip
     return out
 
 
-def reference_spread(train: np.ndarray, known: list[Case], hours: float = 2.0) -> dict[str, float]:
+def reference_spread(poses: np.ndarray, known: list[Case], hours: float = 2.0) -> dict[str, float]:
     """How much the long-run reference itself varies: a second run of `hours` of each process (same
     infant and set-up, other behaviour), the mean absolute difference of the shares of calls."""
     diffs = []
     for case in known:
-        other = make_clip(train, np.random.default_rng(case.setup_seed + 2), hours * 3600.0, shares=case.shares,
+        other = make_clip(poses, np.random.default_rng(case.setup_seed + 2), hours * 3600.0, shares=case.shares,
                           dwell_s=case.dwell_s, setup=np.random.default_rng(case.setup_seed))  # fmt: skip
         calls = head_frames(other.face2d, shoulders(other.body2d)).turn_call.astype(str)
         again = np.array([(calls == c).sum() / (calls != "").sum() for c in CALLS])
@@ -267,29 +301,111 @@ def reference_spread(train: np.ndarray, known: list[Case], hours: float = 2.0) -
     return {"cases": float(len(diffs)), "mean_abs_difference": float(np.mean(diffs))}
 
 
-def coverage(train: np.ndarray, rng: np.random.Generator, known: list[Case], seconds: float) -> dict[str, float]:
-    """Coverage of the 90 % share intervals of one clip of `seconds` per case (the same infant and
-    set-up, another stretch of its behaviour): of the process's long-run share of calls (the
-    bootstrap's estimand) and of its true share (the calls' own errors included)."""
-    hit_calls = hit_truth = agree = total = 0
-    widths, binomial = [], []
+@dataclass
+class Records:
+    """The bootstrap's intervals (before calibration) of clips with known truths, per measure
+    (MEASURES' order) and clip: `(4, n)` arrays."""
+
+    estimate: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    truth: np.ndarray  # the long-run true share (by the yaw) / median tilt (noiseless points)
+    truth_of_calls: np.ndarray  # the long-run share of calls / the same median tilt
+    seconds: np.ndarray  # (n,) the clips' lengths
+    binomial_width: np.ndarray  # (3, n) the shares' binomial widths over frames taken as independent
+
+    @staticmethod
+    def concat(parts: list[Records]) -> Records:
+        axis = {"seconds": 0}
+        return Records(**{f: np.concatenate([getattr(r, f) for r in parts], axis=axis.get(f, 1))
+                          for f in Records.__dataclass_fields__})  # fmt: skip
+
+
+def records(poses: np.ndarray, rng: np.random.Generator, known: list[Case], seconds: float,
+            noise_px: float = 1.0) -> Records:  # fmt: skip
+    """One clip of `seconds` per case (the same infant and set-up, another stretch of its
+    behaviour) and its bootstrap intervals (`head_clip_bootstrap`)."""
+    rows = []
     for case in known:
-        clip = make_clip(train, np.random.default_rng(int(rng.integers(1 << 31))), seconds, shares=case.shares,
-                         dwell_s=case.dwell_s, setup=np.random.default_rng(case.setup_seed))  # fmt: skip
-        counted, stats, called = clip_shares(clip)
-        for k, stat in enumerate(stats[:3]):
-            agree += int(stat.value == counted[k])
-            total += 1
-            lo, hi = stat.interval.low, stat.interval.high
-            hit_calls += int(lo <= case.share_of_calls[k] <= hi)
-            hit_truth += int(lo <= case.true_share[k] <= hi)
-            widths.append(hi - lo)
-            p = counted[k]
-            binomial.append(2 * 1.645 * math.sqrt(p * (1 - p) / called))  # frames taken as independent
-    return {"cases": float(total), "coverage_of_process_share_of_calls": hit_calls / total,
-            "coverage_of_process_true_share": hit_truth / total, "median_width": float(np.median(widths)),
-            "median_width_binomial_over_frames": float(np.median(binomial)),
-            "shares_agree_with_frame_calls": agree / total}  # fmt: skip
+        behaviour, setup = np.random.default_rng(int(rng.integers(1 << 31))), np.random.default_rng(case.setup_seed)
+        clip = make_clip(poses, behaviour, seconds, shares=case.shares, dwell_s=case.dwell_s, noise_px=noise_px,
+                         setup=setup)  # fmt: skip
+        h = head_frames(clip.face2d, shoulders(clip.body2d))
+        stats = head_clip_bootstrap(np.arange(len(clip.yaw)), h, clip.fps)
+        assert [st.measure for st in stats] == list(MEASURES)
+        calls = h.turn_call.astype(str)
+        called = int((calls != "").sum())
+        p = np.array([st.value for st in stats[:3]])
+        assert np.array_equal(p, [(calls == c).sum() / called for c in CALLS]), "shares are not the calls counted"
+        rows.append((np.array([st.value for st in stats]), np.array([st.interval.low for st in stats]),
+                     np.array([st.interval.high for st in stats]), case.truth(),
+                     np.append(case.share_of_calls, case.tilt_median),
+                     2 * 1.645 * np.sqrt(p * (1 - p) / called)))  # fmt: skip
+    cols = [np.stack(c, axis=1) for c in zip(*rows, strict=True)]
+    return Records(*cols[:5], np.full(len(known), seconds), cols[5])
+
+
+def measurement_error(known: list[Case]) -> dict[str, float]:
+    """Per measure, the root mean square over processes of its long-run value as measured minus
+    its truth: the frames' own error, which no longer clip makes smaller."""
+    diff = np.stack([c.measured() - c.truth() for c in known])  # (n, 4)
+    return {name: float(np.sqrt(np.mean(diff[:, m] ** 2))) for m, name in enumerate(MEASURES)}
+
+
+def fit(rec: Records, errors: dict[str, float], level: float) -> dict[str, tuple[float, int]]:
+    """Per measure, the split-conformal factor of its clips' scores against the true share / median
+    (the arms with the measurement error), and the number of clips it rests on."""
+    out = {}
+    for m, name in enumerate(MEASURES):
+        score = scores(rec.estimate[m], rec.low[m], rec.high[m], rec.truth[m], errors[name])
+        ok = np.isfinite(rec.low[m])
+        out[name] = (conformal_factor(score[ok], level), int(ok.sum()))
+    return out
+
+
+def widened(rec: Records, errors: dict[str, float], factors: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
+    """The intervals `(4, n)` of `rec` calibrated as `head_calibration.widen` makes them."""
+    ends = [widened_arms(rec.estimate[m], rec.low[m], rec.high[m], errors[name], factors[name], BOUNDS[name])
+            for m, name in enumerate(MEASURES)]  # fmt: skip
+    return np.stack([e[0] for e in ends]), np.stack([e[1] for e in ends])
+
+
+def coverage(rec: Records, cal: tuple[dict[str, float], dict[str, float]] | None = None
+             ) -> dict[str, dict[str, float]]:  # fmt: skip
+    """Per measure: the coverage of the truth (and, for the shares, of the long-run share of calls)
+    by the bootstrap's intervals (`cal` None) or the calibrated ones (`cal`: the errors and factors),
+    over the clips with an interval, and their median width."""
+    low, high = (rec.low, rec.high) if cal is None else widened(rec, *cal)
+    out = {}
+    for m, name in enumerate(MEASURES):
+        ok = np.isfinite(low[m])
+        row = {"clips": float(ok.sum()),
+               "coverage": float(np.mean((low[m][ok] <= rec.truth[m][ok]) & (rec.truth[m][ok] <= high[m][ok]))),
+               "median_width": float(np.median(high[m][ok] - low[m][ok]))}  # fmt: skip
+        if m < 3:
+            calls = rec.truth_of_calls[m][ok]
+            row["coverage_of_share_of_calls"] = float(np.mean((low[m][ok] <= calls) & (calls <= high[m][ok])))
+            row["median_width_binomial_over_frames"] = float(np.median(rec.binomial_width[m][ok]))
+        out[name] = row
+    return out
+
+
+def by_length(rec: Records, cal: tuple[dict[str, float], dict[str, float]] | None
+              ) -> dict[str, dict[str, dict[str, float]]]:  # fmt: skip
+    """`coverage` of every clip length and of all together."""
+    out = {f"{s / 60:g} min": coverage(_select(rec, rec.seconds == s), cal) for s in np.unique(rec.seconds)}
+    out["all"] = coverage(rec, cal)
+    return out
+
+
+def _select(rec: Records, sel: np.ndarray) -> Records:
+    return Records(**{f: getattr(rec, f)[..., sel] for f in Records.__dataclass_fields__})
+
+
+def bias(known: list[Case]) -> dict[str, float]:
+    """The calls' own error on the long-run share: mean |share of calls - true share| over processes."""
+    diff = np.abs(np.stack([c.share_of_calls - c.true_share for c in known]))  # (n, 3)
+    return {f"mean_abs_{c}": float(diff[:, k].mean()) for k, c in enumerate(CALLS)} | {"processes": float(len(known))}
 
 
 def process_coverage(rng: np.random.Generator, seconds: float, dwell_s: float, count: int) -> dict[str, float]:
@@ -372,33 +488,97 @@ def speed(train: np.ndarray, rng: np.random.Generator) -> dict[str, float]:
     }
 
 
+LENGTHS = (60.0, 180.0, 600.0)
+CHUNK = 25  # processes per worker task
+
+
+def chunk(syrip_dir: str, half: int, seed: tuple[int, int, int], count: int) -> tuple[list[Case], Records]:
+    """`count` processes on the training poses' even (`half` 0: calibration) or odd rows (1: held
+    out) and one clip of each of LENGTHS of each, from `seed`."""
+    poses = load_syrip_3d(syrip_dir, "train").poses[half::2]
+    rng = np.random.default_rng(np.random.SeedSequence(seed))
+    known = cases(poses, rng, count)
+    return known, Records.concat([records(poses, rng, known, s) for s in LENGTHS])
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--syrip-dir", required=True)
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--clips", type=int, default=60, help="processes (one clip of each length) for the coverage")
+    ap.add_argument("--clips", type=int, default=100, help="held-out processes (one clip of each length)")
+    ap.add_argument(
+        "--calibration-clips", type=int, default=150, help="calibration processes (one clip of each length)"
+    )
+    ap.add_argument("--sweep-clips", type=int, default=30, help="held-out processes at 0.5 and 2 px noise")
+    ap.add_argument("--process-clips", type=int, default=100, help="clips of the yaw process alone per setting")
+    ap.add_argument("--jobs", type=int, default=2, help="processes for the calibration and held-out clips")
+    ap.add_argument("--write", action="store_true", help=f"write the fitted calibration to {bundled_path()}")
     ap.add_argument("--e2e-dir", type=Path, help="also lift and analyse one 10 s clip end to end here")
     args = ap.parse_args()
     train = load_syrip_3d(args.syrip_dir, "train").poses
-    rng = np.random.default_rng(args.seed)
+    # Calibration and held-out clips: other poses (SyRIP training poses, alternate rows), other seeds.
+    held_poses = train[1::2]  # calibration clips: the even rows (`chunk`), every clip measured: the odd
+    rng_frames, rng_sweep, rng_misc = (np.random.default_rng(s) for s in np.random.SeedSequence(args.seed).spawn(3))
+    with ProcessPoolExecutor(args.jobs) as pool:  # the processes in chunks, each of its own seed
+        runs = {half: [pool.submit(chunk, args.syrip_dir, half, (args.seed, half, k), min(CHUNK, count - start))
+                       for k, start in enumerate(range(0, count, CHUNK))]
+                for half, count in ((0, args.calibration_clips), (1, args.clips))}  # fmt: skip
+        done = {half: [r.result() for r in rs] for half, rs in runs.items()}
+    cal_cases, held_cases = ([c for part in done[half] for c in part[0]] for half in (0, 1))
+    cal, held = (Records.concat([part[1] for part in done[half]]) for half in (0, 1))
     report: dict[str, object] = {}
-    clips = [make_clip(train, rng, 180.0) for _ in range(10)]
+    clips = [make_clip(held_poses, rng_frames, 180.0) for _ in range(10)]
     report["frames (10 clips of 3 min, 1 px noise)"] = frame_figures(clips)
     for noise in (0.5, 2.0):
-        noisy = [make_clip(train, rng, 180.0, noise_px=noise) for _ in range(5)]
+        noisy = [make_clip(held_poses, rng_frames, 180.0, noise_px=noise) for _ in range(5)]
         report[f"frames (5 clips of 3 min, {noise:g} px noise)"] = frame_figures(noisy)
-    known = cases(train, rng, args.clips)
-    report["long-run reference, a second 2-hour run (10 processes)"] = reference_spread(train, known[:10])
-    for seconds in (60.0, 180.0, 600.0):
-        report[f"coverage ({args.clips} clips of {seconds / 60:g} min)"] = coverage(train, rng, known, seconds)
+    level = HeadSettings().bootstrap.level  # the bootstrap's, and zedo analyze's default --level
+    errors = measurement_error(cal_cases)
+    fitted = {lv: fit(cal, errors, lv) for lv in LEVELS}  # one bootstrap interval, a factor per level
+    factors = {lv: {m: f for m, (f, _) in by_m.items()} for lv, by_m in fitted.items()}
+    report["calibration: measurement errors (calibration processes)"] = errors
+    report["calibration: factors (split conformal, calibration poses and seeds)"] = {
+        f"{lv:g}": {m: {"factor": f, "clips": float(n)} for m, (f, n) in by_m.items()}
+        for lv, by_m in fitted.items()}  # fmt: skip
+    report["calls' own error on the long-run shares (held-out processes)"] = bias(held_cases)
+    report["long-run reference, a second 2-hour run (10 processes)"] = reference_spread(held_poses, held_cases[:10])
+    report[f"held-out coverage, bootstrap alone ({args.clips} processes x {len(LENGTHS)} lengths, 1 px)"] = (
+        by_length(held, None))  # fmt: skip
+    calibrated = by_length(held, (errors, factors[level]))
+    report[f"held-out coverage, calibrated ({args.clips} processes x {len(LENGTHS)} lengths, 1 px)"] = calibrated
+    at_levels = {lv: coverage(held, (errors, factors[lv])) for lv in LEVELS}
+    report["held-out coverage, calibrated, at each level (all lengths, 1 px)"] = {
+        f"{lv:g}": {m: row["coverage"] for m, row in cov.items()} for lv, cov in at_levels.items()}  # fmt: skip
+    for noise in (0.5, 2.0):
+        sweep_cases = held_cases[: args.sweep_clips]
+        sweep = Records.concat([records(held_poses, rng_sweep, sweep_cases, s, noise) for s in LENGTHS])
+        name = f"held-out coverage at {noise:g} px ({len(sweep_cases)} processes x {len(LENGTHS)} lengths)"
+        report[name] = {
+            "bootstrap alone": coverage(sweep, None),
+            "calibrated": coverage(sweep, (errors, factors[level])),
+        }
     for dwell in (2.0, 4.0, 6.0):
-        for seconds in (60.0, 180.0, 600.0):
-            name = f"coverage, yaw process alone (200 clips of {seconds / 60:g} min, holds of {dwell:g} s)"
-            report[name] = process_coverage(rng, seconds, dwell, 200)
-    report["speed (10 min at 30 fps)"] = speed(train, rng)
+        for seconds in LENGTHS:
+            name = (f"coverage, yaw process alone ({args.process_clips} clips of {seconds / 60:g} min, "
+                    f"holds of {dwell:g} s)")  # fmt: skip
+            report[name] = process_coverage(rng_misc, seconds, dwell, args.process_clips)
+    if args.write:
+        made = HeadCalibration(
+            head_settings_key(HeadSettings().midline_deg, HeadSettings().model, HeadSettings().bootstrap),
+            {m: HeadMeasureCalibration(errors[m], {lv: MeasureFactor(fitted[lv][m][0], fitted[lv][m][1],
+                                                                     at_levels[lv][m]["coverage"],
+                                                                     int(at_levels[lv][m]["clips"]))
+                                                   for lv in LEVELS}) for m in MEASURES},
+            f"python benchmarks/head_measures.py --syrip-dir SYRIP --seed {args.seed} --clips {args.clips} "
+            f"--calibration-clips {args.calibration_clips} --write",
+        )  # fmt: skip
+        write_head_calibrations(bundled_path(), [made])
+        report["written"] = str(bundled_path())
+        bundled_head_calibrations.cache_clear()  # the speed and end to end: the file written
+    report["speed (10 min at 30 fps)"] = speed(held_poses, rng_misc)
     if args.e2e_dir is not None:
         report["end to end (10 s clip through zedo lift and zedo analyze)"] = end_to_end(
-            make_clip(train, rng, 10.0, dwell_s=2.0), args.e2e_dir)  # fmt: skip
+            make_clip(held_poses, rng_misc, 10.0, dwell_s=2.0), args.e2e_dir)  # fmt: skip
     print(json.dumps(report, indent=1))
     return 0
 

@@ -143,7 +143,9 @@ def test_clip_shares_are_the_frame_rows_calls_counted(tmp_path: Path) -> None:
     for c in ("left", "right", "midline"):
         share = clip[f"head_turn_fraction_{c}"]
         assert share.value == calls.count(c) / sum(1 for x in calls if x)
-        assert share.low_90 <= share.value <= share.high_90 and share.interval.startswith("block_bootstrap")
+        assert share.low_90 <= share.value <= share.high_90 and share.interval.startswith(
+            "calibrated: circular block bootstrap"
+        )
     assert calls.count("right") >= 90 and calls.count("midline") >= 60
     assert clip["head_tilt_median_deg"].value == pytest.approx(0.0, abs=1e-6)
     assert not any("no head measures" in n for n in a.notes)

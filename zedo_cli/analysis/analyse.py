@@ -364,7 +364,7 @@ def _head_frame_rows(a: Analysis) -> list[Row]:
 
 
 def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
-    """Per person track: the head-turn shares and the median tilt, with block bootstrap intervals."""
+    """Per person track: the head-turn shares and the median tilt, with calibrated intervals at --level."""
     assert a.head is not None and a.fps is not None
     people, frames = a.result.person[a.index], a.result.frame_index[a.index]
     rows: list[Row] = []
@@ -372,7 +372,7 @@ def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
         sel = np.flatnonzero(people == p)
         sel = sel[np.argsort(frames[sel], kind="stable")]
         track = HeadFrames(*(getattr(a.head, f)[sel] for f in HeadFrames.__dataclass_fields__))
-        for stat in head_clip(frames[sel], track, a.fps, a.settings.head, why):
+        for stat in head_clip(frames[sel], track, a.fps, a.settings.head, why, level=a.settings.level):
             i = stat.interval
             rows.append(Row(None, None, None, p, stat.measure, stat.value, stat.unit, i.low, i.high, interval=i.how))
     return rows

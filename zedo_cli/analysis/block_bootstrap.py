@@ -11,8 +11,9 @@ times that length, at most a quarter of the clip (`min_blocks`). The percentile 
 are widened by t(k - 1) / z for k blocks and by the blocks' taper (`taper_correction`): both
 correct the too narrow intervals of clips of few stretches of behaviour, not wholly (coverage
 below 90 % for clips of a few minutes with long holds). The interval is for the long-run share
-(or median) of the process the clip was drawn from; its coverage on synthetic clips is measured
-by `benchmarks/head_measures.py` (docs/clinical.md, "Head").
+(or median) of the process the clip was drawn from, and knows nothing of the frames' own errors:
+`head_calibration` widens it to its measured coverage (`benchmarks/head_measures.py`,
+docs/clinical.md, "Head").
 
 Series lie on the clip's frame grid (`frame - first frame`), NaN where a frame has no value (not in
 the result, or no call): a replicate's share is the ratio of its blocks' counts, so gaps keep their
@@ -167,10 +168,10 @@ def _interval(estimate: float, replicates: np.ndarray, blocks: int, taper: float
 
 
 def _method(block: int, blocks: int, fps: float, settings: BootstrapSettings) -> str:
-    return (f"block_bootstrap: circular, {blocks} blocks of {block} frames ({block / fps:.1f} s), "
-            f"{settings.replicates} replicates, percentile widened by t({blocks - 1})/z and the blocks' "
-            f"taper; nominal {settings.level:.0%}, measured coverage 78-84 % on synthetic 1-10 min clips "
-            "(docs/clinical.md, Head)")  # fmt: skip
+    return (
+        f"circular block bootstrap, {blocks} blocks of {block} frames ({block / fps:.1f} s), "
+        f"{settings.replicates} replicates, percentile widened by t({blocks - 1})/z and the blocks' taper"
+    )
 
 
 def share_intervals(

@@ -32,6 +32,7 @@ A frame without the points a measure needs gets an empty value and the reason (`
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,6 +40,13 @@ import numpy as np
 from ..errors import ConfigError
 from ..formats.readers.result import ResultPoses
 from .block_bootstrap import BootstrapSettings, ClipInterval, median_interval, share_intervals
+from .head_calibration import (
+    HeadCalibration,
+    bundled_head_calibrations,
+    find_head_calibration,
+    head_settings_key,
+    widen,
+)
 
 FACE_JOINTS = ("nose", "left_eye", "right_eye", "left_ear", "right_ear")
 SHOULDERS = ("left_shoulder", "right_shoulder")
@@ -277,10 +285,39 @@ class ClipStat:
 
 
 def head_clip(frames: np.ndarray, head: HeadFrames, fps: float, settings: HeadSettings | None = None,
-              why_none: str | None = None) -> list[ClipStat]:  # fmt: skip
+              why_none: str | None = None, calibrations: Sequence[HeadCalibration] | None = None,
+              level: float | None = None) -> list[ClipStat]:  # fmt: skip
     """A person track's clip rows: `head_turn_fraction_<call>` (the share of its frames with a call;
-    exactly the frame rows' calls, counted) and `head_tilt_median_deg`, each with a block bootstrap
-    interval. `frames (T,)` are the track's frame numbers, `head` its frames' measures."""
+    exactly the frame rows' calls, counted) and `head_tilt_median_deg`, each with its calibrated
+    interval at `level` (default: the bootstrap's, 0.9): the block bootstrap's
+    (`head_clip_bootstrap`) widened by the factor of the calibration fitted with these settings
+    (`head_calibration`; `calibrations`, by default the bundled ones). Without one, no interval:
+    the bootstrap alone under-covers."""
+    settings = settings or HeadSettings()
+    level = settings.bootstrap.level if level is None else level
+    stats = head_clip_bootstrap(frames, head, fps, settings, why_none)
+    calibrations = bundled_head_calibrations() if calibrations is None else calibrations
+    key = head_settings_key(settings.midline_deg, settings.model, settings.bootstrap)
+    cal = find_head_calibration(calibrations, key)
+    out = []
+    for s in stats:
+        measure = cal.measures[s.measure] if cal is not None else None
+        if not np.isfinite(s.interval.low):
+            out.append(s)
+        elif measure is None or level not in measure.levels:
+            why = (f"none: no calibration of the head intervals for these settings (midline_deg, head model, "
+                   f"bootstrap) at {level:.0%}; the block bootstrap alone under-covers")  # fmt: skip
+            out.append(ClipStat(s.measure, s.value, s.unit, ClipInterval(np.nan, np.nan, 0, why)))
+        else:
+            out.append(ClipStat(s.measure, s.value, s.unit, widen(s.measure, s.value, s.interval, measure, level)))
+    return out
+
+
+def head_clip_bootstrap(frames: np.ndarray, head: HeadFrames, fps: float, settings: HeadSettings | None = None,
+                        why_none: str | None = None) -> list[ClipStat]:  # fmt: skip
+    """`head_clip`'s rows with the block bootstrap's intervals as they come, before calibration
+    (what the calibration is fitted on). `frames (T,)` are the track's frame numbers, `head` its
+    frames' measures."""
     settings = settings or HeadSettings()
     grid = frames - frames.min()  # (T,) places on the clip's frame grid
     length = int(grid.max()) + 1

@@ -6,7 +6,8 @@ columns empty). Unknown values are empty fields, never 0. `value` is the measure
 `raw_value` the measure of the reported pose. The `interval` column says how low_90 / high_90
 were obtained or why they are empty: `calibrated` (the measure-level calibration of
 `analysis.calibration`), `median_of_frame_interval_ends` (a clip's median), `not_for_clip_features`,
-`block_bootstrap: ...` (the head's clip rows: block length, replicates), or `none: <reason>` (no
+`calibrated: circular block bootstrap ...` (the head's clip rows: block length, replicates, the
+calibration's factor and its held-out coverage), or `none: <reason>` (no
 calibration holds for the result, a joint filled by the prior, a joint missing, a face point
 missing). `flag` is `too_fast` where a joint angle changed faster than the stated bound, and
 `eye_line_reversed` where the eye line points against the shoulder line (head_tilt_deg folded).
@@ -97,9 +98,10 @@ def measure_descriptions() -> dict[str, str]:
         "yaw in degrees, positive to the infant's left, from the nose between the ears / eyes (infant head "
         "model); midline within 20 degrees; a face seen from one side only gets the call without a value",
         "head_turn_fraction_<call>": "per clip: share of the frames with a head_turn call that are left, right or "
-        "midline (the frame rows' calls, counted); 90 % interval by a circular block bootstrap",
-        "head_tilt_median_deg": "per clip: the median of the frames' head_tilt_deg; 90 % interval by a circular "
-        "block bootstrap",
+        "midline (the frame rows' calls, counted); 90 % interval: a circular block bootstrap widened by its "
+        "calibration on held-out synthetic clips (analysis.head_calibration)",
+        "head_tilt_median_deg": "per clip: the median of the frames' head_tilt_deg; 90 % interval: a circular "
+        "block bootstrap widened by its calibration on held-out synthetic clips (analysis.head_calibration)",
     }
 
 
