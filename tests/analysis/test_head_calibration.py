@@ -163,7 +163,7 @@ def test_zedo_analyze_gives_the_head_intervals_at_its_level(tmp_path: Path) -> N
     from test_head import _result_with_faces
 
     from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-    from zedo_cli.formats.result_reader import read_result
+    from zedo_cli.formats.readers.result import read_result
 
     yaws = np.concatenate([np.zeros(60), np.full(90, -50.0), np.linspace(-50, 50, 30), np.full(60, 45.0)])
     res = read_result(_result_with_faces(tmp_path, yaws))
