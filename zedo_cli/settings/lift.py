@@ -105,8 +105,8 @@ class LiftOptions(Options):
         None,
         ge=1,
         le=MAX_HYPOTHESES,
-        description=f"Solutions per instance (1 to {MAX_HYPOTHESES}); their spread sets uncertainty_m. Default: "
-        "the preset's (1).",
+        description=f"Solutions per instance (1 to {MAX_HYPOTHESES}); their spread sets uncertainty_m and "
+        "hypothesis_spread_mm (over 80 mm: flagged unstable_solution). Default: the preset's (1).",
     )
     seed: int = Field(0, ge=0, le=MAX_SEED, description="Seed of the hypotheses: the same seed, the same poses.")
     calibration: PathOption = Field(
