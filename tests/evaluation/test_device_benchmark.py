@@ -116,7 +116,7 @@ def test_the_benchmark_runs_on_the_cpu(tiny_prior: Prior, tmp_path: Path) -> Non
     assert a is not None and a.poses == 150
     # the CPU against itself: the same bits, so every pose agrees (a refusal for the same reason too)
     assert a.share_within_1mm == 1.0 and a.counts["within_1mm"] + a.counts["same_refusal"] == 150
-    assert sum(a.counts.values()) == 150 and not a.flipped_segments
+    assert sum(a.counts.values()) == 150 and not a.flipped_segments and a.largest == []
     fit = report.fit
     assert fit is not None and fit.epochs_run == 3 and fit.recipe_epochs == 8000 and fit.steps_per_epoch == 1
     assert fit.extrapolated_seconds == pytest.approx(fit.seconds_per_epoch * 8000)
@@ -132,3 +132,30 @@ def test_fit_timing_counts_the_steps_of_an_epoch(tiny_prior: Prior) -> None:
                     training=TrainConfig(epochs=50, batch_size=8))  # fmt: skip
     fit = time_fit_prior(PoseSet(poses, SKELETON, [str(i) for i in range(30)], "test"), recipe, 2, "cpu")
     assert fit.steps_per_epoch == 4 and fit.recipe_epochs == 50 and fit.poses == 30
+
+
+def test_agreement_reports_shares_segments_and_the_largest_differences(tiny_prior: Prior) -> None:
+    from helpers import K_TEST, project_poses, synthetic_poses
+
+    from zedo_cli.evaluation.device_benchmark import agreement
+    from zedo_cli.lifting.solver import lift
+
+    n = 20
+    xy = project_poses(synthetic_poses(n, seed=4))
+    ref = lift(xy, np.ones((n, 12)), np.repeat(K_TEST[None], n, 0), tiny_prior, FAST)
+    assert ref.lifted.all() and ref.status is not None
+    poses, status = ref.poses_root_relative.copy(), ref.status.copy()
+    poses[1, 5] += [0.0, 0.003, 0.0]  # 3 mm
+    poses[2, 7] += [0.02, 0.0, 0.0]  # 20 mm
+    poses[3] = np.nan
+    status[3] = "poor_fit"
+    other = replace(ref, poses_root_relative=poses, status=status)
+    a = agreement(ref, other, tiny_prior)
+    assert a.poses == n and a.both_lifted == n - 1
+    assert a.counts["within_1mm"] == n - 3 and a.counts["within_10mm"] == 1 and a.counts["status_differs"] == 1
+    assert a.counts["other_over_10mm"] + a.counts["depth_flip"] == 1
+    assert a.share_within_1mm == pytest.approx((n - 3) / n) and a.share_within_10mm == pytest.approx((n - 2) / n)
+    assert [w["pose"] for w in a.largest] == [2, 1, 3]
+    assert a.largest[0]["max_joint_mm"] == pytest.approx(20.0, abs=1e-6)
+    assert a.largest[0]["joint"] == SKELETON.joints[7]
+    assert a.largest[2] == {"pose": 3, "class": "status_differs", "cpu": "lifted", "device": "poor_fit"}

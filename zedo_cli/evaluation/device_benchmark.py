@@ -87,7 +87,7 @@ class Agreement:
     share_within_10mm: float
     counts: dict[str, int]  # per class of CLASSES
     flipped_segments: dict[str, int]  # "elbow-wrist" segment -> poses where its depth flipped
-    largest: list[dict[str, object]] = field(default_factory=list)  # the largest differences
+    largest: list[dict[str, object]] = field(default_factory=list)  # the largest differences (none: all equal)
 
 
 @dataclass
@@ -253,7 +253,7 @@ def agreement(reference: LiftResult, other: LiftResult, prior: Prior, largest: i
     order = np.argsort(-np.nan_to_num(dist, nan=-1.0))[:largest]
     worst = []
     for i in order:
-        if not np.isfinite(dist[i]):
+        if not dist[i] > 0:  # NaN (not lifted on both) or the same pose: no difference to show
             break
         joint = int(np.linalg.norm(reference.poses_root_relative[i] - other.poses_root_relative[i], axis=-1).argmax())
         worst.append({"pose": int(i), "max_joint_mm": round(float(dist[i]) * 1000, 3), "joint": joints[joint],
