@@ -327,9 +327,12 @@ def run_device_benchmark(
 
 
 def _first(res: LiftResult, count: int) -> LiftResult:
-    """The first `count` poses of a result (what `agreement` reads)."""
+    """The first `count` poses of a result (what `agreement` reads), copied: the larger batch's
+    arrays are not kept alive."""
     status = _status(res)
-    return replace(res, poses_camera=res.poses_camera[:count], poses_root_relative=res.poses_root_relative[:count],
-                   root_translation=res.root_translation[:count], lifted=res.lifted[:count], status=status[:count],
-                   reprojection_error_px=res.reprojection_error_px[:count], observed=res.observed[:count],
-                   hypotheses=None, hypothesis_spread_m=None, uncertainty_m=None)  # fmt: skip
+    return replace(res, poses_camera=res.poses_camera[:count].copy(),
+                   poses_root_relative=res.poses_root_relative[:count].copy(),
+                   root_translation=res.root_translation[:count].copy(), lifted=res.lifted[:count].copy(),
+                   status=status[:count].copy(), reprojection_error_px=res.reprojection_error_px[:count].copy(),
+                   observed=res.observed[:count].copy(), hypotheses=None, hypothesis_spread_m=None,
+                   uncertainty_m=None)  # fmt: skip
