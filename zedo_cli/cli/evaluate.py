@@ -156,7 +156,8 @@ def benchmark_command(
         list[int],
         typer.Option(
             help="Instead of Test100: the device benchmark, lifting this many synthetic poses (repeatable; "
-            "on a GPU: --scale 100000 --scale 1000000), with peak memory, CPU agreement and fit-prior time."
+            "on a GPU: --scale 100000 --scale 1000000), with peak memory, CPU agreement and fit-prior time.",
+            show_default=False,
         ),
     ] = [],  # noqa: B006
     scale_preset: Annotated[str, typer.Option(help="With --scale: the preset lifted.")] = "fast",
@@ -192,7 +193,11 @@ def benchmark_command(
 
       zedo benchmark --syrip-dir ../shared/data/syrip --preset fast --no-throughput
 
-      zedo benchmark --scale 100000 --scale 1000000 --device cuda --json   # the device benchmark
+    With --scale N (repeatable), the device benchmark instead: N synthetic poses lifted
+    on --device (poses/s, peak memory), the first --agreement-poses again on the CPU and
+    compared, and the bundled recipe's fit-prior time (docs/benchmarks.md, "On a GPU"):
+
+      zedo benchmark --scale 100000 --scale 1000000 --device cuda
     """
     if scale:
         _scale_benchmark(prior_spec, scale, scale_preset, agreement_poses, fit_epochs, fit_recipe, chunk_size,
