@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
@@ -129,7 +130,10 @@ def _accuracy_deltas(rows: list[tuple[str, Score]], base: str) -> dict[str, dict
 
 @error_boundary
 def benchmark_command(
-    syrip_dir: Annotated[Path, typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip).")],
+    syrip_dir: Annotated[
+        Optional[Path],
+        typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip); with --scale optional (pose source)."),
+    ] = None,
     prior_spec: Annotated[
         Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file.")
     ] = None,
@@ -148,6 +152,29 @@ def benchmark_command(
         Optional[int], typer.Option(help="Override every preset's hypotheses per instance (zedo lift --hypotheses).")
     ] = None,
     device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
+    scale: Annotated[
+        list[int],
+        typer.Option(
+            help="Instead of Test100: the device benchmark, lifting this many synthetic poses (repeatable; "
+            "on a GPU: --scale 100000 --scale 1000000), with peak memory, CPU agreement and fit-prior time.",
+            show_default=False,
+        ),
+    ] = [],  # noqa: B006
+    scale_preset: Annotated[str, typer.Option(help="With --scale: the preset lifted.")] = "fast",
+    agreement_poses: Annotated[
+        int,
+        typer.Option(help="With --scale: the first this many poses are lifted on the CPU too and compared (0: skip)."),
+    ] = 100_000,
+    fit_epochs: Annotated[
+        int, typer.Option(help="With --scale: epochs of the bundled recipe's training timed on the device (0: skip).")
+    ] = 200,
+    fit_recipe: Annotated[
+        Optional[Path],
+        typer.Option(help="With --scale: the recipe timed (default: weights_spec/syrip12-scratch.toml)."),
+    ] = None,
+    chunk_size: Annotated[
+        Optional[int], typer.Option(help="With --scale: rows lifted together (the preset's: 4096).")
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
     output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
     overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
@@ -165,7 +192,19 @@ def benchmark_command(
       zedo benchmark --syrip-dir ../shared/data/syrip       # faithful vs fast
 
       zedo benchmark --syrip-dir ../shared/data/syrip --preset fast --no-throughput
+
+    With --scale N (repeatable), the device benchmark instead: N synthetic poses lifted
+    on --device (poses/s, peak memory), the first --agreement-poses again on the CPU and
+    compared, and the bundled recipe's fit-prior time (docs/benchmarks.md, "On a GPU"):
+
+      zedo benchmark --scale 100000 --scale 1000000 --device cuda
     """
+    if scale:
+        _scale_benchmark(prior_spec, scale, scale_preset, agreement_poses, fit_epochs, fit_recipe, chunk_size,
+                         syrip_dir, device, as_json, output, overwrite, quiet)  # fmt: skip
+        return
+    if syrip_dir is None:
+        raise ConfigError("--syrip-dir is needed (the SyRIP data folder), unless --scale is given")
     chosen = tuple(i.strip() for i in inputs.split(","))
     if not chosen or any(i not in ("gt", "detected") for i in chosen):
         raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
@@ -214,3 +253,99 @@ def benchmark_command(
         console.print(f"{name} vs {base}: {ratio}MPJPE " + ", ".join(f"{v:+.1f} mm ({k})" for k, v in d.items()),
                       markup=False)  # fmt: skip
     err_console.print(f"prior {prior.label}; device {device}", markup=False)
+
+
+# The recipe `--fit-recipe` defaults to: the bundled prior's, in the source tree (not installed with the package).
+BUNDLED_RECIPE = Path(__file__).resolve().parents[2] / "weights_spec" / "syrip12-scratch.toml"
+MAX_SCALE_POSES = 10_000_000
+
+
+def _scale_benchmark(
+    prior_spec: str | None, sizes: list[int], preset: str, agreement_poses: int, fit_epochs: int,
+    fit_recipe: Path | None, chunk_size: int | None, syrip_dir: Path | None, device: str, as_json: bool,
+    output: str | None, overwrite: bool, quiet: bool,
+) -> None:  # fmt: skip
+    """`zedo benchmark --scale N ...`: evaluation/device_benchmark.py on one device."""
+    for n in sizes:
+        check_range("--scale", n, 1, MAX_SCALE_POSES)
+    check_range("--agreement-poses", agreement_poses, 0, MAX_SCALE_POSES)
+    check_range("--fit-epochs", fit_epochs, 0, 100_000)
+    check_range("--chunk-size", chunk_size, 1, 1 << 20)
+    if preset not in PRESETS:
+        raise ConfigError(f"--scale-preset must be one of {', '.join(PRESETS)}, got {preset!r}")
+    recipe_path = fit_recipe or BUNDLED_RECIPE
+    if fit_epochs and not recipe_path.is_file():
+        raise ConfigError(f"--fit-recipe {recipe_path}: recipe file not found (or --fit-epochs 0)")
+    check_report_output(output, overwrite)
+    device = check_device(device)  # the one-line refusal of cuda without a GPU, before anything heavy
+    from ..evaluation.device_benchmark import ScaleSettings, run_device_benchmark
+    from ..prior.recipes import load_recipe
+    from ..prior.weights import load_prior, resolve_prior_path
+
+    settings = ScaleSettings(tuple(sizes), agreement_poses, fit_epochs)
+    config = get_preset(preset)
+    if chunk_size is not None:
+        config = replace(config, chunk_size=chunk_size)
+    recipe = load_recipe(recipe_path) if fit_epochs else None
+    prior = load_prior(resolve_prior_path(prior_spec), device=device)
+    with progress_bar(quiet) as bar:
+
+        def on_stage(label: str, poses: int) -> Callable[[LiftProgress], None]:
+            task = bar.add_task(label, total=1, status="")
+
+            def on_step(p: LiftProgress) -> None:
+                bar.update(task, completed=p.done, total=p.total)
+
+            return on_step
+
+        report = run_device_benchmark(prior, config, settings, device=device, preset=preset, syrip_dir=syrip_dir,
+                                      recipe=recipe, on_stage=on_stage)  # fmt: skip
+    doc = {
+        "prior": prior.path, "prior_sha256": prior.sha256, "device": report.device,
+        "device_name": _device_name(device), "preset": preset, "pose_source": report.pose_source,
+        "lift": [vars(r) for r in report.runs],
+        "agreement": None if report.agreement is None else {"reference": "cpu", **vars(report.agreement)},
+        "fit_prior": None if report.fit is None else {"recipe": str(recipe_path), **vars(report.fit),
+                                                       "extrapolated": True},
+    }  # fmt: skip
+    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
+        return
+    console = stdout_console()
+    table = Table(title=f"Lifting {preset} on {doc['device_name']}, synthetic poses ({report.pose_source})")
+    for col in ("poses", "lifted", "lift s", "poses/s", "chunk rows", "peak memory MiB", "memory measured"):
+        table.add_column(col, justify="left" if col == "memory measured" else "right")
+    for r in report.runs:
+        peak = "-" if r.peak_memory_mib is None else f"{r.peak_memory_mib:.0f}"
+        table.add_row(f"{r.count:,}", f"{r.lifted:,}", f"{r.seconds:.1f}", f"{r.poses_per_second:,.0f}",
+                      str(r.chunk_rows), peak, r.memory_kind)  # fmt: skip
+    print_table(table, console)
+    a = report.agreement
+    if a is not None:
+        console.print(
+            f"CPU vs {device}, first {a.poses:,} poses ({a.both_lifted:,} lifted on both): "
+            f"{a.share_within_1mm:.2%} within 1 mm, {a.share_within_10mm:.2%} within 10 mm "
+            "(largest joint distance, root-relative; a refusal for the same reason agrees)",
+            markup=False,
+        )
+        console.print("  " + ", ".join(f"{k} {v:,}" for k, v in a.counts.items()), markup=False)
+        if a.flipped_segments:
+            console.print(
+                "  depth flips by segment: " + ", ".join(f"{k} {v}" for k, v in a.flipped_segments.items()),
+                markup=False,
+            )
+        for w in a.largest[:5]:
+            console.print("  " + ", ".join(f"{k} {v}" for k, v in w.items()), markup=False)
+    f = report.fit
+    if f is not None:
+        console.print(f"fit-prior ({recipe_path.name}, {f.poses} poses): {f.seconds_per_epoch * 1000:.1f} ms per epoch "
+                      f"over {f.epochs_run} epochs; the recipe's {f.recipe_epochs} epochs extrapolated: "
+                      f"{f.extrapolated_seconds / 60:.1f} min (an estimate, not a full run)", markup=False)  # fmt: skip
+    err_console.print(f"prior {prior.label}; device {device}", markup=False)
+
+
+def _device_name(device: str) -> str:
+    import torch
+
+    if torch.device(device).type == "cuda":
+        return f"{device} ({torch.cuda.get_device_name(device)})"
+    return f"cpu ({torch.get_num_threads()} threads)"
