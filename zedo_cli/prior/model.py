@@ -120,3 +120,69 @@ class ScoreNet(nn.Module):
 
 def parameter_count(model: nn.Module) -> int:
     return sum(p.numel() for p in model.parameters())
+
+
+def group_norm(h: torch.Tensor, norm: nn.GroupNorm) -> torch.Tensor:
+    """`norm(h)` for features `h (B, C)`, as a layer norm over each group's C / G features (one
+    row per group): the same numbers to float rounding, in two thirds of torch's GroupNorm time on
+    (B, 1024) features in 32 groups, whose CPU kernel is slow for groups this small."""
+    groups = norm.num_groups
+    flat = nn.functional.layer_norm(h.reshape(-1, h.shape[1] // groups), (h.shape[1] // groups,), eps=norm.eps)
+    return torch.addcmul(norm.bias, flat.reshape(h.shape), norm.weight)
+
+
+# Rows of every bfloat16 product. oneDNN picks its bfloat16 kernel (and so the order of each dot
+# product's sums) by the number of rows: on an AMX CPU, products of 33-36, 37-704 and other row
+# counts gave three different results for the same row. Products of exactly this many rows (the
+# last block padded with zeros) give each row the same bits wherever it is, so a pose's lift does
+# not depend on its chunk (lifting/chunks.py); 256 rows cost no more per row than 1024.
+BF16_BLOCK_ROWS = 256
+
+
+class Bfloat16Network:
+    """`ScoreNet`'s noise prediction with its matrix products in bfloat16, for inference.
+
+    What `torch.autocast(dtype=bfloat16)` would run, less its overhead: the weights are cast once
+    (not at every call), each dense layer's time projection is folded into its bias once per call
+    (the time is shared by the batch), the time path stays in float32, and GroupNorm (as
+    `group_norm`) and SiLU run in float32 as under autocast. Products run in blocks of
+    BF16_BLOCK_ROWS rows, so that a row's result does not depend on the batch. On a CPU with AMX
+    the products take a fifth of their float32 time (docs/benchmarks.md, "Where the time goes").
+    """
+
+    def __init__(self, net: ScoreNet) -> None:
+        self.net = net
+        half = torch.bfloat16
+        self.weights = {id(m): m.weight.detach().to(half).t() for m in net.modules() if isinstance(m, nn.Linear)}
+
+    def _product(self, layer: nn.Linear, h: torch.Tensor, bias: torch.Tensor) -> torch.Tensor:
+        """`h (B, in) @ W.T + bias` in bfloat16, float32 out, in blocks of BF16_BLOCK_ROWS rows."""
+        rows, weight = h.shape[0], self.weights[id(layer)]
+        h, bias = h.to(torch.bfloat16), bias.to(torch.bfloat16).reshape(-1, weight.shape[1])  # (1 or B, out)
+        pad = -rows % BF16_BLOCK_ROWS
+        if pad:
+            h = torch.cat([h, h.new_zeros(pad, h.shape[1])])
+        if bias.shape[0] == 1:
+            biases = [bias.expand(BF16_BLOCK_ROWS, -1)] * (h.shape[0] // BF16_BLOCK_ROWS)
+        else:
+            biases = list(torch.cat([bias, bias.new_zeros(pad, bias.shape[1])]).split(BF16_BLOCK_ROWS))
+        out = h.new_empty(h.shape[0], weight.shape[1])
+        for b, block, part in zip(biases, h.split(BF16_BLOCK_ROWS), out.split(BF16_BLOCK_ROWS), strict=True):
+            torch.addmm(b, block, weight, out=part)
+        return out[:rows].float()
+
+    def _dense(self, block: DenseBlock, h: torch.Tensor, temb: torch.Tensor) -> torch.Tensor:
+        bias = block.dense.bias + nn.functional.linear(temb, block.time_proj.weight, block.time_proj.bias)  # (1, H)
+        pre = self._product(block.dense, h, bias)
+        return nn.functional.silu(group_norm(pre, block.norm))
+
+    @torch.no_grad()
+    def __call__(self, x: torch.Tensor, t: torch.Tensor) -> torch.Tensor:
+        """eps `(B, J, 3)` float32 for poses `x (B, J, 3)` at times `t`, `(B,)` or shared by the batch."""
+        net = self.net
+        temb = net.time_embedding(t.to(torch.float32))  # (1, E) for a shared time, else (B, E)
+        h = self._dense(net.stem, x.reshape(x.shape[0], -1), temb)
+        for block in net.blocks:
+            assert isinstance(block, ResidualBlock)
+            h = h + self._dense(block.second, self._dense(block.first, h, temb), temb)
+        return self._product(net.head, h, net.head.bias).reshape(x.shape)
