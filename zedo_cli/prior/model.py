@@ -123,11 +123,11 @@ def parameter_count(model: nn.Module) -> int:
 
 
 def group_norm(h: torch.Tensor, norm: nn.GroupNorm) -> torch.Tensor:
-    """`norm(h)` for features `h (B, C)`, as a layer norm over each group's C / G features (one
-    row per group): the same numbers to float rounding, in two thirds of torch's GroupNorm time on
-    (B, 1024) features in 32 groups, whose CPU kernel is slow for groups this small."""
-    groups = norm.num_groups
-    flat = nn.functional.layer_norm(h.reshape(-1, h.shape[1] // groups), (h.shape[1] // groups,), eps=norm.eps)
+    """`norm(h)` for features `h (B, C)`: each group's C / G features made a row of their own,
+    normalised as one group, then the affine map. The same numbers to float rounding in half of
+    torch's GroupNorm time on (B, 1024) features in 32 groups (0.5-0.6 ms against 1.5-1.7 ms for 512
+    rows on one thread; a layer norm of the rows took 0.8-1.0 ms)."""
+    flat = nn.functional.group_norm(h.reshape(-1, h.shape[1] // norm.num_groups), 1, eps=norm.eps)
     return torch.addcmul(norm.bias, flat.reshape(h.shape), norm.weight)
 
 
