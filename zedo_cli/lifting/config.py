@@ -181,7 +181,11 @@ def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
 #   1.5-1.7 % of fold poses over 1.6; the cap none, for 0.02-0.03 mm);
 # - one hypothesis by default (more give a spread for the uncertainty at K times the cost); with
 #   --hypotheses K the others take the full SDE noise and the reported pose stays hypothesis 0
-#   (their mean cost 0.8 mm).
+#   (their mean cost 0.8 mm);
+# - the network's products in bfloat16 where the CPU (AMX or AVX512-BF16) or GPU has it, float32
+#   elsewhere, where bfloat16 is several times slower (issue 38; docs/benchmarks.md "Where the time
+#   goes"): the network's 20 steps 1.7-1.9x cheaper on this project's Xeon, Test100 38.79 / 43.35 mm
+#   either way.
 _FAST = LiftConfig(preset="fast", init_steps=100, steps=20, t_start=0.2, step_delta=None, release_fraction=0.15,
                    ray_weight=0.75, ray_confidence_ratio=0.6, hip_ray_factor=0.6, twin_rate=0.85, proportion_rate=0.7,
                    length_iterations=2, twin_ratio_cap=1.4, hypothesis_noise=1.0, aggregate="first",
