@@ -19,7 +19,7 @@ def test_group_norm_is_torch_group_norm_to_float_rounding() -> None:
         norm.weight.normal_()
         norm.bias.normal_()
         h = torch.randn(300, 1024) * 3 + 1
-        torch.testing.assert_close(group_norm(h, norm), norm(h), rtol=1e-5, atol=1e-5)
+        torch.testing.assert_close(group_norm(h, 32, norm.weight, norm.bias, norm.eps), norm(h), rtol=1e-5, atol=1e-5)
 
 
 def test_bfloat16_network_is_close_to_the_float32_one() -> None:
