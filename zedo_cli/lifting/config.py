@@ -39,7 +39,7 @@ class LiftConfig:
     flow: float = 1.0  # the reference's probability-flow factor (textbook: 0.5)
     min_observed: int = 3  # fewer observed joints: the instance is not lifted
     chunk_size: int = 4096  # poses lifted together
-    # The network's matrix products in bfloat16 (lifting/precision.py): True, False, or None = where the
+    # The network in bfloat16 (lifting/precision.py): True, False, or None = where the
     # device computes bfloat16 natively (a CPU with AMX or AVX512-BF16, a CUDA GPU), float32 elsewhere.
     bf16: bool | None = False
     # Warm start only (`lift(start_poses=...)`); unused otherwise.
@@ -182,10 +182,9 @@ def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
 # - one hypothesis by default (more give a spread for the uncertainty at K times the cost); with
 #   --hypotheses K the others take the full SDE noise and the reported pose stays hypothesis 0
 #   (their mean cost 0.8 mm);
-# - the network's products in bfloat16 where the CPU (AMX or AVX512-BF16) or GPU has it, float32
-#   elsewhere, where bfloat16 is several times slower (issue 38; docs/benchmarks.md "Where the time
-#   goes"): the network's 20 steps 1.7-1.9x cheaper on this project's Xeon, Test100 38.79 / 43.35 mm
-#   either way.
+# - the network in bfloat16 where the CPU (AMX or AVX512-BF16) or GPU has it, float32 elsewhere,
+#   where bfloat16 is several times slower (issue 38; docs/benchmarks.md "Where the time goes"): its
+#   20 steps 2.0-2.4x cheaper on this project's Xeon, Test100 38.79 / 43.36 mm (float32: 43.35).
 _FAST = LiftConfig(preset="fast", init_steps=100, steps=20, t_start=0.2, step_delta=None, release_fraction=0.15,
                    ray_weight=0.75, ray_confidence_ratio=0.6, hip_ray_factor=0.6, twin_rate=0.85, proportion_rate=0.7,
                    length_iterations=2, twin_ratio_cap=1.4, hypothesis_noise=1.0, aggregate="first",

@@ -1,9 +1,9 @@
-"""The precision of the prior's network in a lift (`LiftConfig.bf16`): float32, or its matrix
-products in bfloat16 (`prior.model.Bfloat16Network`) where that is asked for, or, with `bf16=None`
-(the `fast` preset), where the device computes bfloat16 natively.
+"""The precision of the prior's network in a lift (`LiftConfig.bf16`): float32, or bfloat16
+(`prior.model.Bfloat16Network`) where that is asked for, or, with `bf16=None` (the `fast` preset),
+where the device computes bfloat16 natively.
 
-On a CPU with AMX or AVX512-BF16 the bfloat16 network step costs about 0.4 times the float32 one
-and Test100 does not move (docs/benchmarks.md, "Where the time goes"); on a CPU without them torch
+On a CPU with AMX the bfloat16 network step costs 0.4-0.5 times the float32 one and Test100 moves
+by 0.01 mm (docs/benchmarks.md, "Where the time goes"); on a CPU without bfloat16 instructions torch
 emulates bfloat16 and it is several times slower, so there `None` keeps float32. The ray geometry,
 the bone-length terms and the rotation fit stay in float32 either way.
 """
