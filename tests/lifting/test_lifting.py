@@ -130,7 +130,7 @@ def test_fast_preset_is_no_worse_than_faithful(tiny_prior: Prior) -> None:
 def test_bf16_network_changes_little(tiny_prior: Prior) -> None:
     poses, xy, conf, k = _inputs(6)
     cfg = replace(FAST, steps=40, init_steps=50)
-    full = lift(xy, conf, k, tiny_prior, cfg)
+    full = lift(xy, conf, k, tiny_prior, replace(cfg, bf16=False))
     half = lift(xy, conf, k, tiny_prior, replace(cfg, bf16=True))
     assert np.isfinite(half.poses_camera).all()
     assert mpjpe_mm(half.poses_root_relative, full.poses_root_relative) < 5.0

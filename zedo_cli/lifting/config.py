@@ -39,7 +39,9 @@ class LiftConfig:
     flow: float = 1.0  # the reference's probability-flow factor (textbook: 0.5)
     min_observed: int = 3  # fewer observed joints: the instance is not lifted
     chunk_size: int = 4096  # poses lifted together
-    bf16: bool = False  # run the network in bfloat16 (fast on CPUs with AVX512-BF16 or AMX, and on GPUs)
+    # The network in bfloat16 (lifting/precision.py): True, False, or None = where the
+    # device computes bfloat16 natively (a CPU with AMX or AVX512-BF16, a CUDA GPU), float32 elsewhere.
+    bf16: bool | None = False
     # Warm start only (`lift(start_poses=...)`); unused otherwise.
     warm_steps: int = 3  # prior iterations from a start pose (measured: 3 beat 10)
     warm_t_start: float = 0.01  # a start pose is nearly right: the lowest noise level of the presets
@@ -120,6 +122,8 @@ class LiftConfig:
             raise ConfigError(f"hypotheses must be in [1, {MAX_HYPOTHESES}], got {self.hypotheses}")
         if self.start_jitter_m < 0 or self.hypothesis_noise < 0:
             raise ConfigError("start_jitter_m and hypothesis_noise must be >= 0")
+        if self.bf16 not in (True, False, None):
+            raise ConfigError(f"bf16 must be true, false or null (where the device has it), got {self.bf16!r}")
         if self.aggregate not in AGGREGATES:
             raise ConfigError(f"aggregate must be one of {', '.join(AGGREGATES)}, got {self.aggregate!r}")
 
@@ -177,10 +181,14 @@ def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
 #   1.5-1.7 % of fold poses over 1.6; the cap none, for 0.02-0.03 mm);
 # - one hypothesis by default (more give a spread for the uncertainty at K times the cost); with
 #   --hypotheses K the others take the full SDE noise and the reported pose stays hypothesis 0
-#   (their mean cost 0.8 mm).
+#   (their mean cost 0.8 mm);
+# - the network in bfloat16 where the CPU (AMX or AVX512-BF16) or GPU has it, float32 elsewhere,
+#   where bfloat16 is several times slower (issue 38; docs/benchmarks.md "Where the time goes"): its
+#   20 steps 2.0-2.4x cheaper on this project's Xeon, Test100 38.79 / 43.36 mm (float32: 43.35).
 _FAST = LiftConfig(preset="fast", init_steps=100, steps=20, t_start=0.2, step_delta=None, release_fraction=0.15,
                    ray_weight=0.75, ray_confidence_ratio=0.6, hip_ray_factor=0.6, twin_rate=0.85, proportion_rate=0.7,
-                   length_iterations=2, twin_ratio_cap=1.4, hypothesis_noise=1.0, aggregate="first")  # fmt: skip
+                   length_iterations=2, twin_ratio_cap=1.4, hypothesis_noise=1.0, aggregate="first",
+                   bf16=None)  # fmt: skip
 PRESETS: dict[str, LiftConfig] = {
     "faithful": LiftConfig(),
     "fast": _FAST,

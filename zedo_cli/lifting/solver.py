@@ -49,7 +49,6 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from contextlib import AbstractContextManager, nullcontext
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,6 +63,7 @@ from ..rotation import quaternion_to_matrix
 from .camera import pixel_rays, project, project_onto_rays, solve_root_translation_ex
 from .chunks import BlockNoise, Chunk, deterministic_cuda, lift_workers, plan_chunks, run_chunks
 from .config import LiftConfig
+from .precision import Network, lift_network
 from .proportions import bone_proportion_step, template_fractions
 from .result import LIFTED, LiftResult, hypothesis_spread
 from .twin_limbs import cap_twin_ratios, twin_limb_step
@@ -202,8 +202,8 @@ def fit_rotation_depth(
 
 @torch.no_grad()
 def _lift_chunk(
-    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None, cfg: LiftConfig,
-    tick: Callable[[int], None], draws: BlockNoise | None,
+    prior: Prior, net: Network, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None,
+    cfg: LiftConfig, tick: Callable[[int], None], draws: BlockNoise | None,
 ) -> _ChunkResult:  # fmt: skip
     """Root-relative poses X `(B, K, J, 3)` and translations T `(B, K, 3)` of one chunk's K
     hypotheses (`cfg.hypotheses`; the perturbations drawn from `draws`, given when K > 1); `pull
@@ -233,14 +233,14 @@ def _lift_chunk(
         jitter = draws.randn(x.shape[1:2], x.dtype)[..., None]
         x = x + other * cfg.start_jitter_m * torch.where(w[..., None] > 0, jitter * unit, 0.0)
         noise = other * cfg.hypothesis_noise
-    out = _prior_loop(prior, x, trans, rays, unit, w, pull, ts, release, cfg.delta, cfg, tick, noise, draws)
+    out = _prior_loop(prior, net, x, trans, rays, unit, w, pull, ts, release, cfg.delta, cfg, tick, noise, draws)
     return out.per_instance(count)
 
 
 @torch.no_grad()
 def _warm_chunk(
-    prior: Prior, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None, x0: torch.Tensor,
-    t0: torch.Tensor, cfg: LiftConfig, tick: Callable[[int], None],
+    prior: Prior, net: Network, xy: torch.Tensor, k: torch.Tensor, w: torch.Tensor, pull: torch.Tensor | None,
+    x0: torch.Tensor, t0: torch.Tensor, cfg: LiftConfig, tick: Callable[[int], None],
 ) -> _ChunkResult:  # fmt: skip
     """Like `_lift_chunk`, from start poses `x0 (B, J, 3)` and translations `t0 (B, 3)`: no fit,
     a short loop from `warm_t_start`; one hypothesis."""
@@ -248,12 +248,12 @@ def _warm_chunk(
     unit = rays / rays.norm(dim=-1, keepdim=True)
     ts = torch.linspace(cfg.warm_t_start, cfg.t_end, cfg.warm_steps, dtype=xy.dtype, device=xy.device)
     release = round(cfg.warm_steps * (1.0 - cfg.warm_release_fraction))
-    return _prior_loop(prior, x0, t0, rays, unit, w, pull, ts, release, cfg.warm_delta, cfg, tick).per_instance(1)
+    return _prior_loop(prior, net, x0, t0, rays, unit, w, pull, ts, release, cfg.warm_delta, cfg, tick).per_instance(1)
 
 
 def _prior_loop(
-    prior: Prior, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor, w: torch.Tensor,
-    pull: torch.Tensor | None, ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig,
+    prior: Prior, net: Network, x: torch.Tensor, trans: torch.Tensor, rays: torch.Tensor, unit: torch.Tensor,
+    w: torch.Tensor, pull: torch.Tensor | None, ts: torch.Tensor, release: int, delta: float, cfg: LiftConfig,
     tick: Callable[[int], None],
     noise: torch.Tensor | None = None, draws: BlockNoise | None = None,
 ) -> _ChunkResult:  # fmt: skip
@@ -288,8 +288,7 @@ def _prior_loop(
         for _ in range(cfg.length_iterations):
             x = twin_limb_step(x, unit, obs, pairs, cfg.twin_rate)
             x = bone_proportion_step(x, unit, obs, bones, fractions, cfg.proportion_rate)
-        with _network_precision(cfg, x.device):
-            eps = prior.model(x, ts[i]).to(x.dtype)
+        eps = net(x, ts[i])
         x = probability_flow_step(x, eps, ts[i], prior.sde, delta, cfg.flow)
         if noise is not None:
             assert draws is not None
@@ -300,13 +299,6 @@ def _prior_loop(
             reported = i + 1
     x = cap_twin_ratios(x, unit, obs, pairs, cfg.twin_ratio_cap)
     return _ChunkResult(x, trans, singular, flipped)
-
-
-def _network_precision(cfg: LiftConfig, device: torch.device) -> AbstractContextManager[object]:
-    """bfloat16 autocast around the network only: the ray geometry stays in float32."""
-    if not cfg.bf16:
-        return nullcontext()
-    return torch.autocast(device_type=device.type, dtype=torch.bfloat16)
 
 
 def lift(
@@ -367,6 +359,7 @@ def lift(
         deterministic_cuda()
     chunks = plan_chunks(len(todo), count, config.chunk_size, workers)  # chunk_size counts the loop's rows
     warm_chunks = plan_chunks(len(todo_warm), 1, config.chunk_size, workers)
+    net = lift_network(prior.model, config, device)  # float32, or bfloat16 products (`precision.py`)
     total = len(chunks) * (config.init_steps + config.steps) + len(warm_chunks) * config.warm_steps
     done = 0
 
@@ -391,14 +384,14 @@ def lift(
         idx = todo[chunk.positions()]
         draws = BlockNoise(seed, chunk, count, device) if count > 1 else None
         store(todo[chunk.start : chunk.stop],
-              _lift_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+              _lift_chunk(prior, net, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
                           rows(pull, idx), config, tick, draws))  # fmt: skip
 
     def warm_start(chunk: Chunk, tick: Callable[[int], None]) -> None:
         assert start_poses is not None and start_translation is not None
         idx = todo_warm[chunk.positions()]
         store(todo_warm[chunk.start : chunk.stop],
-              _warm_chunk(prior, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
+              _warm_chunk(prior, net, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
                           rows(pull, idx), tensor(start_poses[idx]), tensor(start_translation[idx]), config,
                           tick))  # fmt: skip
 

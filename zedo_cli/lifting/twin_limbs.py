@@ -41,20 +41,20 @@ def twin_limb_step(
     if rate <= 0 or not pairs:
         return x
     slack = math.log(tolerance)
-    delta = torch.zeros_like(x)
-    for (lp, lc), (rp, rc) in pairs:
-        left, right = x[:, lc] - x[:, lp], x[:, rc] - x[:, rp]
-        left2 = (left * left).sum(-1, keepdim=True).clamp_min(1e-8)  # (B, 1)
-        right2 = (right * right).sum(-1, keepdim=True).clamp_min(1e-8)
-        mismatch = 0.5 * (torch.log(left2) - torch.log(right2))  # log(left / right)
-        if slack > 0:
-            mismatch = torch.sign(mismatch) * (mismatch.abs() - slack).clamp_min(0.0)
-        idx = [lc, lp, rc, rp]
-        grad = torch.stack([left / left2, -left / left2, -right / right2, right / right2], dim=1)  # (B, 4, 3)
-        grad = along_rays(grad, unit[:, idx], observed[:, idx])
-        norm2 = (grad * grad).sum((1, 2))[:, None]  # (B, 1)
-        scale = -rate * mismatch / (norm2 + DAMPING * (1.0 / left2 + 1.0 / right2))
-        delta.index_add_(1, torch.tensor(idx, device=x.device), scale[:, :, None] * grad)
+    idx = torch.tensor([[lc, lp, rc, rp] for (lp, lc), (rp, rc) in pairs], device=x.device)  # (P, 4)
+    ends = x[:, idx]  # (B, P, 4, 3): all pairs at once
+    left, right = ends[:, :, 0] - ends[:, :, 1], ends[:, :, 2] - ends[:, :, 3]  # (B, P, 3)
+    left2 = (left * left).sum(-1, keepdim=True).clamp_min(1e-8)  # (B, P, 1)
+    right2 = (right * right).sum(-1, keepdim=True).clamp_min(1e-8)
+    mismatch = 0.5 * (torch.log(left2) - torch.log(right2))  # log(left / right)
+    if slack > 0:
+        mismatch = torch.sign(mismatch) * (mismatch.abs() - slack).clamp_min(0.0)
+    grad = torch.stack([left / left2, -left / left2, -right / right2, right / right2], dim=2)  # (B, P, 4, 3)
+    grad = along_rays(grad, unit[:, idx], observed[:, idx])
+    norm2 = (grad * grad).sum((2, 3))[..., None]  # (B, P, 1)
+    scale = -rate * mismatch / (norm2 + DAMPING * (1.0 / left2 + 1.0 / right2))
+    delta = torch.zeros_like(x)  # pairs that share a joint add their moves, in pair order
+    delta.index_add_(1, idx.reshape(-1), (scale[..., None] * grad).reshape(x.shape[0], -1, 3))
     return x + capped(delta)
 
 

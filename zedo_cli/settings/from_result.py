@@ -65,7 +65,7 @@ def result_config(path: str, model: type[Options]) -> ConfigFile:
 def _older_result(path: str, params: dict[str, Any], prior: dict[str, Any]) -> tuple[dict[str, Any], dict[str, str]]:
     """The options of a result that records no `params.options`, from its preset, LiftConfig
     numbers and the rest of params; refused where they do not say how it was lifted."""
-    from ..lifting.config import PRESETS, LiftConfig
+    from ..lifting.config import CALIBRATION_IRRELEVANT, PRESETS, LiftConfig
     from ..prior.weights import BUNDLED_PRIORS
     from .lift import CONFIG_KEYS
 
@@ -89,7 +89,10 @@ def _older_result(path: str, params: dict[str, Any], prior: dict[str, Any]) -> t
         wanted = replace(base, **{k: values[k] for k in CONFIG_KEYS if k in values}).to_dict()
     except (TypeError, ConfigError) as exc:
         raise ConfigError(f"{path}: params.config: {exc}") from None
-    fixed = [k for k in wanted if k in config and k not in CONFIG_KEYS and config[k] != wanted[k]]
+    # bf16 and chunk_size do not change the poses (CALIBRATION_IRRELEVANT): `fast` results from before
+    # issue 38 record bf16 false, where `fast` now says null (bfloat16 where the device has it).
+    fixed = [k for k in wanted if k in config and k not in (*CONFIG_KEYS, *CALIBRATION_IRRELEVANT)
+             and config[k] != wanted[k]]  # fmt: skip
     if fixed or set(config) - set(LiftConfig().to_dict()):
         odd = fixed or sorted(set(config) - set(wanted))
         raise ConfigError(f"{path}: params.config.{odd[0]}: {config.get(odd[0])!r}, not the {preset} preset's and "
