@@ -82,7 +82,7 @@ def test_lift_never_overwrites_without_asking(tiny_prior_path: Path, tmp_path: P
         ("coco", ["--focal", "0"], 2, "--focal"),
         ("coco", ["--focal", "-5"], 2, "--focal"),
         ("coco", ["--min-confidence", "2"], 2, "--min-confidence"),
-        ("coco", ["--preset", "nope"], 2, "--preset must be one of faithful, fast, fast-bf16"),
+        ("coco", ["--preset", "nope"], 2, "--preset must be one of faithful, fast, fast-bf16, fast-fp32"),
         (json.dumps([{"image_id": 1, "keypoints": [1, 2, 1] * 17, "score": 1}]), [], 3, "image size"),
         (
             json.dumps([{"image_id": 1, "keypoints": [0, 0, 0] * 17, "score": 1}]),

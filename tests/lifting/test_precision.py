@@ -18,6 +18,7 @@ def test_presets_precision() -> None:
     assert get_preset("faithful").bf16 is False  # the reference's float32
     assert get_preset("fast").bf16 is None  # bfloat16 where the device has it
     assert get_preset("fast-bf16").bf16 is True
+    assert get_preset("fast-fp32") == replace(get_preset("fast"), preset="fast-fp32", bf16=False)
     with pytest.raises(ConfigError, match="bf16"):
         replace(get_preset("fast"), bf16="yes")  # type: ignore[arg-type]
 
@@ -43,3 +44,13 @@ def test_other_networks_run_under_autocast(tiny_prior: Prior) -> None:
         full = tiny_prior.model(x, torch.tensor(0.1))
     assert out.dtype == torch.float32 and not torch.equal(out, full)
     assert (out - full).abs().mean() < 0.05 * full.abs().mean()
+
+
+def test_a_result_records_the_precision_its_network_ran_in() -> None:
+    from zedo_cli.pipeline.lift import network_precision
+
+    native = "bfloat16" if precision.native_bfloat16("cpu") else "float32"
+    assert network_precision(get_preset("fast"), "cpu") == native  # where the CPU has it
+    assert network_precision(get_preset("fast-fp32"), "cpu") == "float32"
+    assert network_precision(get_preset("faithful"), "cpu") == "float32"
+    assert network_precision(get_preset("fast-bf16"), "cpu") == "bfloat16"

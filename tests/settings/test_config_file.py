@@ -46,7 +46,10 @@ def test_a_table_gives_its_command_the_options_by_long_name(tmp_path: Path) -> N
         ("[lift]\nsteps = 30.5\n", "[lift] steps: expected an integer in [1, 100000], got 30.5"),
         ("[lift]\nsteps = 0\n", "[lift] steps: expected an integer in [1, 100000], got 0"),
         ("[lift]\nsave-hypotheses = 1\n", "[lift] save_hypotheses: expected true or false, got 1"),
-        ('[lift]\npreset = "quick"\n', "[lift] preset: expected one of faithful, fast, fast-bf16, got 'quick'"),
+        (
+            '[lift]\npreset = "quick"\n',
+            "[lift] preset: expected one of faithful, fast, fast-bf16, fast-fp32, got 'quick'",
+        ),
         ("[lift]\nimage-size = [640]\n", "[lift] image_size: expected two numbers, WIDTH HEIGHT, each > 0, got 640"),
         ("[lift]\nsteps = 3\nsteps = 4\n", "study.toml: not a TOML file"),
         ("[lift]\nsteps = 3\nsteps_ = 4\n", "no such option"),
@@ -104,7 +107,7 @@ def test_the_options_model_checks_what_the_command_line_checked() -> None:
         ({"twin_ratio_cap": 0.5}, "--twin-ratio-cap must be 0 (off) or a number in [1, 100], got 0.5"),
         ({"fps": float("inf")}, "--fps must be a number in (0, 100000], got inf"),
         ({"camera": "left"}, "--camera picks a camera of an --intrinsics file"),
-        ({"preset": "nope"}, "--preset must be one of faithful, fast, fast-bf16, got 'nope'"),
+        ({"preset": "nope"}, "--preset must be one of faithful, fast, fast-bf16, fast-fp32, got 'nope'"),
     ):
         with pytest.raises(ConfigError) as info:
             LiftOptions.validated(values)

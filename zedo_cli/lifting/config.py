@@ -193,6 +193,8 @@ PRESETS: dict[str, LiftConfig] = {
     "faithful": LiftConfig(),
     "fast": _FAST,
     "fast-bf16": replace(_FAST, preset="fast-bf16", bf16=True),
+    # fast in float32 on every device: the same answer on CPUs with and without bfloat16 (docs/lifting.md)
+    "fast-fp32": replace(_FAST, preset="fast-fp32", bf16=False),
 }
 DEFAULT_PRESET = "fast"
 

@@ -278,9 +278,18 @@ def lift_params(prior: Prior, cfg: LiftConfig, *, seed: int, device: str, min_co
         "stability": stability_note(cfg.hypotheses),
         "seed": seed,
         "device": device,
+        "network_precision": network_precision(cfg, device),
         "prior": {"file": Path(prior.path).name, "sha256": prior.sha256, "skeleton": prior.skeleton.name},
         "config": cfg.to_dict(),
     }
+
+
+def network_precision(cfg: LiftConfig, device: str) -> str:
+    """The precision the prior's network ran in: `fast` picks bfloat16 where the device has it, so the
+    same options give float32 on another machine (docs/lifting.md, "Same answer on every machine")."""
+    from ..lifting.precision import uses_bfloat16
+
+    return "bfloat16" if uses_bfloat16(cfg, device) else "float32"
 
 
 def stability_note(hypotheses: int) -> str:

@@ -90,8 +90,9 @@ class LiftOptions(Options):
     preset: Literal[tuple(PRESETS)] = Field(  # type: ignore[valid-type]
         DEFAULT_PRESET,
         description=f"{', '.join(PRESETS)}. fast: 20 prior steps, plausible bone lengths, bfloat16 products where the "
-        "CPU has AMX/AVX512-BF16; faithful: the paper's 1000 steps, float32, 40-60x slower; fast-bf16: fast in "
-        "bfloat16 on every device (docs/lifting.md).",
+        "CPU has AMX/AVX512-BF16; faithful: the paper's 1000 steps, float32, 40-60x slower; fast-bf16 / "
+        "fast-fp32: fast in bfloat16 / float32 on every device (fast-fp32: the same answer on every CPU; "
+        "docs/lifting.md).",
     )
     steps: Optional[int] = Field(None, ge=1, le=MAX_STEPS, description="Prior iterations instead of the preset's.")
     temporal: Literal[TEMPORAL_MODES] = Field(  # type: ignore[valid-type]
