@@ -23,6 +23,13 @@ BASE_POSE = np.array([
 K_TEST = np.array([[1000.0, 0.0, 320.0], [0.0, 1000.0, 240.0], [0.0, 0.0, 1.0]])
 
 
+def tiny_recipe(epochs: int, batch_size: int, more: str = "") -> str:
+    """A training recipe (TOML) of a tiny score network, for tests that train or time one; `more`:
+    further lines (of its [training] table first)."""
+    model = "[model]\nhidden = 64\nembed = 16\nnum_blocks = 1\ngroups = 8\ndropout = 0.0\n"
+    return f"{model}[training]\nepochs = {epochs}\nbatch_size = {batch_size}\n{more}"
+
+
 def synthetic_poses(n: int, seed: int) -> np.ndarray:
     """Root-relative poses `(n, 12, 3)`: BASE_POSE with 1 cm joint noise, turned about the
     vertical axis by up to +-0.6 rad, so depth is informative and learnable."""

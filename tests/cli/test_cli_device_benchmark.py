@@ -8,22 +8,13 @@ from pathlib import Path
 
 import pytest
 import torch
+from helpers import tiny_recipe
 from test_cli import runner
 
 from zedo_cli.cli import app
 from zedo_cli.evaluation.device_benchmark import CLASSES
 
-TINY_RECIPE = """
-[model]
-hidden = 64
-embed = 16
-num_blocks = 1
-groups = 8
-dropout = 0.0
-[training]
-epochs = 8000
-batch_size = 5000
-"""
+TINY_RECIPE = tiny_recipe(epochs=8000, batch_size=5000)
 
 
 def test_scale_option_prints_json(tiny_prior_path: Path, tmp_path: Path) -> None:

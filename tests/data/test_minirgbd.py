@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from helpers import tiny_recipe
 from typer.testing import CliRunner
 
 from zedo_cli.cli import app
@@ -60,21 +61,7 @@ BASE_SMIL = {
 # (ankles 7/8 for the toes 10/11, upper arms 16/17 for the collars 13/14).
 REFERENCE_TABLE = [0, 2, 5, 11, 1, 4, 10, 3, 9, 12, 15, 13, 18, 20, 14, 19, 21]
 ANATOMICAL_TABLE = [0, 2, 5, 8, 1, 4, 7, 3, 9, 12, 15, 16, 18, 20, 17, 19, 21]
-TINY_RECIPE = """
-[model]
-hidden = 64
-embed = 16
-num_blocks = 1
-groups = 8
-dropout = 0.0
-[training]
-epochs = 300
-batch_size = 32
-lr = 1e-3
-warmup_steps = 20
-[output]
-dtype = "float32"
-"""
+TINY_RECIPE = tiny_recipe(epochs=300, batch_size=32, more='lr = 1e-3\nwarmup_steps = 20\n[output]\ndtype = "float32"\n')
 
 
 def random_smil_pose(rng: np.random.Generator) -> np.ndarray:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import BASE_POSE, SKELETON
+from helpers import BASE_POSE, SKELETON, tiny_recipe
 
 from zedo_cli.evaluation.device_benchmark import (
     CLASSES,
@@ -26,17 +26,7 @@ from zedo_cli.prior.schedules import TrainConfig
 from zedo_cli.prior.weights import Prior
 
 FAST = replace(get_preset("fast"), steps=6, init_steps=10)
-TINY_RECIPE = """
-[model]
-hidden = 64
-embed = 16
-num_blocks = 1
-groups = 8
-dropout = 0.0
-[training]
-epochs = 8000
-batch_size = 5000
-"""
+TINY_RECIPE = tiny_recipe(epochs=8000, batch_size=5000)
 
 
 def _pose() -> np.ndarray:
