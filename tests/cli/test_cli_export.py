@@ -163,3 +163,26 @@ def test_export_refuses_with_one_line(lifted: Path, tmp_path: Path) -> None:
         lines = result.stderr.strip().splitlines()
         assert len(lines) == 1 and lines[0].startswith("zedo: error: ") and needle in lines[0], (args, lines)
     assert sorted(p.name for p in tmp_path.iterdir()) == before  # nothing written
+
+
+def test_the_hypotheses_spread_is_read_back_and_exported(tiny_prior_path: Path, tmp_path: Path) -> None:
+    """`hypothesis_spread_mm` (--hypotheses K > 1) survives `read_result` and `zedo export` in every
+    format that holds it, with the `unstable_solution` flag it sets."""
+    from zedo_cli.formats.readers.result import read_result
+
+    src = write_two_people(tmp_path / "clip.jsonl")
+    lift(tiny_prior_path, src, tmp_path / "x.json", "--hypotheses", "3")
+    source = read_result(str(tmp_path / "x.json"))
+    assert source.hypothesis_spread_m is not None and np.isfinite(source.hypothesis_spread_m[source.lifted]).all()
+    for fmt in ("jsonl", "csv", "npz", "json"):
+        export(str(tmp_path / "x.json"), "-o", str(tmp_path / f"y.{fmt}"))
+        again = read_result(str(tmp_path / f"y.{fmt}"))
+        assert again.hypothesis_spread_m is not None, fmt
+        np.testing.assert_allclose(again.hypothesis_spread_m, source.hypothesis_spread_m, atol=1e-4, err_msg=fmt)
+    lifted_once = read_result(str(tmp_path / "x.json"))
+    assert [("unstable_solution" in f) for f in read_result(str(tmp_path / "y.jsonl")).flags] == [
+        ("unstable_solution" in f) for f in lifted_once.flags
+    ]
+    plain = tmp_path / "one.json"
+    lift(tiny_prior_path, src, plain)
+    assert read_result(str(plain)).hypothesis_spread_m is None  # one hypothesis: nothing measured

@@ -107,6 +107,7 @@ def stored_lift(r: ResultPoses) -> StoredLift:
         status=rec.status,
         hypotheses=rec.hypotheses,
         uncertainty_m=r.uncertainty_m,
+        hypothesis_spread_m=r.hypothesis_spread_m,
     )
     info = rec.input_info
     frame_numbers = [int(f) for f in r.frame_index] if _numbered(r.frame_index, r.person, info) else None

@@ -114,6 +114,9 @@ class ResultPoses:
     flags: list[list[str]] | None = None
     root_translation: np.ndarray | None = None  # (N, 3); also from NPZ
     record: LiftRecord | None = None  # the lift's 2D, status, cameras' sources, ...; None where the file lacks them
+    # (N,) the spread of each person's K hypotheses in metres (`hypothesis_spread_mm`), NaN where not
+    # measured; None: the lift measured none (one hypothesis)
+    hypothesis_spread_m: np.ndarray | None = None
     # The input's keypoints that were not lifted (face, feet, ...), by name: original image pixels as
     # the input gave them. None: the file does not say (written before zedo kept them); names () and
     # (N, 0, 2): the input had none.
@@ -323,8 +326,15 @@ class _DocumentReader:
                      for frame, _, _ in self.persons],
             flags=[list(person.flags) for _, _, person in self.persons],
             root_translation=np.asarray(roots).reshape(-1, 3), record=self._record(summary),
-            **self._others(),
+            hypothesis_spread_m=self._spread(), **self._others(),
         )  # fmt: skip
+
+    def _spread(self) -> np.ndarray | None:
+        """The persons' `hypothesis_spread_mm` in metres (NaN: null), or None when no person has the field."""
+        if not any("hypothesis_spread_mm" in person.model_fields_set for _, _, person in self.persons):
+            return None
+        spread = [person.hypothesis_spread_mm for _, _, person in self.persons]
+        return np.array([np.nan if v is None else v for v in spread], dtype=float) / 1000
 
     def _record(self, summary: Summary) -> LiftRecord:
         j, persons = self.joints, [person for _, _, person in self.persons]
@@ -505,7 +515,9 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
                           "status": row.get("status") or ("lifted" if row["lifted"] == "true" else "not_lifted"),
                           "k_source": row.get("k_source") or "",
                           "instance": _int_cell(row.get("instance_index"), len(order)), "points": {}, "observed": {},
-                          "radii": {}, "pixels": {}, "confidence": {}, "errors": {}, "other": {}}  # fmt: skip
+                          "radii": {}, "pixels": {}, "confidence": {}, "errors": {}, "other": {},
+                          "spread": _cell(row.get("hypothesis_spread_mm") or "",
+                                          f"{where}: hypothesis_spread_mm")}  # fmt: skip
         inst = order[key]
         if j is None:  # a keypoint of the input that was not lifted: 2D only
             other_names.setdefault(row["joint"])
@@ -544,8 +556,9 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
                    [np.asarray(o) for o in observed], [np.asarray(r, dtype=float) for r in radii]
                    if "uncertainty_m" in columns else None, fps, coord, units,
                    cameras=[inst["camera"] for inst in order.values()])  # fmt: skip
+    spread = np.array([inst["spread"] for inst in order.values()]) / 1000 if "hypothesis_spread_mm" in columns else None
     return replace(out, params=_params(meta), record=_csv_record(order, skel.num_joints, meta),
-                   **_csv_others(order, other_names, meta, name))  # fmt: skip
+                   hypothesis_spread_m=spread, **_csv_others(order, other_names, meta, name))  # fmt: skip
 
 
 def _int_cell(value: str | None, default: int) -> int:
@@ -660,8 +673,13 @@ def _read_npz(data: bytes, name: str) -> ResultPoses:
     record = _npz_record(arrays, n, skel.num_joints, meta, scale, name)
     roots = arrays.get("root_translation")
     roots = None if roots is None or np.shape(roots) != (n, 3) else np.asarray(roots, dtype=float) * scale
+    spread = arrays.get("hypothesis_spread_mm")
+    if spread is not None and np.shape(spread) != (n,):
+        raise InputFormatError(f"{name}: hypothesis_spread_mm: expected shape ({n},), got {np.shape(spread)}")
     return replace(_npz_result(arrays, name, skel, poses, scale, radii, ids, files, meta, cameras),
-                   record=record, root_translation=roots, **others)  # fmt: skip
+                   record=record, root_translation=roots,
+                   hypothesis_spread_m=None if spread is None else np.asarray(spread, dtype=float) / 1000,
+                   **others)  # fmt: skip
 
 
 def _npz_record(
