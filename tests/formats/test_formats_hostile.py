@@ -231,3 +231,13 @@ def test_truncated_or_object_npy_files_are_data_errors(tmp_path: Path, content: 
         path.write_bytes(content)
     with pytest.raises(DataError, match=said):
         load_npy(path, "fiu")
+
+
+@pytest.mark.parametrize("value", [1 - 10**4301, -(10**18) - 1, -3], ids=["4301 digits", "19 digits", "-3"])
+def test_a_negative_frame_number_of_any_size_is_one_line(value: int) -> None:
+    """Found by the test above: a frame number below -10**4300 could not be printed in its message."""
+    from zedo_cli.formats.readers.validate import frame_number
+
+    with pytest.raises(InputFormatError, match=r"^h.json: line 1: frame: expected a frame number >= 0, got ") as exc:
+        frame_number(value, "h.json", "line 1: frame")
+    assert str(exc.value).isprintable() and len(str(exc.value)) < 200

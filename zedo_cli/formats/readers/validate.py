@@ -135,8 +135,9 @@ def frame_number(value: Any, path: str, where: str) -> int:
         value = int(value)
     if isinstance(value, bool) or not isinstance(value, int):
         raise error(path, where, f"expected a frame number (an integer), got {kind(value)}")
-    if value < 0:
-        raise error(path, where, f"expected a frame number >= 0, got {value}")
+    if value < 0:  # a huge one cannot even be printed (Python's 4300-digit limit)
+        shown = str(value) if value > -(10**18) else "a negative integer of over 18 digits"
+        raise error(path, where, f"expected a frame number >= 0, got {shown}")
     return value
 
 
