@@ -30,9 +30,9 @@ from ...data.keypoints import Keypoints2D
 from ...data.skeleton import Skeleton
 from ...errors import InputFormatError
 from .named_points import Instance, Labels, add_point, build_named, coordinate, shown
-from .openpose import frame_files, is_zedo_output
+from .openpose import frame_files, sequence_files
 from .source import load_json
-from .validate import as_dict, as_list, error, field, is_list, kind, natural_key, pixels, trailing_number
+from .validate import as_dict, as_list, error, field, is_list, kind, pixels, trailing_number
 
 FORMAT = "labelme"
 TOOL = "LabelMe"
@@ -122,19 +122,11 @@ def _no_skeleton_option(skeleton: Skeleton | None, path: str) -> None:
         )
 
 
-def labelme_files(directory: Path) -> list[Path]:
-    """The ``*.json`` files of a folder (zedo's outputs aside), in natural name order."""
-    files = [p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)]
-    return sorted(files, key=lambda p: natural_key(p.name))
-
-
 def is_labelme_folder(directory: Path) -> bool:
     """Whether `directory` is one clip of LabelMe files (`zedo lift DIR` reads it as one input):
     it holds ``*.json`` files and no JSON Lines, and its first and last files are LabelMe files."""
-    files = labelme_files(directory)
-    if not files or any(directory.glob("*.jsonl")) or any(directory.glob("*.ndjson")):
-        return False
-    return all(_is_labelme_file(p) for p in (files[0], files[-1]))
+    files = sequence_files(directory)
+    return bool(files) and all(_is_labelme_file(p) for p in (files[0], files[-1]))
 
 
 def _is_labelme_file(path: Path) -> bool:

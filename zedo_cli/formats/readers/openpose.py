@@ -91,6 +91,15 @@ def is_zedo_output(path: Path) -> bool:
     return ".zedo." in path.name or path.name.endswith(".meta.json")
 
 
+def sequence_files(directory: Path) -> list[Path]:
+    """The ``*.json`` files of a folder that may be one sequence of frame files (zedo's outputs
+    aside), in natural name order; none when the folder holds JSON Lines (then it is read file by file)."""
+    if any(directory.glob("*.jsonl")) or any(directory.glob("*.ndjson")):
+        return []
+    files = [p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)]
+    return sorted(files, key=lambda p: natural_key(p.name))
+
+
 def is_openpose_folder(directory: Path) -> bool:
     """Whether `directory` is one OpenPose sequence (`zedo lift DIR` reads it as one input):
     every ``*.json`` file in it (zedo's outputs aside, and no ``*.jsonl``) is a frame file, either
@@ -98,9 +107,8 @@ def is_openpose_folder(directory: Path) -> bool:
     ``cam01.0030.json``), and the first and last are OpenPose frames (objects with ``people``).
     Any other folder is read file by file: a COCO file named ``*_keypoints.json`` beside other
     files is not taken for a frame."""
-    files = sorted((p for p in directory.glob("*.json") if p.is_file() and not is_zedo_output(p)),
-                   key=lambda p: natural_key(p.name))  # fmt: skip
-    if not files or any(directory.glob("*.jsonl")) or any(directory.glob("*.ndjson")):
+    files = sequence_files(directory)
+    if not files:
         return False
     named = sum(p.name.endswith(f"{_SUFFIX}.json") for p in files)
     if named and named != len(files):
