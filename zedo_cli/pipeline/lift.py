@@ -387,12 +387,12 @@ def _cached_prior(spec: str | None, device: str) -> Prior:
 
 def check_setting_names(function: str, settings: dict[str, Any], model: type[Any]) -> None:
     """A TypeError, as Python gives for an unknown keyword, with the nearest setting's name."""
-    import difflib
+    from ..settings.config_file import did_you_mean
 
     for name in settings:
         if name not in model.keys():
-            close = difflib.get_close_matches(name, list(model.keys()), n=1, cutoff=0.6)
-            hint = f"; did you mean {close[0]!r}?" if close else f" (the options of zedo {model.command}, by name)"
+            close = did_you_mean(name, model.keys())
+            hint = f"; did you mean {close!r}?" if close else f" (the options of zedo {model.command}, by name)"
             raise TypeError(f"{function}() got an unexpected setting {name!r}{hint}")
 
 
