@@ -72,9 +72,11 @@ def wrap_deg(d: np.ndarray) -> np.ndarray:
     return (np.asarray(d) + 180.0) % 360.0 - 180.0
 
 
-def conformal_quantile(scores: np.ndarray, level: float) -> float:
-    """The split-conformal quantile: the ceil((n + 1) level)-th smallest of `scores` (inf when n is too small)."""
-    scores = np.sort(scores[np.isfinite(scores)])
+def conformal_quantile(scores: np.ndarray, level: float, *, keep_infinite: bool = False) -> float:
+    """The split-conformal quantile: the ceil((n + 1) level)-th smallest of `scores` (inf when n is too small).
+    NaN scores are left out, and infinite ones too unless `keep_infinite` (a score that no finite width
+    reaches still counts among the n)."""
+    scores = np.sort(scores[~np.isnan(scores) if keep_infinite else np.isfinite(scores)])
     rank = int(np.ceil((len(scores) + 1) * level))
     return float(scores[rank - 1]) if 0 < rank <= len(scores) else float("inf")
 

@@ -40,6 +40,7 @@ import numpy as np
 
 from ..versioned_json import read_models, write_items
 from .block_bootstrap import BootstrapSettings, ClipInterval
+from .calibration import conformal_quantile
 
 FORMAT = "zedo.head_intervals"
 FORMAT_VERSION = 1
@@ -166,11 +167,9 @@ def scores(estimate: np.ndarray, low: np.ndarray, high: np.ndarray, truth: np.nd
 
 
 def conformal_factor(score: np.ndarray, level: float) -> float:
-    """The split-conformal quantile of `score (n,)` (NaN left out): the ceil((n + 1) level)-th
-    smallest; inf when n is too small for the level."""
-    s = np.sort(score[~np.isnan(score)])
-    k = math.ceil((len(s) + 1) * level)
-    return float(s[k - 1]) if k <= len(s) else math.inf
+    """The split-conformal quantile of `score (n,)` (NaN left out, infinite scores counted): the
+    ceil((n + 1) level)-th smallest; inf when n is too small for the level."""
+    return conformal_quantile(score, level, keep_infinite=True)
 
 
 def widened_arms(estimate: np.ndarray, low: np.ndarray, high: np.ndarray, error: float, factor: float,
