@@ -21,7 +21,7 @@ import torch
 
 from ..data.datasets import PoseSet, load_syrip_3d
 from ..errors import ConfigError
-from ..lifting.camera import PSEUDO_FOCAL_PX
+from ..lifting.camera import PSEUDO_FOCAL_PX, Intrinsics
 from ..lifting.config import LiftConfig
 from ..lifting.result import LiftResult
 from ..lifting.solver import LIFTED, LiftProgress, lift
@@ -130,12 +130,6 @@ def pose_pool(prior: Prior, syrip_dir: str | Path | None, seed: int = 0) -> Pose
     return PoseSet(poses, prior.skeleton, names, f"{POOL_SAMPLES} poses sampled from {Path(prior.path).name}")
 
 
-def pseudo_intrinsics() -> np.ndarray:
-    """The pseudo camera `(3, 3)` of the synthetic inputs."""
-    width, height = IMAGE_SIZE
-    return np.array([[PSEUDO_FOCAL_PX, 0.0, width / 2], [0.0, PSEUDO_FOCAL_PX, height / 2], [0.0, 0.0, 1.0]])
-
-
 def _rotations(angles: np.ndarray) -> np.ndarray:
     """Rotations `(n, 3, 3)` about x, then y, then z by `angles (n, 3)` radians."""
     c, s = np.cos(angles), np.sin(angles)
@@ -151,7 +145,7 @@ def synthetic_inputs(pool: np.ndarray, count: int, seed: int) -> tuple[np.ndarra
     """Pixels `(count, J, 2)`, confidences `(count, J)` (all 1) and intrinsics `(count, 3, 3)` of
     poses from `pool (P, J, 3)`, turned, placed and projected through the pseudo camera (module
     docstring). The first M rows do not depend on `count`."""
-    k = pseudo_intrinsics()
+    k = Intrinsics.pseudo(*IMAGE_SIZE).matrix()  # (3, 3) the pseudo camera of the synthetic inputs
     joints = pool.shape[1]
     xy = np.empty((count, joints, 2))
     for start in range(0, count, INPUT_BLOCK):
