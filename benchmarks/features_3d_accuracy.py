@@ -21,6 +21,7 @@ ratio 3D / 2D (target: at most 0.5). Test100 and SyRIP's synthetic rows are neve
 from __future__ import annotations
 
 import argparse
+import itertools
 import sys
 from pathlib import Path
 from typing import Any
@@ -51,12 +52,17 @@ def clip_errors(xy: np.ndarray, lifted: np.ndarray, truth: np.ndarray, fps: floa
 
 # the calibration's clips (--cases): more and longer clips than the accuracy table's, for split conformal
 CASE_CLIPS = {"count": 56, "keyposes": 15}  # 56 clips of 14 s a fold
+# ... lifted under both motion models between key poses (temporal.make_sequences' `interpolation`): eased
+# joint positions (bones shorten while they turn) and turned segments (bones keep their length), so that
+# the intervals hold under either, not only under the one they were fitted on
+CASE_MOTIONS = ("positions", "segments")
 
 
 def lift_clip_cases(args: argparse.Namespace) -> None:
-    """Per fold prior: CASE_CLIPS clips of the fold's held-out poses lifted by its prior (`--temporal smooth`,
-    the default preset); per clip every `3d_` feature of the lifted poses (`raw`) and of the true 3D
-    (`truth`), and the published 2D features (`flat`). One npz a fold in `--cases`."""
+    """Per fold prior and motion of CASE_MOTIONS: CASE_CLIPS clips of the fold's held-out poses lifted by its
+    prior (`--temporal smooth`, the default preset); per clip every `3d_` feature of the lifted poses (`raw`)
+    and of the true 3D (`truth`), and the published 2D features (`flat`). One npz a fold and motion in
+    `--cases` (`fold<k>-3d-clips-<motion>.npz`)."""
     import torch
     from calibrate_measures import CLIP_SETTINGS
     from folds import fold_priors
@@ -69,9 +75,11 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
     size = np.array([IMAGE_W, IMAGE_H], dtype=float)
     fps = float(CLIP_SETTINGS["fps"])
     args.cases.mkdir(parents=True, exist_ok=True)
-    for k, prior, truth, _ in fold_priors(args.folds, args.weights, args.syrip_dir):
+    for (k, prior, truth, _), motion in itertools.product(fold_priors(args.folds, args.weights, args.syrip_dir),
+                                                          CASE_MOTIONS):  # fmt: skip
         torch.manual_seed(k)
-        clips = make_sequences(truth.poses, np.random.default_rng(300 + k), **{**CLIP_SETTINGS, **CASE_CLIPS})
+        clips = make_sequences(truth.poses, np.random.default_rng(300 + k), **{**CLIP_SETTINGS, **CASE_CLIPS},
+                               interpolation=motion)  # fmt: skip
         res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode="smooth", tracks=clips["tracks"])
         lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
         raw, true, flat = [], [], []
@@ -82,12 +90,12 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
             flat.append(published_features(clips["xy"][at], SKELETON, fps, size).values)
         names = sorted(raw[0])
         flat_names = sorted(flat[0])
-        np.savez(args.cases / f"fold{k}-3d-clips.npz", names=np.array(names), flat_names=np.array(flat_names),
+        np.savez(args.cases / f"fold{k}-3d-clips-{motion}.npz", names=np.array(names), flat_names=np.array(flat_names),
                  raw=np.array([[r[n] for n in names] for r in raw]),
                  truth=np.array([[t[n] for n in names] for t in true]),
                  flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps)  # fmt: skip
-        print(f"fold {k}: {len(raw)} clips of {int(at.sum())} frames, {int(res.lifted.sum())}/{len(res.lifted)} "
-              "frames lifted", flush=True)  # fmt: skip
+        print(f"fold {k}, {motion}: {len(raw)} clips of {int(at.sum())} frames, "
+              f"{int(res.lifted.sum())}/{len(res.lifted)} frames lifted", flush=True)  # fmt: skip
 
 
 BINS = 2  # bins of the measured value per feature (56 clips a fold)
@@ -95,10 +103,16 @@ MIN_PER_BIN = 20  # the 95 % conformal quantile (each end of the 90 % interval) 
 
 
 def load_clip_cases(folder: Path) -> dict[int, dict[str, np.ndarray]]:
-    out = {}
-    for path in sorted(folder.glob("fold*-3d-clips.npz")):
+    """Per fold, its clips of every motion (`motion (C,)` names each clip's) in one set of arrays."""
+    out: dict[int, dict[str, np.ndarray]] = {}
+    for path in sorted(folder.glob("fold*-3d-clips-*.npz")):
+        fold, motion = int(path.name[4 : path.name.index("-")]), path.stem.rsplit("-", 1)[1]
         with np.load(path) as z:
-            out[int(path.name[4 : path.name.index("-")])] = {k: z[k] for k in z.files}
+            case = {k: z[k] for k in z.files} | {"motion": np.full(len(z["raw"]), motion)}
+        if fold in out:
+            case = {k: np.concatenate([out[fold][k], v]) if k in ("raw", "truth", "flat", "motion") else v
+                    for k, v in case.items()}  # fmt: skip
+        out[fold] = case
     return out
 
 
@@ -146,21 +160,25 @@ def calibrate(args: argparse.Namespace) -> int:
         print(f"need the clip cases of two folds in {args.cases} (--lift)", file=sys.stderr)
         return 1
     names = cases[min(cases)]["names"]
-    hits, mae = {}, {}
+    hits, hit_motion, mae, motions = {}, {}, {}, []
     for k, case in cases.items():  # fit on the other folds' clips, score fold k's
         others = [c for j, c in cases.items() if j != k]
         models = fit_features(np.concatenate([c["raw"] for c in others]),
                               np.concatenate([c["truth"] for c in others]), names)  # fmt: skip
         s = score(models, case)
+        motions.append(case["motion"])
         for i, n in enumerate(names):
             hits.setdefault(family(str(n)), []).append(s["hit"][:, i])
+            hit_motion.setdefault(family(str(n)), []).append(case["motion"])
         flat = dict(zip(case["flat_names"].tolist(), case["flat"].T, strict=True))
         for f in FEATURES:
+            per_joint = []
             for j in JOINTS:
                 i = names.tolist().index(f"3d_{f}_{j}")
                 t = case["truth"][:, i]
-                mae.setdefault(f, []).append(np.stack([abs(s["est"][:, i] - t), abs(case["raw"][:, i] - t),
-                                                       abs(flat[f"{f}_{j}"] - t)], 1))  # fmt: skip
+                per_joint.append(np.stack([abs(s["est"][:, i] - t), abs(case["raw"][:, i] - t),
+                                           abs(flat[f"{f}_{j}"] - t)], 1))  # fmt: skip
+            mae.setdefault(f, []).append(np.stack(per_joint, 1))  # (clips, joints, calibrated | raw | 2D)
     print(f"\n### cross-fitted over folds {sorted(cases)}: held-out coverage of the 90 % intervals")
     print("| family | (clip, feature) cases | coverage |\n| --- | --- | --- |")
     every = []
@@ -171,12 +189,22 @@ def calibrate(args: argparse.Namespace) -> int:
         print(f"| {fam} | {len(h)} | {h.mean():.1%} |")
     every = np.concatenate(every)
     print(f"| **all** | {len(every)} | **{every.mean():.1%}** |")
+    motion = np.concatenate(motions)  # (clips,) in the order of every fold's hits
+    for m in np.unique(motion):
+        at = {fam: np.concatenate(h)[np.concatenate(hit_motion[fam]) == m] for fam, h in hits.items()}
+        fams = " ".join(f"{fam} {v[np.isfinite(v)].mean():.1%}" for fam, v in at.items())
+        allm = np.concatenate([v[np.isfinite(v)] for v in at.values()])
+        print(f"clips of motion {m}: all {allm.mean():.1%} ({fams})")
     print("\n### MAE against the 3D truth, (clip, side, joint) cases of both folds held out")
     print("| feature | calibrated 3d_ | raw 3d_ | 2D (published) | calibrated / 2D | raw / 2D |")
     print("| --- | --- | --- | --- | --- | --- |")
     for f, e in mae.items():
-        cal, raw, flat = np.nanmean(np.concatenate(e), axis=0)
+        by_clip = np.concatenate(e)  # (clips, joints, 3) in the order of `motion`
+        cal, raw, flat = np.nanmean(by_clip.reshape(-1, 3), axis=0)
         print(f"| {f} | {cal:.2f} | {raw:.2f} | {flat:.2f} | **{cal / flat:.2f}** | {raw / flat:.2f} |")
+        for m in np.unique(motion):
+            cal, raw, flat = np.nanmean(by_clip[motion == m].reshape(-1, 3), axis=0)
+            print(f"|   {f}, motion {m} | {cal:.2f} | {raw:.2f} | {flat:.2f} | {cal / flat:.2f} | {raw / flat:.2f} |")
     if args.write:
         write_calibration(args, cases, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()})
     return 0
@@ -200,7 +228,7 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
         "folds": sorted(cases),
         "cases": int(sum(len(c["raw"]) for c in cases.values())),
         "fps": float(CLIP_SETTINGS["fps"]),
-        "clips": {**CLIP_SETTINGS, **CASE_CLIPS},
+        "clips": {**CLIP_SETTINGS, **CASE_CLIPS, "interpolation": list(CASE_MOTIONS)},
         "cross_fitted_coverage_90": {k: round(v, 4) for k, v in coverage.items()},
     }
     cal = MeasureCalibration(shipped.sha256, calibration_settings(get_preset(DEFAULT_PRESET)), "smooth", ("pseudo",),
@@ -218,6 +246,12 @@ def main() -> int:
     ap.add_argument("--syrip-dir", required=True)
     ap.add_argument("--folds", type=Path, required=True)
     ap.add_argument("--weights", default="", help="suffix of the fold priors' files (fold<k><weights>.safetensors)")
+    ap.add_argument(
+        "--interpolation",
+        choices=("segments", "positions"),
+        default="segments",
+        help="the clips' motion between key poses (temporal.make_sequences; positions: the old clips)",
+    )
     ap.add_argument("--cases", type=Path, default=None, help="calibrate: the folds' clip cases' folder")
     ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
@@ -242,7 +276,8 @@ def main() -> int:
     errors: dict[int, list[dict]] = {}
     for k, prior, truth, _ in fold_priors(args.folds, args.weights, args.syrip_dir):
         torch.manual_seed(k)
-        clips = make_sequences(truth.poses, np.random.default_rng(100 + k), **CLIP_SETTINGS)
+        clips = make_sequences(truth.poses, np.random.default_rng(100 + k), **CLIP_SETTINGS,
+                               interpolation=args.interpolation)  # fmt: skip
         res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode="smooth", tracks=clips["tracks"])
         lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
         errors[k] = []
