@@ -117,7 +117,7 @@ class CameraModel:
             raise IntrinsicsError("K must hold finite numbers")
         if k[0, 1] != 0 or k[1, 0] != 0 or k[2, 0] != 0 or k[2, 1] != 0 or k[2, 2] != 1:
             raise IntrinsicsError("K must be [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] (no skew)")
-        if k[0, 0] * k[1, 1] == 0:
+        if k[0, 0] == 0 or k[1, 1] == 0:  # not their product, which overflows or underflows at extremes
             raise IntrinsicsError(f"K is singular (fx={k[0, 0]:g}, fy={k[1, 1]:g})")
         return cls(float(k[0, 0]), float(k[1, 1]), float(k[0, 2]), float(k[1, 2]), tuple(map(float, dist)), model,
                    image_size)  # fmt: skip
