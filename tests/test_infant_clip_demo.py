@@ -78,3 +78,5 @@ def test_the_whole_demo_runs_and_writes_every_file(tmp_path: Path) -> None:
     assert "zedo: warning" not in done.stderr  # inside the frame: nothing for zedo lift to flag
     doc = json.loads((tmp_path / "clip.zedo.json").read_text())
     assert doc["summary"]["instances_lifted"] == doc["summary"]["instances_total"] == 121
+    report = (tmp_path / "analysis" / "clip.report.html").read_text()
+    assert "<img alt='frame " in report  # the frames to review come with thumbnails cut from the footage
