@@ -23,7 +23,6 @@ Test100 and SyRIP's synthetic rows are never read.
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import sys
 from pathlib import Path
@@ -34,7 +33,7 @@ import torch
 sys.path.insert(0, str(Path(__file__).parent))
 from calibrate_measures import CLIP_SETTINGS  # noqa: E402
 from features_3d_accuracy import CASE_CLIPS  # noqa: E402
-from folds import fold_priors  # noqa: E402
+from folds import fold_clip_args, fold_priors  # noqa: E402
 from temporal import make_sequences  # noqa: E402
 
 from zedo_cli.analysis.geometry import angle_between_deg  # noqa: E402
@@ -97,11 +96,7 @@ def main() -> int:
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--syrip-dir", required=True)
-    ap.add_argument("--folds", type=Path, required=True)
-    ap.add_argument("--interpolation", choices=("positions", "segments"), default="positions")
-    args = ap.parse_args()
+    args = fold_clip_args(__doc__, interpolation="positions")
     cfg = get_preset(DEFAULT_PRESET)
     windows = Windows(CLIP_SETTINGS["fps"])
     clips, images = {}, {}

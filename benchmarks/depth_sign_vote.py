@@ -25,7 +25,6 @@ Test100 and SyRIP's synthetic rows are never read.
 
 from __future__ import annotations
 
-import argparse
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,7 +34,7 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).parent))
 from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from folds import fold_priors  # noqa: E402
+from folds import fold_clip_args, fold_priors  # noqa: E402
 from limb_depth_flips import SEGMENTS, depth_direction, flipped  # noqa: E402
 from temporal import IMAGE_H, IMAGE_W, make_sequences  # noqa: E402
 
@@ -113,11 +112,7 @@ def wrong_side(truth: np.ndarray, lifted: np.ndarray) -> tuple[int, int]:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--syrip-dir", required=True)
-    ap.add_argument("--folds", type=Path, required=True)
-    ap.add_argument("--interpolation", choices=("segments", "positions"), default="segments")
-    args = ap.parse_args()
+    args = fold_clip_args(__doc__, interpolation="segments")
 
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence

@@ -50,6 +50,17 @@ def fold_priors(
             yield k, load_prior(path), truth, inputs
 
 
+def fold_clip_args(doc: str, interpolation: str | None = None) -> argparse.Namespace:
+    """The command line of a benchmark over the fold priors' synthetic clips: `--syrip-dir`, `--folds` and,
+    where `interpolation` names its default, `--interpolation` (the clips' motion, temporal.make_sequences)."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    ap.add_argument("--syrip-dir", required=True)
+    ap.add_argument("--folds", type=Path, required=True)
+    if interpolation is not None:
+        ap.add_argument("--interpolation", choices=("positions", "segments"), default=interpolation)
+    return ap.parse_args()
+
+
 def main() -> int:
     import numpy as np
 

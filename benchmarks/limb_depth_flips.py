@@ -22,7 +22,6 @@ Test100 and SyRIP's synthetic rows are never read.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import sys
 from pathlib import Path
@@ -31,7 +30,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from folds import fold_priors  # noqa: E402
+from folds import fold_clip_args, fold_priors  # noqa: E402
 from temporal import make_sequences  # noqa: E402
 
 from zedo_cli.analysis.features_3d import features_3d  # noqa: E402
@@ -60,10 +59,7 @@ def flipped(true_z: np.ndarray, lifted_z: np.ndarray) -> np.ndarray:
 
 
 def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--syrip-dir", required=True)
-    ap.add_argument("--folds", type=Path, required=True)
-    args = ap.parse_args()
+    args = fold_clip_args(__doc__)
 
     import torch
 
