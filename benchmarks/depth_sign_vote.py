@@ -35,7 +35,7 @@ import torch
 sys.path.insert(0, str(Path(__file__).parent))
 from calibrate_measures import CLIP_SETTINGS  # noqa: E402
 from folds import fold_clip_args, fold_priors  # noqa: E402
-from limb_depth_flips import SEGMENTS, depth_direction, flipped  # noqa: E402
+from limb_depth_flips import CLEAR_DEPTH, SEGMENTS, depth_direction, flipped  # noqa: E402
 from temporal import IMAGE_H, IMAGE_W, make_sequences  # noqa: E402
 
 from zedo_cli.analysis.features_3d import features_3d  # noqa: E402
@@ -106,7 +106,7 @@ def wrong_side(truth: np.ndarray, lifted: np.ndarray) -> tuple[int, int]:
     for side in ("left", "right"):
         for segment in SEGMENTS:
             tz, lz = depth_direction(truth, side, segment), depth_direction(lifted, side, segment)
-            clear += int(((np.abs(tz) > 0.3) & (np.abs(lz) > 0.3)).sum())
+            clear += int(((np.abs(tz) > CLEAR_DEPTH) & (np.abs(lz) > CLEAR_DEPTH)).sum())
             wrong += int(flipped(tz, lz).sum())
     return clear, wrong
 

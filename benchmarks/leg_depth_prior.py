@@ -33,6 +33,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from folds import FOLDS, fold_priors  # noqa: E402
 
+from zedo_cli.analysis.geometry import angle_between_deg  # noqa: E402
+
 AUGMENT_SEED = 7
 ANGLES = {"elbow": ("shoulder", "elbow", "wrist"), "knee": ("hip", "knee", "ankle")}
 
@@ -65,9 +67,7 @@ def write(folder: Path) -> None:
 def interior_angle(poses: np.ndarray, joints: list[str], side: str, angle: str) -> np.ndarray:
     """`(N,)` the interior angle in degrees at the middle joint of ANGLES[angle] on `side`."""
     a, b, c = (poses[:, joints.index(f"{side}_{name}")] for name in ANGLES[angle])
-    u, v = a - b, c - b
-    cos = (u * v).sum(-1) / (np.linalg.norm(u, axis=-1) * np.linalg.norm(v, axis=-1))
-    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    return angle_between_deg(a - b, c - b)
 
 
 def score(syrip_dir: str, folder: Path, suffixes: list[str]) -> None:
