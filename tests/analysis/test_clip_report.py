@@ -125,3 +125,24 @@ def test_plain_words_for_the_comparisons_other_features() -> None:
     )
     assert describe("symmetry_thigh_share_asymmetric", 3.0).startswith("thigh symmetry: asymmetric in more frames")
     assert describe("head_turn_fraction_left", -1.0).startswith("head: head turned left in fewer frames")
+
+
+def test_a_thumbnail_keeps_the_head_in_view_without_face_points(clip: tuple[Path, list]) -> None:
+    """A body-only skeleton has no head point: the crop reaches HEAD_REACH trunk lengths beyond the
+    shoulders, so the crown a reviewer looks for (head turn) is not cut off."""
+    from zedo_cli.footage.render import Painter, RenderSettings
+    from zedo_cli.footage.thumbnails import HEAD_REACH, _around, _with_head
+
+    result = read_result(clip[0])
+    assert result.other_keypoints_2d is None
+    px = Painter(result, RenderSettings()).persons[0].px + 700.0  # the person in the middle of the frame below
+    names = list(result.skeleton.joints)
+    shoulders = px[[names.index("left_shoulder"), names.index("right_shoulder")]].mean(0)
+    hips = px[[names.index("left_hip"), names.index("right_hip")]].mean(0)
+    crown = shoulders + HEAD_REACH * (shoulders - hips)
+    kept = _with_head(result, 0, px)
+    assert len(kept) == len(px) + 1 and np.allclose(kept[-1], crown)
+    frame = np.zeros((1600, 1600), np.uint8)  # room around the person: no clipping at the frame's edge
+    frame[int(round(crown[1])), int(round(crown[0]))] = 255
+    assert _around(frame, [kept]).max() == 255
+    assert _around(frame, [px]).max() == 0  # the joints alone crop the crown away

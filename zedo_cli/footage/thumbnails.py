@@ -18,6 +18,10 @@ from .render import Painter, RenderSettings, _check_size, _rows_by_frame, list_i
 from .video_check import VideoMismatchError
 
 MARGIN = 0.25  # of the persons' extent, around them in a thumbnail
+# How far the head reaches beyond the shoulders' midpoint, in trunk lengths (shoulders' to hips' midpoint):
+# an infant's head is about as long as its trunk is to the neck, so 0.8 keeps the crown in the picture
+# when the input has no face points (a body-only detector, or the skeleton alone).
+HEAD_REACH = 0.8
 THUMB_WIDTH = 360  # pixels: the report shows them at 270 px, sharp on a high-density screen
 
 
@@ -79,9 +83,23 @@ def cut_thumbnails(result: ResultPoses, frames: list[int], *, video: str | Path 
         rows = by_frame.get(f, [])
         if painter is not None:
             frame = painter.paint(frame, rows, f, result.fps)
-            frame = _around(frame, [p for r in rows if (p := painter.persons[r].px) is not None])
+            frame = _around(frame, [_with_head(result, r, p) for r in rows if (p := painter.persons[r].px) is not None])
         out[f] = _png(frame)
     return out
+
+
+def _with_head(result: ResultPoses, row: int, px: np.ndarray) -> np.ndarray:
+    """The pixels a thumbnail keeps in view for one person: its drawn joints `px (J, 2)`, the input's
+    other keypoints of the row (face, feet, ...) and the head's reach beyond the shoulders (HEAD_REACH)."""
+    names = list(result.skeleton.joints)
+    points = [px]
+    if result.other_keypoints_2d is not None:
+        points.append(result.other_keypoints_2d[row])
+    if {"left_shoulder", "right_shoulder", "left_hip", "right_hip"} <= set(names):
+        shoulders = (px[names.index("left_shoulder")] + px[names.index("right_shoulder")]) / 2
+        hips = (px[names.index("left_hip")] + px[names.index("right_hip")]) / 2
+        points.append((shoulders + HEAD_REACH * (shoulders - hips))[None])  # NaN when a joint is: dropped
+    return np.concatenate(points)
 
 
 def _around(frame: np.ndarray, pixels: list[np.ndarray]) -> np.ndarray:
