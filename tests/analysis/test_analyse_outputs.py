@@ -118,6 +118,29 @@ def test_json_holds_the_rows_settings_and_the_note(kick: Path, tmp_path: Path) -
         write_csv(a, out)
 
 
+def test_the_files_are_written_a_row_at_a_time_as_the_whole_document_would_be(kick: Path, tmp_path: Path) -> None:
+    """write_json streams the rows (a 10-minute clip has about half a million), each on a line of its own,
+    and writes the JSON of the whole document; write_csv what the csv module writes of every row."""
+    import csv
+
+    a = analyse(read_result(kick))
+    write_json(a, tmp_path / "a.json")
+    written = (tmp_path / "a.json").read_text()
+    whole = analysis_document(a)
+    doc = json.loads(written)
+    assert {**doc, "created": ""} == {**whole, "created": ""} and len(doc["rows"]) == len(a.rows)
+    lines = written.splitlines()
+    first = lines.index(' "rows": [') + 1
+    assert [json.loads(line.rstrip(",")) for line in lines[first : first + len(a.rows)]] == whole["rows"]
+    write_csv(a, tmp_path / "a.csv")
+    with (tmp_path / "a.csv").open(newline="") as fh:
+        table = list(csv.reader(fh))
+    assert table[0] == list(COLUMNS) and len(table) == len(a.rows) + 1
+    assert table[1][COLUMNS.index("measure")] == a.rows[0].measure
+    with pytest.raises(ConfigError, match="already exists"):
+        write_json(a, tmp_path / "a.json")
+
+
 def test_bad_settings_and_unlifted_results(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="threshold"):
         AnalysisSettings(threshold_deg=-1.0)

@@ -35,6 +35,15 @@ def test_json_pieces_are_json_dumps(doc: dict[str, Any], indent: int | None) -> 
     assert "".join(json_pieces(streamed, indent=indent)) == expected
 
 
+def test_json_pieces_can_put_each_streamed_item_on_one_line() -> None:
+    doc = {"a": {"b": 1}, "rows": [{"x": [1, 2], "y": "z\nw"}, {}, {"x": None}]}
+    text = "".join(json_pieces([("a", doc["a"]), ("rows", iter(doc["rows"]))], one_line_items=True))
+    assert json.loads(text) == doc
+    assert text.splitlines()[-6:-1] == [' "rows": [', '  {"x": [1, 2], "y": "z\\nw"},', "  {},", '  {"x": null}', " ]"]
+    with pytest.raises(ValueError):
+        "".join(json_pieces([("rows", iter([{"x": float("nan")}]))], one_line_items=True))
+
+
 def test_json_pieces_refuse_nan() -> None:
     with pytest.raises(ValueError):
         "".join(json_pieces([("frames", iter([{"x": float("nan")}]))]))

@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import csv
 import io
-import json
+import itertools
 import math
-import sys
+from collections.abc import Iterator
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from ..files import write_text_atomic
+from ..formats.writers.common import json_pieces, write_text
 from ..version import __version__
 from .analyse import COLUMNS, Analysis, summary
 from .symmetry import BAND_EDGES_DEG, PAIRS
@@ -44,13 +44,20 @@ def _num(value: Any) -> Any:
     return value
 
 
-def csv_text(a: Analysis) -> str:
+def csv_lines(a: Analysis) -> Iterator[str]:
+    """The tidy CSV, a line at a time (a 10-minute clip has about half a million rows)."""
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(COLUMNS)
-    for row in a.rows:
-        writer.writerow(["" if (v := _num(x)) is None else v for x in row.as_list()])
-    return buf.getvalue()
+    for values in itertools.chain([COLUMNS], (["" if (v := _num(x)) is None else v for x in row.as_list()]
+                                              for row in a.rows)):  # fmt: skip
+        writer.writerow(values)
+        yield buf.getvalue()
+        buf.seek(0)
+        buf.truncate()
+
+
+def csv_text(a: Analysis) -> str:
+    return "".join(csv_lines(a))
 
 
 def measure_descriptions() -> dict[str, str]:
@@ -106,6 +113,17 @@ def measure_descriptions() -> dict[str, str]:
 
 
 def analysis_document(a: Analysis) -> dict[str, Any]:
+    """The JSON document (schema `zedo.analysis/1`) as a dict, every row in it."""
+    return {key: list(value) if key == "rows" else value for key, value in _document_members(a)}
+
+
+def _row_dicts(a: Analysis) -> Iterator[dict[str, Any]]:
+    return ({c: _num(v) for c, v in zip(COLUMNS, row.as_list(), strict=True)} for row in a.rows)
+
+
+def _document_members(a: Analysis) -> Iterator[tuple[str, Any]]:
+    """The document's (key, value) pairs in order; "rows" an iterator of the row dicts, so that the
+    writer streams them (`json_pieces`) instead of holding half a million dicts and their text."""
     res = a.result
     uncertainty = {
         "available": a.uncertainty_available,
@@ -115,7 +133,7 @@ def analysis_document(a: Analysis) -> dict[str, Any]:
         "lifts, by bins of the measured value (analysis.calibration, docs/clinical.md); the interval column of "
         "each row says how its interval was obtained or why it has none",
     }
-    return {
+    yield from {
         "schema": SCHEMA,
         "zedo_version": __version__,
         "created": datetime.now(UTC).isoformat(timespec="seconds"),
@@ -142,23 +160,17 @@ def analysis_document(a: Analysis) -> dict[str, Any]:
         "columns": list(COLUMNS),
         "measures": measure_descriptions(),
         "summary": {k: {s: _num(v) for s, v in d.items()} for k, d in summary(a).items()},
-        "rows": [{c: _num(v) for c, v in zip(COLUMNS, row.as_list(), strict=True)} for row in a.rows],
-    }
-
-
-def _emit(text: str, out: str | Path, overwrite: bool) -> None:
-    if str(out) == "-":
-        sys.stdout.write(text)
-        sys.stdout.flush()
-    else:
-        write_text_atomic(out, text, overwrite=overwrite)
+    }.items()
+    yield "rows", _row_dicts(a)
 
 
 def write_csv(a: Analysis, out: str | Path, *, overwrite: bool = False) -> None:
     """The tidy CSV to `out` ("-" = stdout), atomically; an existing file only with `overwrite`."""
-    _emit(csv_text(a), out, overwrite)
+    write_text(out, csv_lines(a), overwrite=overwrite)
 
 
 def write_json(a: Analysis, out: str | Path, *, overwrite: bool = False) -> None:
-    """The JSON document to `out` ("-" = stdout), atomically; an existing file only with `overwrite`."""
-    _emit(json.dumps(analysis_document(a), indent=1, allow_nan=False) + "\n", out, overwrite)
+    """The JSON document to `out` ("-" = stdout), atomically; an existing file only with `overwrite`.
+    Indented, each row on a line of its own; written a row at a time."""
+    pieces = json_pieces(_document_members(a), indent=1, one_line_items=True)
+    write_text(out, itertools.chain(pieces, ["\n"]), overwrite=overwrite)

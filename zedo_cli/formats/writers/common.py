@@ -122,7 +122,9 @@ def _dumps(value: Any, indent: int | None, level: int) -> str:
     return text.replace("\n", "\n" + " " * level) if indent and level else text
 
 
-def json_pieces(members: Iterable[tuple[str, Any]], *, indent: int | None = 1) -> Iterator[str]:
+def json_pieces(
+    members: Iterable[tuple[str, Any]], *, indent: int | None = 1, one_line_items: bool = False
+) -> Iterator[str]:
     """The text of ``json.dumps(dict(members), indent=indent, allow_nan=False)``, in pieces.
 
     A member whose value is an iterator is written as a list, one element at a time: the list
@@ -130,7 +132,8 @@ def json_pieces(members: Iterable[tuple[str, Any]], *, indent: int | None = 1) -
     what json.dumps writes (`tests/formats/test_writers_streaming.py`): ``indent=1`` puts a
     list's elements at two spaces and their own lines deeper (json.dumps escapes every newline
     inside strings, so indenting after each newline is safe); ``indent=None`` is json.dumps'
-    one line with ", " and ": ".
+    one line with ", " and ": ". `one_line_items`: each element of an iterator member on one line of
+    its own (json.dumps without indent: the same JSON, written by json's C encoder, several times faster).
     """
     sep, colon = (",\n" + " " * indent, ": ") if indent else (", ", ": ")
     inner = ",\n" + " " * (2 * indent) if indent else ", "
@@ -146,7 +149,7 @@ def json_pieces(members: Iterable[tuple[str, Any]], *, indent: int | None = 1) -
         empty = True
         for item in value:
             yield ("[" + (opened + " " * (indent or 0) if indent else "") if empty else inner) + _dumps(
-                item, indent, 2 * (indent or 0)
+                item, None if one_line_items else indent, 2 * (indent or 0)
             )
             empty = False
         yield "[]" if empty else (opened if indent else "") + "]"
