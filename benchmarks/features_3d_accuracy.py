@@ -21,6 +21,7 @@ ratio 3D / 2D (target: at most 0.5). Test100 and SyRIP's synthetic rows are neve
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import itertools
 import sys
 from pathlib import Path
@@ -58,13 +59,23 @@ CASE_CLIPS = {"count": 56, "keyposes": 15}  # 56 clips of 14 s a fold
 CASE_MOTIONS = ("positions", "segments")
 
 
+# --cameras: the clips seen by known cameras instead (calibrate_measures.CAMERAS: focal lengths 600-2500 px, the
+# infant 0.5-2.2 m away, 1280x720 or 1920x1080 frames), with the frame calibrations' jitter (CAMERA_CLIPS: 1.25 %
+# of the body's 2D size instead of 3 px), lifted with their K as `zedo lift --focal / --intrinsics` does. The
+# calibration holds for clips whose lifted root depth (the clip's median) lies in CAMERA_DEPTH_M, the frame
+# calibrations' range, and whose focal length lies in CAMERAS.focal_px.
+CAMERA_NOISE = {"noise_px": 0.0, "noise_rel": 0.0125}
+CAMERA_DEPTH_M = (0.4, 2.0)
+
+
 def lift_clip_cases(args: argparse.Namespace) -> None:
     """Per fold prior and motion of CASE_MOTIONS: CASE_CLIPS clips of the fold's held-out poses lifted by its
     prior (`--temporal smooth`, the default preset); per clip every `3d_` feature of the lifted poses (`raw`)
-    and of the true 3D (`truth`), and the published 2D features (`flat`). One npz a fold and motion in
-    `--cases` (`fold<k>-3d-clips-<motion>.npz`)."""
+    and of the true 3D (`truth`), the published 2D features (`flat`), and the clip's median lifted root depth
+    and its focal length (`depth_m`, `focal_px`). One npz a fold and motion in `--cases`
+    (`fold<k>-3d-clips-<motion>.npz`; with `--cameras` the known cameras' clips, in `--cases`/cameras)."""
     import torch
-    from calibrate_measures import CLIP_SETTINGS
+    from calibrate_measures import CAMERAS, CLIP_SETTINGS, place_camera
     from folds import fold_priors
     from temporal import IMAGE_H, IMAGE_W, make_sequences
 
@@ -72,30 +83,44 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
     from zedo_cli.lifting.temporal import lift_sequence
 
     cfg = get_preset(DEFAULT_PRESET)
-    size = np.array([IMAGE_W, IMAGE_H], dtype=float)
     fps = float(CLIP_SETTINGS["fps"])
-    args.cases.mkdir(parents=True, exist_ok=True)
+    folder = case_folder(args)
+    folder.mkdir(parents=True, exist_ok=True)
+    settings = {**CLIP_SETTINGS, **CASE_CLIPS, **(CAMERA_NOISE if args.cameras else {})}
+    place = (lambda rng, rel, drift: place_camera(rng, rel, drift, CAMERAS)) if args.cameras else None
     for (k, prior, truth, _), motion in itertools.product(fold_priors(args.folds, args.weights, args.syrip_dir),
                                                           CASE_MOTIONS):  # fmt: skip
         torch.manual_seed(k)
-        clips = make_sequences(truth.poses, np.random.default_rng(300 + k), **{**CLIP_SETTINGS, **CASE_CLIPS},
+        seed = (700 if args.cameras else 300) + k
+        clips = make_sequences(truth.poses, np.random.default_rng(seed), **settings, place=place,
                                interpolation=motion)  # fmt: skip
         res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode="smooth", tracks=clips["tracks"])
         lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
-        raw, true, flat = [], [], []
+        depth = np.where(res.lifted, res.root_translation[:, 2], np.nan)
+        raw, true, flat, depths, focals = [], [], [], [], []
         for track in np.unique(clips["tracks"]):
             at = clips["tracks"] == track
+            first = np.flatnonzero(at)[0]
+            size = 2.0 * clips["k"][first, :2, 2] if args.cameras else np.array([IMAGE_W, IMAGE_H], dtype=float)
             raw.append(features_3d(lifted[at], SKELETON, fps).values)
             true.append(features_3d(clips["rel"][at], SKELETON, fps).values)
             flat.append(published_features(clips["xy"][at], SKELETON, fps, size).values)
+            depths.append(np.nanmedian(depth[at]))
+            focals.append(clips["k"][first, 0, 0])
         names = sorted(raw[0])
         flat_names = sorted(flat[0])
-        np.savez(args.cases / f"fold{k}-3d-clips-{motion}.npz", names=np.array(names), flat_names=np.array(flat_names),
+        np.savez(folder / f"fold{k}-3d-clips-{motion}.npz", names=np.array(names), flat_names=np.array(flat_names),
                  raw=np.array([[r[n] for n in names] for r in raw]),
                  truth=np.array([[t[n] for n in names] for t in true]),
-                 flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps)  # fmt: skip
+                 flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps,
+                 depth_m=np.array(depths), focal_px=np.array(focals))  # fmt: skip
         print(f"fold {k}, {motion}: {len(raw)} clips of {int(at.sum())} frames, "
               f"{int(res.lifted.sum())}/{len(res.lifted)} frames lifted", flush=True)  # fmt: skip
+
+
+def case_folder(args: argparse.Namespace) -> Path:
+    """Where the clip cases are: `--cases`, or its `cameras` folder with `--cameras`."""
+    return args.cases / "cameras" if args.cameras else args.cases
 
 
 BINS = 2  # bins of the measured value per feature (56 clips a fold)
@@ -110,9 +135,23 @@ def load_clip_cases(folder: Path) -> dict[int, dict[str, np.ndarray]]:
         with np.load(path) as z:
             case = {k: z[k] for k in z.files} | {"motion": np.full(len(z["raw"]), motion)}
         if fold in out:
-            case = {k: np.concatenate([out[fold][k], v]) if k in ("raw", "truth", "flat", "motion") else v
-                    for k, v in case.items()}  # fmt: skip
+            case = {k: np.concatenate([out[fold][k], v]) if k in PER_CLIP else v for k, v in case.items()}
         out[fold] = case
+    return out
+
+
+PER_CLIP = ("raw", "truth", "flat", "motion", "depth_m", "focal_px")  # the arrays with a row a clip
+
+
+def inside_domain(cases: dict[int, dict[str, np.ndarray]]) -> dict[int, dict[str, np.ndarray]]:
+    """The known cameras' clips whose median lifted root depth lies in CAMERA_DEPTH_M (the others are left out of
+    the fit and the figures, as `zedo analyze` leaves such clips uncalibrated)."""
+    out = {}
+    for fold, case in cases.items():
+        keep = (case["depth_m"] >= CAMERA_DEPTH_M[0]) & (case["depth_m"] <= CAMERA_DEPTH_M[1])
+        out[fold] = {k: v[keep] if k in PER_CLIP else v for k, v in case.items()}
+        print(f"fold {fold}: {int(keep.sum())} of {len(keep)} camera clips lifted {CAMERA_DEPTH_M[0]:g}-"
+              f"{CAMERA_DEPTH_M[1]:g} m from the camera")  # fmt: skip
     return out
 
 
@@ -155,18 +194,21 @@ def score(models: dict[str, Any], case: dict[str, np.ndarray]) -> dict[str, np.n
 
 def calibrate(args: argparse.Namespace) -> int:
     """Cross-fitted figures on the clip cases of `--cases`, and with `--write` the calibration of the shipped prior."""
-    cases = load_clip_cases(args.cases)
+    cases = load_clip_cases(case_folder(args))
     if len(cases) < 2:
-        print(f"need the clip cases of two folds in {args.cases} (--lift)", file=sys.stderr)
+        print(f"need the clip cases of two folds in {case_folder(args)} (--lift)", file=sys.stderr)
         return 1
+    if args.cameras:
+        cases = inside_domain(cases)
     names = cases[min(cases)]["names"]
-    hits, hit_motion, mae, motions = {}, {}, {}, []
+    hits, hit_motion, mae, motions, clip_hits = {}, {}, {}, [], []
     for k, case in cases.items():  # fit on the other folds' clips, score fold k's
         others = [c for j, c in cases.items() if j != k]
         models = fit_features(np.concatenate([c["raw"] for c in others]),
                               np.concatenate([c["truth"] for c in others]), names)  # fmt: skip
         s = score(models, case)
         motions.append(case["motion"])
+        clip_hits.append(s["hit"])
         for i, n in enumerate(names):
             hits.setdefault(family(str(n)), []).append(s["hit"][:, i])
             hit_motion.setdefault(family(str(n)), []).append(case["motion"])
@@ -195,6 +237,9 @@ def calibrate(args: argparse.Namespace) -> int:
         fams = " ".join(f"{fam} {v[np.isfinite(v)].mean():.1%}" for fam, v in at.items())
         allm = np.concatenate([v[np.isfinite(v)] for v in at.values()])
         print(f"clips of motion {m}: all {allm.mean():.1%} ({fams})")
+    if args.cameras:
+        camera_coverage(np.concatenate(clip_hits), *(np.concatenate([c[k] for c in cases.values()])
+                                                     for k in ("depth_m", "focal_px")))  # fmt: skip
     print("\n### MAE against the 3D truth, (clip, side, joint) cases of both folds held out")
     print("| feature | calibrated 3d_ | raw 3d_ | 2D (published) | calibrated / 2D | raw / 2D |")
     print("| --- | --- | --- | --- | --- | --- |")
@@ -208,6 +253,27 @@ def calibrate(args: argparse.Namespace) -> int:
     if args.write:
         write_calibration(args, cases, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()})
     return 0
+
+
+def camera_coverage(hit: np.ndarray, depth_m: np.ndarray, focal_px: np.ndarray) -> None:
+    """Held-out coverage of the 90 % intervals `hit (clips, features)` by kind of camera set-up: lifted root
+    depth (near, middle, far) and focal length (short, middle, long), and the issue's f = 1000 px, ~1 m."""
+    groups = {
+        "lifted 0.4-0.8 m away": depth_m < 0.8,
+        "lifted 0.8-1.4 m away": (depth_m >= 0.8) & (depth_m < 1.4),
+        "lifted 1.4-2.0 m away": depth_m >= 1.4,
+        "focal length 600-1000 px": focal_px < 1000,
+        "focal length 1000-1600 px": (focal_px >= 1000) & (focal_px < 1600),
+        "focal length 1600-2500 px": focal_px >= 1600,
+        "f 800-1250 px, lifted 0.8-1.2 m away": (focal_px >= 800) & (focal_px <= 1250) & (depth_m >= 0.8)
+        & (depth_m <= 1.2),
+    }  # fmt: skip
+    print("\n### held-out coverage of the 90 % intervals by kind of camera")
+    print("| camera set-up | clips | (clip, feature) cases | coverage |\n| --- | --- | --- | --- |")
+    for name, sel in groups.items():
+        h = hit[sel]
+        h = h[np.isfinite(h)]
+        print(f"| {name} | {int(sel.sum())} | {len(h)} | {h.mean():.1%} |" if len(h) else f"| {name} | 0 | 0 | - |")
 
 
 def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, coverage: dict[str, float]) -> None:
@@ -231,8 +297,21 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
         "clips": {**CLIP_SETTINGS, **CASE_CLIPS, "interpolation": list(CASE_MOTIONS)},
         "cross_fitted_coverage_90": {k: round(v, 4) for k, v in coverage.items()},
     }
-    cal = MeasureCalibration(shipped.sha256, calibration_settings(get_preset(DEFAULT_PRESET)), "smooth", ("pseudo",),
-                             shipped.skeleton.joints, models, provenance, scope="clips")  # fmt: skip
+    cameras, domain = ("pseudo",), None
+    if args.cameras:
+        from calibrate_measures import CAMERAS
+
+        from zedo_cli.analysis.calibration import CameraDomain
+
+        cameras, domain = ("cli", "file"), CameraDomain(CAMERA_DEPTH_M, CAMERAS.focal_px)
+        provenance["data"] += (f"; the clips seen by known cameras (focal length {CAMERAS.focal_px[0]:g}-"
+                               f"{CAMERAS.focal_px[1]:g} px, the infant {CAMERAS.depth_m[0]:g}-{CAMERAS.depth_m[1]:g} "
+                               "m away) and lifted with their K")  # fmt: skip
+        provenance["recipe"] += " --cameras"
+        provenance["clips"].update({**CAMERA_NOISE, "cameras": dataclasses.asdict(CAMERAS)})
+        provenance["domain_rule"] = "the clip's median lifted root depth and its focal length"
+    cal = MeasureCalibration(shipped.sha256, calibration_settings(get_preset(DEFAULT_PRESET)), "smooth", cameras,
+                             shipped.skeleton.joints, models, provenance, domain=domain, scope="clips")  # fmt: skip
     out = args.out or bundled_path()
     old = read_calibrations(out) if out.exists() else []
     keep = [c for c in old if (c.prior_sha256, c.temporal_mode, c.cameras, c.domain, c.scope)
@@ -256,6 +335,7 @@ def main() -> int:
     ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="--write: calibration file (default: the package's)")
+    ap.add_argument("--cameras", action="store_true", help="--cases: the clips seen by known cameras (--focal)")
     args = ap.parse_args()
     if args.cases is not None:
         if args.lift:

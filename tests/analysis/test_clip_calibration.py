@@ -4,6 +4,7 @@ frame measures alone."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -14,9 +15,11 @@ from test_calibration import JOINTS, PARAMS, SHA, calibration, document
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
 from zedo_cli.analysis.calibration import (
     LEVELS,
+    CameraDomain,
     MeasureCalibration,
     MeasureModel,
     assign_calibrations,
+    clip_camera_mismatch,
     find_calibration,
     read_calibrations,
     write_calibrations,
@@ -84,3 +87,46 @@ def test_clip_calibrations_leave_frame_measures_alone(tmp_path: Path) -> None:
     write_calibrations(path, [frames, clips])
     assert read_calibrations(path) == [frames, clips]
     assert path.read_text().count('"scope"') == 1  # a frame calibration's entry reads and writes as before
+
+
+def known_cameras(depth_m: tuple[float, float] = (0.5, 1.5)) -> MeasureCalibration:
+    """The test clip calibration made over known cameras: f = 900-1100 px, the infant `depth_m` away."""
+    return replace(clip_calibration(), cameras=("cli", "file"), domain=CameraDomain(depth_m, (900.0, 1100.0)))
+
+
+def camera_clip_rows(tmp_path: Path, calibrations: list[MeasureCalibration], shift_m: float = 0.0,
+                     sources: tuple[str, ...] = ("cli",)) -> dict:  # fmt: skip
+    """The clip rows of a kicking clip 1 m (+ `shift_m`) from a camera of f = 1000 px given with --focal."""
+    doc = document(kicking_poses(90) + np.array([0.0, 0.0, shift_m]), fps=30.0, temporal="smooth")
+    doc["params"]["camera_sources"] = list(sources)
+    a = analyse(read_result(write_document(tmp_path / "k.zedo.json", doc)), AnalysisSettings(),
+                calibrations=calibrations)  # fmt: skip
+    return {r.measure: r for r in a.rows if r.frame_index is None}
+
+
+def test_a_clip_calibration_of_known_cameras_holds_for_clips_inside_its_range(tmp_path: Path) -> None:
+    """A clip lifted with --focal gets the known cameras' clip calibration where its median root depth and
+    focal length lie in the calibration's domain, else the reason with the clip's camera; the pseudo
+    camera's clip calibration does not stand in for it."""
+    inside = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()])
+    assert inside[KNEE].interval == "calibrated" and np.isfinite(inside[KNEE].low_90)
+    far = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()], shift_m=2.0)
+    assert far[KNEE].interval == (
+        "none: camera outside the calibrated range (the clip's median root depth 3.00 m, "
+        "focal length 1000 px; calibrated: root depth 0.5-1.5 m, focal length 900-1100 px)"
+    )
+    assert np.isnan(far[KNEE].low_90) and far[KNEE].value == pytest.approx(180.0, abs=1e-3)  # the raw feature
+    only_pseudo = camera_clip_rows(tmp_path, [clip_calibration()])
+    assert only_pseudo[KNEE].interval == "none: no measure calibration for this camera (calibrated: pseudo)"
+    pseudo_result = camera_clip_rows(tmp_path, [known_cameras()], sources=("pseudo",))
+    assert pseudo_result[KNEE].interval == "none: no measure calibration for this camera (calibrated: cli, file)"
+
+
+def test_a_clip_whose_camera_cannot_be_checked_gets_no_known_camera_interval() -> None:
+    cal = known_cameras()
+    assert clip_camera_mismatch(cal, np.array([0.9, 1.0, np.nan, 1.2]), np.full(4, 1000.0)) is None  # median 1.0
+    assert "the clip's median root depth 1.60 m" in clip_camera_mismatch(
+        cal, np.array([1.0, 1.6, 1.7]), np.full(3, 1e3)
+    )
+    assert "cannot be checked" in clip_camera_mismatch(cal, np.full(3, np.nan), np.full(3, 1000.0))
+    assert clip_camera_mismatch(clip_calibration(), np.full(3, np.nan), np.full(3, np.nan)) is None  # no domain

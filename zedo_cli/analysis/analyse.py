@@ -271,7 +271,8 @@ def analyse(
     if not len(index):
         raise InputFormatError(f"{result.source}: no lifted person in the result: nothing to analyse")
     models = bundled_calibrations() if calibrations is None else calibrations
-    assignment = assign_calibrations(models, result.params, result.skeleton.joints, *pose_cameras(result, index))
+    cameras = pose_cameras(result, index)
+    assignment = assign_calibrations(models, result.params, result.skeleton.joints, *cameras)
     note = assignment.note()
     raw, values, (intervals, call_intervals), how = calibrated_measures(
         result.poses[index], result.observed[index], result.skeleton, None, note,
@@ -329,7 +330,7 @@ def analyse(
                 interval=f.interval,
                 raw_value=f.raw_value,
             )
-            for f in clip_features(result, index, fps, clip_cal, clip_why, settings.level)
+            for f in clip_features(result, index, fps, clip_cal, clip_why, settings.level, cameras)
         ]  # the published 2D and the 3d_ features
     return a
 

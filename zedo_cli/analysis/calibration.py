@@ -35,7 +35,8 @@ The bundled file is `zedo_cli/weights/measures.json`.
 Scope: a calibration's models are of frame measures (`scope` "frames", one case a pose) or of clip
 features (`scope` "clips", one case a person's clip, e.g. the `3d_` features of `clip_features`, fitted
 on clips of `provenance["fps"]` frames a second); `find_calibration` and `assign_calibrations` look only
-at calibrations of the scope asked for.
+at calibrations of the scope asked for. A clip-scope calibration over known cameras holds, clip by clip, where
+the clip's median lifted root depth and focal length lie in its domain (`clip_camera_mismatch`).
 """
 
 from __future__ import annotations
@@ -325,6 +326,24 @@ def assign_calibrations(
                               f"calibrated: {ranges})" for d, f in uniq], dtype=object)  # fmt: skip
             why_not[known] = texts[inverse.ravel()]
     return Assignment(tuple(matching), index, why_not)
+
+
+def clip_camera_mismatch(calibration: MeasureCalibration, depth_m: np.ndarray, focal_px: np.ndarray) -> str | None:
+    """Why a clip-scope calibration does not hold for one clip for its camera, from the root depths and focal
+    lengths `(M,)` of the clip's lifted poses: a calibration over known cameras holds where the clip's median
+    root depth and median focal length lie in its domain (None: they do, or it has no domain)."""
+    domain = calibration.domain
+    if domain is None:
+        return None
+    depth = float(np.nanmedian(depth_m)) if np.isfinite(depth_m).any() else np.nan
+    focal = float(np.nanmedian(focal_px)) if np.isfinite(focal_px).any() else np.nan
+    if not (np.isfinite(depth) and np.isfinite(focal)):
+        return (f"the result states no root depth or camera for this clip (a root-frame CSV or NPZ?), so the camera "
+                f"calibration ({domain.describe()}) cannot be checked")  # fmt: skip
+    if domain.contains(np.array([depth]), np.array([focal]))[0]:
+        return None
+    return (f"camera outside the calibrated range (the clip's median root depth {depth:.2f} m, focal length "
+            f"{focal:.0f} px; calibrated: {domain.describe()})")  # fmt: skip
 
 
 def bundled_path() -> Path:

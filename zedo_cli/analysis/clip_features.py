@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..formats.readers.result import ResultPoses
-from .calibration import DEFAULT_LEVEL, MeasureCalibration
+from .calibration import DEFAULT_LEVEL, MeasureCalibration, clip_camera_mismatch
 from .features_3d import PREFIX, features_3d
 from .published_features import ClipFeatures, published_features
 
@@ -109,10 +109,13 @@ def _calibrated(
 def clip_features(
     result: ResultPoses, index: np.ndarray, fps: float, calibration: MeasureCalibration | None = None,
     why_not: str = "no measure calibration installed", level: float = DEFAULT_LEVEL,
+    cameras: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> list[ClipFeature]:  # fmt: skip
     """The published 2D and the `3d_` features of every person track among the analysed rows `index`; the
     `3d_` ones calibrated under `calibration` (a clip-scope one, `find_calibration(..., scope="clips")`),
-    None: uncalibrated, with `why_not` in their `interval`."""
+    None: uncalibrated, with `why_not` in their `interval`. `cameras`: the root depth and focal length `(M,)`
+    of each row of `index` (`analyse.pose_cameras`), for a calibration over known cameras, which holds track
+    by track (`clip_camera_mismatch`); without them such a calibration cannot be checked and is not used."""
     out: list[ClipFeature] = []
     skel = result.skeleton
     for p in sorted(set(result.person[index].tolist())):
@@ -130,5 +133,12 @@ def clip_features(
             sizes = np.where(np.isfinite(sizes), sizes, np.nanmedian(sizes, axis=0))  # frames without the person
             out += _rows(p, published_features(xy, skel, fps, sizes), INTERVAL_PUBLISHED)
         poses = _track(result.frame_index[lifted], result.poses[lifted], first, length)  # (T, J, 3)
-        out += _calibrated(p, features_3d(poses, skel, fps), calibration, why_not, level)
+        track_calibration, track_why = calibration, why_not
+        if calibration is not None and calibration.domain is not None:
+            mine = result.person[index] == p
+            depth, focal = cameras if cameras is not None else (np.full(len(index), np.nan),) * 2
+            why = clip_camera_mismatch(calibration, depth[mine], focal[mine])
+            if why is not None:
+                track_calibration, track_why = None, why
+        out += _calibrated(p, features_3d(poses, skel, fps), track_calibration, track_why, level)
     return out
