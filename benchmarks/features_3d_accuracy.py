@@ -70,10 +70,10 @@ CAMERA_DEPTH_M = (0.4, 2.0)
 
 def lift_clip_cases(args: argparse.Namespace) -> None:
     """Per fold prior and motion of CASE_MOTIONS: CASE_CLIPS clips of the fold's held-out poses lifted by its
-    prior (`--temporal smooth`, the default preset); per clip every `3d_` feature of the lifted poses (`raw`)
+    prior (the default preset, `--temporal` smooth or none); per clip every `3d_` feature of the lifted poses (`raw`)
     and of the true 3D (`truth`), the published 2D features (`flat`), and the clip's median lifted root depth
     and its focal length (`depth_m`, `focal_px`). One npz a fold and motion in `--cases`
-    (`fold<k>-3d-clips-<motion>.npz`; with `--cameras` the known cameras' clips, in `--cases`/cameras)."""
+    (`fold<k>-3d-clips-<motion>.npz`; other cameras and modes in its folders, `case_folder`)."""
     import torch
     from calibrate_measures import CAMERAS, CLIP_SETTINGS, place_camera
     from folds import fold_priors
@@ -94,7 +94,8 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
         seed = (700 if args.cameras else 300) + k
         clips = make_sequences(truth.poses, np.random.default_rng(seed), **settings, place=place,
                                interpolation=motion)  # fmt: skip
-        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode="smooth", tracks=clips["tracks"])
+        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=args.temporal,
+                            tracks=clips["tracks"])  # fmt: skip
         lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
         depth = np.where(res.lifted, res.root_translation[:, 2], np.nan)
         raw, true, flat, depths, focals = [], [], [], [], []
@@ -119,8 +120,10 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
 
 
 def case_folder(args: argparse.Namespace) -> Path:
-    """Where the clip cases are: `--cases`, or its `cameras` folder with `--cameras`."""
-    return args.cases / "cameras" if args.cameras else args.cases
+    """Where the clip cases are: `--cases` (the pseudo camera, `--temporal smooth`), else its folder `cameras`,
+    `frames` or `cameras-frames` (known cameras, `--temporal none`, both)."""
+    name = "-".join((["cameras"] if args.cameras else []) + (["frames"] if args.temporal == "none" else []))
+    return args.cases / name if name else args.cases
 
 
 BINS = 2  # bins of the measured value per feature (56 clips a fold)
@@ -310,7 +313,9 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
         provenance["recipe"] += " --cameras"
         provenance["clips"].update({**CAMERA_NOISE, "cameras": dataclasses.asdict(CAMERAS)})
         provenance["domain_rule"] = "the clip's median lifted root depth and its focal length"
-    cal = MeasureCalibration(shipped.sha256, calibration_settings(get_preset(DEFAULT_PRESET)), "smooth", cameras,
+    if args.temporal != "smooth":
+        provenance["recipe"] += f" --temporal {args.temporal}"
+    cal = MeasureCalibration(shipped.sha256, calibration_settings(get_preset(DEFAULT_PRESET)), args.temporal, cameras,
                              shipped.skeleton.joints, models, provenance, domain=domain, scope="clips")  # fmt: skip
     out = args.out or bundled_path()
     old = read_calibrations(out) if out.exists() else []
@@ -336,6 +341,8 @@ def main() -> int:
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="--write: calibration file (default: the package's)")
     ap.add_argument("--cameras", action="store_true", help="--cases: the clips seen by known cameras (--focal)")
+    ap.add_argument("--temporal", choices=("smooth", "none"), default="smooth",
+                    help="--cases: the lift's temporal mode (none: frame by frame, zedo lift's default)")  # fmt: skip
     args = ap.parse_args()
     if args.cases is not None:
         if args.lift:

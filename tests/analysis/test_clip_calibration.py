@@ -130,3 +130,24 @@ def test_a_clip_whose_camera_cannot_be_checked_gets_no_known_camera_interval() -
     )
     assert "cannot be checked" in clip_camera_mismatch(cal, np.full(3, np.nan), np.full(3, 1000.0))
     assert clip_camera_mismatch(clip_calibration(), np.full(3, np.nan), np.full(3, np.nan)) is None  # no domain
+
+
+def test_the_bundled_clip_calibrations_cover_both_modes_and_both_kinds_of_camera() -> None:
+    """A clip lifted frame by frame (zedo lift's default) or with --temporal smooth, by the pseudo camera or a
+    known one, finds a clip calibration with every 3d_ feature's model, fitted on held-out clips whose
+    cross-fitted coverage is stated (docs/movement.md)."""
+    from zedo_cli.analysis.calibration import bundled_calibrations
+    from zedo_cli.analysis.features_3d import features_3d
+    from zedo_cli.data.skeleton import get_skeleton
+    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
+
+    clips = [c for c in bundled_calibrations() if c.scope == "clips"]
+    names = set(features_3d(kicking_poses(60) - np.array([0.0, 0.0, 1.0]), get_skeleton("syrip12"), 30.0).values)
+    for mode in ("none", "smooth"):
+        for sources in (["pseudo"], ["cli"], ["file"]):
+            params = {"prior": {"sha256": clips[0].prior_sha256}, "config": get_preset(DEFAULT_PRESET).to_dict(),
+                      "temporal": {"mode": mode}, "camera_sources": sources}  # fmt: skip
+            found, why = find_calibration(clips, params, clips[0].joints, scope="clips")
+            assert why == "calibrated" and found is not None and found.temporal_mode == mode
+            assert (found.domain is None) == (sources == ["pseudo"]) and set(found.measures) == names
+            assert 0.85 <= np.mean(list(found.provenance["cross_fitted_coverage_90"].values())) <= 0.95
