@@ -457,8 +457,8 @@ def _clip_rows(a: Analysis) -> list[Row]:
             continue
 
         def add(measure: str, value: float, unit: str, low: float = np.nan, high: float = np.nan,
-                how: str = INTERVAL_CLIP, p: int = p) -> None:  # fmt: skip
-            rows.append(Row(None, None, None, p, measure, value, unit, low, high, interval=how))
+                how: str = INTERVAL_CLIP, p: int = p, raw: float = np.nan) -> None:  # fmt: skip
+            rows.append(Row(None, None, None, p, measure, value, unit, low, high, interval=how, raw_value=raw))
 
         for name in ANGLE_NAMES:
             keep = sel & ~a.too_fast.get(name, np.zeros(len(sel), bool))
@@ -481,11 +481,13 @@ def _clip_rows(a: Analysis) -> list[Row]:
             lows, highs = a.intervals[name][0][sel], a.intervals[name][1][sel]
             known = np.isfinite(v)
             median = float(np.median(v[known])) if known.any() else np.nan
+            measured = a.raw_values[name][sel][known]  # the frames' own angles: `raw_value`, what --norms compares
+            raw = float(np.nanmedian(measured)) if np.isfinite(measured).any() else np.nan
             if known.any() and np.isfinite(lows[known]).all():
                 add(f"{stem}_median_deg", median, "deg", float(np.median(lows[known])), float(np.median(highs[known])),
-                    INTERVAL_CLIP_MEDIAN)  # fmt: skip
+                    INTERVAL_CLIP_MEDIAN, raw=raw)  # fmt: skip
             else:
-                add(f"{stem}_median_deg", median, "deg", how="none: not every frame has a calibrated interval")
+                add(f"{stem}_median_deg", median, "deg", how="none: not every frame has a calibrated interval", raw=raw)
             add(f"{stem}_share_asymmetric", *_share(a, name, sel, frames, 1000 * p + SYMMETRY_NAMES.index(name)))
     return rows
 

@@ -16,13 +16,29 @@ INTERVAL_COMPARISON = "none: comparison with the reference"
 Z_SUFFIX = "_norm_z"
 
 
+def lifting_of(params: dict) -> str:
+    """How a result was lifted, as far as its clip features depend on it: the prior, the temporal mode and the
+    kind of camera (`params` of the result; "unknown" for what it does not record)."""
+    prior = params.get("prior") if isinstance(params.get("prior"), dict) else {}
+    temporal = params.get("temporal") if isinstance(params.get("temporal"), dict) else {}
+    sources = params.get("camera_sources") if isinstance(params.get("camera_sources"), list) else []
+    camera = "unknown camera" if not sources else "pseudo camera" if set(sources) == {"pseudo"} else "known camera"
+    sha = prior.get("sha256")
+    return (f"prior {sha[:12] if isinstance(sha, str) else 'unknown'}, temporal {temporal.get('mode', 'none')}, "
+            f"{camera}")  # fmt: skip
+
+
 def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[ClipValues]:
-    """Per person track of a clip: its clip-level features (the rows without a frame), NaN where empty."""
+    """Per person track of a clip: its clip-level features (the rows without a frame), NaN where empty. The
+    measured value (`raw_value`) where a calibration gave an estimate: a reference and a clip are compared on
+    what was measured, whichever calibration (or none) held for each."""
     out: dict[int, dict[str, float]] = {}
     for r in a.rows:
         if r.frame_index is None and not r.measure.endswith(Z_SUFFIX):
-            out.setdefault(r.person, {})[r.measure] = float(r.value)
-    return [ClipValues(a.result.source, p, values, age_weeks) for p, values in sorted(out.items())]
+            measured = r.raw_value if np.isfinite(r.raw_value) else r.value
+            out.setdefault(r.person, {})[r.measure] = float(measured)
+    lifting = lifting_of(a.result.params)
+    return [ClipValues(a.result.source, p, values, age_weeks, lifting) for p, values in sorted(out.items())]
 
 
 @dataclass(frozen=True)
@@ -59,7 +75,20 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
         done.append(PersonComparison(p, c))
     a.notes.append(f"compared with a reference of {len(norms.clips)} clips of typical infants "
                    f"(age brackets: {', '.join(norms.brackets)})")  # fmt: skip
+    if (why := lifting_mismatch(norms, lifting_of(a.result.params))) is not None:
+        a.notes.append(why)
     return done
+
+
+def lifting_mismatch(norms: Norms, lifting: str) -> str | None:
+    """A note where the reference's clips were lifted otherwise than this clip: its 3D features (`3d_`, the
+    symmetry medians) are then measurements of another kind (None: alike, or the reference does not say)."""
+    known = sorted({c.lifting for c in norms.clips if c.lifting is not None})
+    if not known or known == [lifting]:
+        return None
+    return (f"the reference's clips were lifted with {'; '.join(known)}, this clip with {lifting}: its 3D "
+            "features (3d_, symmetry medians) are compared with ones measured otherwise; lift the reference "
+            "and the clip alike")  # fmt: skip
 
 
 def furthest_from_typical(c: Comparison, count: int = 5) -> list[tuple[str, float]]:

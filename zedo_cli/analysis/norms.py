@@ -92,6 +92,7 @@ class ClipValues:
     person: int
     values: dict[str, float]
     age_weeks: float | None = None
+    lifting: str | None = None  # how the result was lifted (compare.lifting_of); None: not recorded
 
 
 def asymmetry_indices(values: Mapping[str, float]) -> dict[str, float]:
@@ -161,7 +162,7 @@ def build_norms(clips: Sequence[ClipValues], zedo_version: str) -> Norms:
         missing = sum(not a for a in aged)
         raise ConfigError(f"--age-weeks given for some clips but not {missing} others: give every clip's age or none")
     with_ages = all(aged)
-    clips = [ClipValues(c.source, c.person, with_asymmetry(c.values), c.age_weeks) for c in clips]
+    clips = [ClipValues(c.source, c.person, with_asymmetry(c.values), c.age_weeks, c.lifting) for c in clips]
     of_clip = [age_bracket(c.age_weeks, with_ages) for c in clips]
     brackets = [b for b in (BRACKET_YOUNG, BRACKET_OLD, ALL_AGES) if b in of_clip]
     names = sorted(set().union(*(c.values for c in clips)))

@@ -33,6 +33,7 @@ class ClipModel(_Closed):
     age_weeks: float | None
     bracket: str
     values: dict[str, float | None] = Field(description="every clip feature of this reference clip (null: none)")
+    lifting: str | None = Field(None, description="how its result was lifted: prior, temporal mode, kind of camera")
 
 
 class NormsDocument(_Closed):
@@ -63,7 +64,7 @@ def write_norms(path: str | Path, norms: Norms, *, overwrite: bool = False) -> N
         "left_out": norms.left_out,
         "clips": [
             {"source": c.source, "person": c.person, "age_weeks": c.age_weeks, "bracket": b,
-             "values": {k: _finite_or_none(v) for k, v in sorted(c.values.items())}}
+             "values": {k: _finite_or_none(v) for k, v in sorted(c.values.items())}, "lifting": c.lifting}
             for c, b in zip(norms.clips, norms.brackets_of_clips, strict=True)
         ],
     }  # fmt: skip
@@ -94,7 +95,9 @@ def read_norms(path: str | Path, zedo_version: str) -> Norms:
         if b not in doc.fits:
             raise InputFormatError(f"{name}: fits: no fits for the bracket {b!r}")
     clips = [
-        ClipValues(c.source, c.person, {k: math.nan if v is None else v for k, v in c.values.items()}, c.age_weeks)
+        ClipValues(
+            c.source, c.person, {k: math.nan if v is None else v for k, v in c.values.items()}, c.age_weeks, c.lifting
+        )  # fmt: skip
         for c in doc.clips
     ]
     fits = {b: {n: FeatureFit(f.mean, f.sd, f.n) for n, f in fs.items()} for b, fs in doc.fits.items()}

@@ -92,4 +92,9 @@ def norms_command(
             err_console.print(f"bracket {bracket}: {plural(n, 'clip')}, {plural(fitted, 'feature')} fitted, "
                               f"{left} without a usable fit (fewer than {MIN_REFERENCE_CLIPS} values, or no "
                               "spread)", markup=False, soft_wrap=True)  # fmt: skip
+        liftings = sorted({c.lifting for c in norms.clips if c.lifting is not None})
+        if len(liftings) > 1:  # 3D features measured in several ways are pooled: the user should know
+            err_console.print(f"zedo: note: the clips were lifted in {len(liftings)} ways ({'; '.join(liftings)}): "
+                              "their 3D features are measured differently; lift a reference alike",
+                              markup=False, soft_wrap=True)  # fmt: skip
         err_console.print(f"wrote {output}", markup=False, soft_wrap=True)
