@@ -14,6 +14,7 @@ from .norms import ClipValues, Comparison, Norms, compare
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
 Z_SUFFIX = "_norm_z"
+LIFTING_NOTE_START = "the reference's clips were lifted with"  # the note of `lifting_mismatch`
 
 
 def lifting_of(params: dict) -> str:
@@ -86,7 +87,7 @@ def lifting_mismatch(norms: Norms, lifting: str) -> str | None:
     known = sorted({c.lifting for c in norms.clips if c.lifting is not None})
     if not known or known == [lifting]:
         return None
-    return (f"the reference's clips were lifted with {'; '.join(known)}, this clip with {lifting}: its 3D "
+    return (f"{LIFTING_NOTE_START} {'; '.join(known)}, this clip with {lifting}: its 3D "
             "features (3d_, symmetry medians) are compared with ones measured otherwise; lift the reference "
             "and the clip alike")  # fmt: skip
 
