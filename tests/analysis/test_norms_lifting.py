@@ -19,8 +19,11 @@ from zedo_cli.analysis.compare import add_comparison, features_by_person, liftin
 from zedo_cli.analysis.norms import build_norms
 from zedo_cli.analysis.norms_file import read_norms, write_norms
 from zedo_cli.formats.readers.result import read_result
+from zedo_cli.lifting.config import LiftConfig
 
-SMOOTH_PSEUDO = {"prior": {"sha256": "ab" * 32}, "temporal": {"mode": "smooth"}, "camera_sources": ["pseudo"]}
+# as the test documents record (test_calibration.PARAMS: the faithful preset's settings)
+SMOOTH_PSEUDO = {"prior": {"sha256": "ab" * 32}, "config": LiftConfig().to_dict(), "temporal": {"mode": "smooth"},
+                 "camera_sources": ["pseudo"]}  # fmt: skip
 
 
 def _analysed(tmp_path: Path, calibrations: list) -> object:
@@ -43,9 +46,15 @@ def test_a_reference_and_a_clip_compare_what_was_measured(tmp_path: Path) -> Non
 
 
 def test_how_a_result_was_lifted_in_words() -> None:
-    assert lifting_of(SMOOTH_PSEUDO) == "prior abababababab, temporal smooth, pseudo camera"
-    assert lifting_of({**SMOOTH_PSEUDO, "temporal": {}, "camera_sources": ["cli"]}).endswith("none, known camera")
-    assert lifting_of({}) == "prior unknown, temporal none, unknown camera"
+    from zedo_cli.lifting.config import get_preset
+
+    fast = {**SMOOTH_PSEUDO, "config": get_preset("fast").to_dict()}
+    assert lifting_of(fast) == "prior abababababab, preset fast, temporal smooth, pseudo camera"
+    faithful = {**fast, "config": get_preset("faithful").to_dict(), "temporal": {}, "camera_sources": ["cli"]}
+    assert lifting_of(faithful) == "prior abababababab, preset faithful, temporal none, known camera"
+    tuned = {**fast, "config": {**get_preset("fast").to_dict(), "steps": 7}}
+    assert lifting_of(tuned) == "prior abababababab, other settings, temporal smooth, pseudo camera"
+    assert lifting_of({}) == "prior unknown, unknown settings, temporal none, unknown camera"
 
 
 def test_a_clip_lifted_otherwise_than_the_reference_gets_a_note(tmp_path: Path) -> None:
@@ -86,8 +95,9 @@ def test_zedo_norms_says_when_its_clips_were_lifted_in_several_ways(tmp_path: Pa
         paths.append(str(write_document(tmp_path / f"c{i}.zedo.json", doc)))
     result = CliRunner().invoke(app, ["norms", *paths, "-o", str(tmp_path / "norms.json")])
     assert result.exit_code == 0, result.output
-    assert "zedo: note: the clips were lifted in 2 ways (prior abababababab, temporal smooth, known camera; " in (
-        " ".join(result.output.split())
+    assert (
+        "zedo: note: the clips were lifted in 2 ways (prior abababababab, preset faithful, temporal smooth, known"
+        in (" ".join(result.output.split()))
     )
     norms = read_norms(tmp_path / "norms.json", __version__)
     assert [c.lifting.endswith("pseudo camera") for c in norms.clips] == [True] * 6 + [False] * 4

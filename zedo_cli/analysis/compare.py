@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..lifting.config import PRESETS, calibration_settings, settings_match
 from .analyse import Analysis, Row
 from .norms import ClipValues, Comparison, Norms, compare
 
@@ -17,16 +18,26 @@ Z_SUFFIX = "_norm_z"
 LIFTING_NOTE_START = "the reference's clips were lifted with"  # the note of `lifting_mismatch`
 
 
+def _preset_of(config: object) -> str:
+    """The preset whose settings a result's recorded `config` has ("other settings" for none, "unknown" when
+    the result records none)."""
+    if not isinstance(config, dict):
+        return "unknown settings"
+    wanted = calibration_settings(config)
+    return next((f"preset {name}" for name, cfg in PRESETS.items()
+                 if settings_match(calibration_settings(cfg), wanted)), "other settings")  # fmt: skip
+
+
 def lifting_of(params: dict) -> str:
-    """How a result was lifted, as far as its clip features depend on it: the prior, the temporal mode and the
-    kind of camera (`params` of the result; "unknown" for what it does not record)."""
+    """How a result was lifted, as far as its clip features depend on it: the prior, the lifting settings, the
+    temporal mode and the kind of camera (`params` of the result; "unknown" for what it does not record)."""
     prior = params.get("prior") if isinstance(params.get("prior"), dict) else {}
     temporal = params.get("temporal") if isinstance(params.get("temporal"), dict) else {}
     sources = params.get("camera_sources") if isinstance(params.get("camera_sources"), list) else []
     camera = "unknown camera" if not sources else "pseudo camera" if set(sources) == {"pseudo"} else "known camera"
     sha = prior.get("sha256")
-    return (f"prior {sha[:12] if isinstance(sha, str) else 'unknown'}, temporal {temporal.get('mode', 'none')}, "
-            f"{camera}")  # fmt: skip
+    return (f"prior {sha[:12] if isinstance(sha, str) else 'unknown'}, {_preset_of(params.get('config'))}, "
+            f"temporal {temporal.get('mode', 'none')}, {camera}")  # fmt: skip
 
 
 def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[ClipValues]:
