@@ -59,7 +59,10 @@ def norms_command(
     age bracket, a normal distribution by maximum likelihood (Chambers et
     al. 2020). Each person track of a clip is one reference clip; at least
     10 per bracket. The reference keeps every clip's features, so that a
-    clip missing a feature is compared on the features it has.
+    clip missing a feature is compared on the features it has. Lift the
+    reference's clips and the clips you compare alike (prior, preset,
+    --temporal, kind of camera): the 3D features depend on it, and each
+    reference clip records how it was lifted.
 
     Examples:
 
