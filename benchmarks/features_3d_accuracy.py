@@ -205,8 +205,16 @@ def calibrate(args: argparse.Namespace) -> int:
         cases = inside_domain(cases)
     names = cases[min(cases)]["names"]
     hits, hit_motion, mae, motions, clip_hits = {}, {}, {}, [], []
-    for k, case in cases.items():  # fit on the other folds' clips, score fold k's
-        others = [c for j, c in cases.items() if j != k]
+    fit_on = set(args.fit_folds or ())
+    if fit_on and not fit_on < set(cases):
+        print(
+            f"--fit-folds {sorted(fit_on)}: need their cases and another fold's in {case_folder(args)}", file=sys.stderr
+        )
+        return 1
+    scored = [k for k in cases if k not in fit_on]
+    for k in scored:  # fit on the other folds' clips (or on --fit-folds'), score fold k's
+        case = cases[k]
+        others = [c for j, c in cases.items() if (j in fit_on if fit_on else j != k)]
         models = fit_features(np.concatenate([c["raw"] for c in others]),
                               np.concatenate([c["truth"] for c in others]), names)  # fmt: skip
         s = score(models, case)
@@ -224,7 +232,12 @@ def calibrate(args: argparse.Namespace) -> int:
                 per_joint.append(np.stack([abs(s["est"][:, i] - t), abs(case["raw"][:, i] - t),
                                            abs(flat[f"{f}_{j}"] - t)], 1))  # fmt: skip
             mae.setdefault(f, []).append(np.stack(per_joint, 1))  # (clips, joints, calibrated | raw | 2D)
-    print(f"\n### cross-fitted over folds {sorted(cases)}: held-out coverage of the 90 % intervals")
+    how = (
+        f"fitted on folds {sorted(fit_on)}, scored on folds {scored}"
+        if fit_on
+        else f"cross-fitted over folds {sorted(cases)}"
+    )
+    print(f"\n### {how}: held-out coverage of the 90 % intervals")
     print("| family | (clip, feature) cases | coverage |\n| --- | --- | --- |")
     every = []
     for fam, h in hits.items():
@@ -241,8 +254,8 @@ def calibrate(args: argparse.Namespace) -> int:
         allm = np.concatenate([v[np.isfinite(v)] for v in at.values()])
         print(f"clips of motion {m}: all {allm.mean():.1%} ({fams})")
     if args.cameras:
-        camera_coverage(np.concatenate(clip_hits), *(np.concatenate([c[k] for c in cases.values()])
-                                                     for k in ("depth_m", "focal_px")))  # fmt: skip
+        camera_coverage(np.concatenate(clip_hits), *(np.concatenate([cases[k][key] for k in scored])
+                                                     for key in ("depth_m", "focal_px")))  # fmt: skip
     print("\n### MAE against the 3D truth, (clip, side, joint) cases of both folds held out")
     print("| feature | calibrated 3d_ | raw 3d_ | 2D (published) | calibrated / 2D | raw / 2D |")
     print("| --- | --- | --- | --- | --- | --- |")
@@ -254,7 +267,8 @@ def calibrate(args: argparse.Namespace) -> int:
             cal, raw, flat = np.nanmean(by_clip[motion == m].reshape(-1, 3), axis=0)
             print(f"|   {f}, motion {m} | {cal:.2f} | {raw:.2f} | {flat:.2f} | {cal / flat:.2f} | {raw / flat:.2f} |")
     if args.write:
-        write_calibration(args, cases, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()})
+        fitted = {k: c for k, c in cases.items() if k in fit_on} if fit_on else cases
+        write_calibration(args, fitted, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()})
     return 0
 
 
@@ -341,6 +355,9 @@ def main() -> int:
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="--write: calibration file (default: the package's)")
     ap.add_argument("--cameras", action="store_true", help="--cases: the clips seen by known cameras (--focal)")
+    ap.add_argument("--fit-folds", type=int, nargs="+", default=None,
+                    help="--cases: fit on these folds' clips only and score the other folds' (default: each fold "
+                         "scored by a fit on the others)")  # fmt: skip
     ap.add_argument("--temporal", choices=("smooth", "none"), default="smooth",
                     help="--cases: the lift's temporal mode (none: frame by frame, zedo lift's default)")  # fmt: skip
     args = ap.parse_args()
