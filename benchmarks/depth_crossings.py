@@ -29,7 +29,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from depth_sign_vote import runs  # noqa: E402
+from depth_sign_vote import runs, sign_free_depth  # noqa: E402
 from folds import fold_clip_args, fold_priors  # noqa: E402
 from limb_depth_flips import CLEAR_DEPTH, JOINT, SEGMENTS  # noqa: E402
 from temporal import make_sequences  # noqa: E402
@@ -65,9 +65,7 @@ def unit_depths(true: np.ndarray, lifted: np.ndarray, side: str, segment: str) -
     a, b = (JOINT[f"{side}_{name}"] for name in SEGMENTS[segment])
     vt, vl = true[:, b] - true[:, a], lifted[:, b] - lifted[:, a]
     true_z = vt[:, 2] / np.linalg.norm(vt, axis=-1)
-    length = np.nanmedian(np.linalg.norm(vl, axis=-1))
-    with np.errstate(invalid="ignore"):
-        estimate = np.sqrt(np.clip(1.0 - (np.linalg.norm(vl[:, :2], axis=-1) / length) ** 2, 0.0, 1.0))
+    estimate, length = sign_free_depth(vl)
     return true_z, np.abs(true_z), _filled(np.abs(vl[:, 2]) / length), _filled(estimate)
 
 

@@ -73,6 +73,14 @@ def runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True))
 
 
+def sign_free_depth(vec: np.ndarray) -> tuple[np.ndarray, float]:
+    """A segment's |unit z| `(N,)` without its sign, from the image-plane length of each of its vectors
+    `vec (N, 3)` against their median 3D length (NaN where a frame is not lifted), and that length."""
+    length = float(np.nanmedian(np.linalg.norm(vec, axis=-1)))
+    with np.errstate(invalid="ignore"):
+        return np.sqrt(np.clip(1.0 - (np.linalg.norm(vec[:, :2], axis=-1) / length) ** 2, 0.0, 1.0)), length
+
+
 def vote(poses: np.ndarray, rule: Vote) -> np.ndarray:
     """`poses (N, J, 3)` of one clip (camera axes, z depth) with each segment's depth sign voted per run."""
     out = poses.copy()
@@ -81,9 +89,7 @@ def vote(poses: np.ndarray, rule: Vote) -> np.ndarray:
             ids = [JOINT[f"{side}_{name}"] for name in chain]
             for s in range(len(ids) - 1):
                 vec = out[:, ids[s + 1]] - out[:, ids[s]]
-                length = np.nanmedian(np.linalg.norm(vec, axis=-1))
-                with np.errstate(invalid="ignore"):
-                    z_size = np.sqrt(np.clip(1.0 - (np.linalg.norm(vec[:, :2], axis=-1) / length) ** 2, 0.0, 1.0))
+                z_size, length = sign_free_depth(vec)
                 for start, stop in runs(np.isfinite(z_size) & (z_size > rule.tau)):
                     z = vec[start:stop, 2]
                     winner = np.sign(np.sum(np.sign(z) if rule.ballot == "count" else z))

@@ -77,7 +77,7 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
     import torch
     from calibrate_measures import CAMERAS, CLIP_SETTINGS, place_camera
     from folds import fold_priors
-    from temporal import IMAGE_H, IMAGE_W, make_sequences
+    from temporal import make_sequences
 
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
@@ -102,7 +102,7 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
         for track in np.unique(clips["tracks"]):
             at = clips["tracks"] == track
             first = np.flatnonzero(at)[0]
-            size = 2.0 * clips["k"][first, :2, 2] if args.cameras else np.array([IMAGE_W, IMAGE_H], dtype=float)
+            size = 2.0 * clips["k"][first, :2, 2]  # principal point at the frame's centre, the pseudo camera's too
             raw.append(features_3d(lifted[at], SKELETON, fps).values)
             true.append(features_3d(clips["rel"][at], SKELETON, fps).values)
             flat.append(published_features(clips["xy"][at], SKELETON, fps, size).values)

@@ -120,7 +120,8 @@ def clip_features(
     skel = result.skeleton
     for p in sorted(set(result.person[index].tolist())):
         rows = np.flatnonzero(result.person == p)  # every row of the track: its 2D whether lifted or not
-        lifted = index[result.person[index] == p]
+        mine = result.person[index] == p  # (M,): the track's analysed rows
+        lifted = index[mine]
         frames = result.frame_index[rows]
         first, length = int(frames.min()), int(frames.max() - frames.min()) + 1
         if result.keypoints_2d is None:
@@ -135,7 +136,6 @@ def clip_features(
         poses = _track(result.frame_index[lifted], result.poses[lifted], first, length)  # (T, J, 3)
         track_calibration, track_why = calibration, why_not
         if calibration is not None and calibration.domain is not None:
-            mine = result.person[index] == p
             depth, focal = cameras if cameras is not None else (np.full(len(index), np.nan),) * 2
             why = clip_camera_mismatch(calibration, depth[mine], focal[mine])
             if why is not None:
