@@ -18,7 +18,7 @@ import numpy as np
 
 from ..formats.colours import LEFT_HEX, RIGHT_HEX
 from .analyse import SYMMETRY_NAMES, Analysis, Row
-from .compare import LIFTING_NOTE_START, furthest_from_typical
+from .compare import furthest_from_typical
 from .figures import _figure, _svg
 from .head import TURN_CALLS
 from .joint_angles import ANGLE_BASES, SIDES, angle_name
@@ -119,8 +119,8 @@ def comparison_block(a: Analysis) -> str:
     if not a.comparisons:
         return ("<p class=meta>No comparison with typical infants: give a reference from <code>zedo norms</code> "
                 "with <code>--norms</code>.</p>")  # fmt: skip
-    out = [f"<div class='note warn'>{_esc(n[0].upper() + n[1:])}.</div>" for n in a.notes
-           if n.startswith(LIFTING_NOTE_START)]  # fmt: skip
+    mismatches = sorted({pc.lifting_mismatch for pc in a.comparisons if pc.lifting_mismatch is not None})
+    out = [f"<div class='note warn'>{_esc(n[0].upper() + n[1:])}.</div>" for n in mismatches]
     for pc in a.comparisons:
         c = pc.comparison
         who = f" (person {pc.person})" if len(a.comparisons) > 1 else ""

@@ -15,7 +15,6 @@ from .norms import ClipValues, Comparison, Norms, compare
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
 Z_SUFFIX = "_norm_z"
-LIFTING_NOTE_START = "the reference's clips were lifted with"  # the note of `lifting_mismatch`
 
 
 def _preset_of(config: object) -> str:
@@ -57,6 +56,7 @@ def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[Clip
 class PersonComparison:
     person: int
     comparison: Comparison
+    lifting_mismatch: str | None = None  # `lifting_mismatch`'s note where the reference was lifted otherwise
 
 
 def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[PersonComparison]:
@@ -67,7 +67,9 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
         a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
         return []
     done = []
-    for clip in features_by_person(a, age_weeks):
+    clips = features_by_person(a, age_weeks)
+    mismatch = lifting_mismatch(norms, clips[0].lifting) if clips else None  # one result: every track alike
+    for clip in clips:
         c = compare(clip.values, norms, age_weeks)
         p = clip.person
 
@@ -84,21 +86,21 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
             shown = ", ".join(c.not_compared[:5]) + (", ..." if len(c.not_compared) > 5 else "")
             a.notes.append(f"person {p}: {len(c.not_compared)} reference features have no value in this clip and "
                            f"are left out of the comparison ({shown})")  # fmt: skip
-        done.append(PersonComparison(p, c))
+        done.append(PersonComparison(p, c, mismatch))
     a.notes.append(f"compared with a reference of {len(norms.clips)} clips of typical infants "
                    f"(age brackets: {', '.join(norms.brackets)})")  # fmt: skip
-    if (why := lifting_mismatch(norms, lifting_of(a.result.params))) is not None:
-        a.notes.append(why)
+    if mismatch is not None:
+        a.notes.append(mismatch)
     return done
 
 
-def lifting_mismatch(norms: Norms, lifting: str) -> str | None:
+def lifting_mismatch(norms: Norms, lifting: str | None) -> str | None:
     """A note where the reference's clips were lifted otherwise than this clip: its 3D features (`3d_`, the
-    symmetry medians) are then measurements of another kind (None: alike, or the reference does not say)."""
+    symmetry medians) are then measurements of another kind (None: alike, or either side does not say)."""
     known = sorted({c.lifting for c in norms.clips if c.lifting is not None})
-    if not known or known == [lifting]:
+    if lifting is None or not known or known == [lifting]:
         return None
-    return (f"{LIFTING_NOTE_START} {'; '.join(known)}, this clip with {lifting}: its 3D "
+    return (f"the reference's clips were lifted with {'; '.join(known)}, this clip with {lifting}: its 3D "
             "features (3d_, symmetry medians) are compared with ones measured otherwise; lift the reference "
             "and the clip alike")  # fmt: skip
 
