@@ -1,4 +1,4 @@
-"""Measure-level calibration (issue 28): the conformal intervals hold their level on fresh cases,
+"""Measure-level calibration: the conformal intervals hold their level on fresh cases,
 adapt to the case, shrink where that is more accurate; a calibration is applied only where it
 holds, calls are decisive only when the interval says so, and clips keep their summaries true."""
 
@@ -125,6 +125,27 @@ def test_calibrated_rows_give_intervals_and_selective_calls(tmp_path: Path) -> N
         expected = "symmetric" if r.value + 5 <= 28 else "asymmetric" if r.value - 5 > 28 else "uncertain"
         assert r.call == expected
     assert {r.call for r in shank} == set(CALLS)  # 0-60 degrees of knee bend crosses the threshold
+
+
+def test_a_bin_fitted_on_too_few_cases_gives_no_interval_and_says_so(tmp_path: Path) -> None:
+    # 5 cases per bin cannot back a 90 % interval: the fit stores none, the file keeps none, and a pose in that
+    # bin gets no interval with the reason, never an infinite one and never the largest residual
+    rng = np.random.default_rng(0)
+    fitted = fit_measure(rng.uniform(0, 60, 5), rng.uniform(0, 60, 5), circular=False, bins=1)
+    assert np.isnan(fitted.q_high[0.9][0]) and np.isnan(fitted.q_low[0.9][0])
+    assert np.isfinite(fitted.q_high[0.5][0])  # a 50 % quantile exists with 5 cases
+    cal = calibration()
+    sparse = {n: MeasureModel(20.0, 1.0, (), {lv: (np.nan,) for lv in LEVELS}, {lv: (np.nan,) for lv in LEVELS},
+                              circular=False) for n in cal.measures}  # fmt: skip
+    cal = MeasureCalibration(cal.prior_sha256, cal.settings, "none", ("pseudo",), JOINTS, sparse, {"data": "test"})
+    path = tmp_path / "m.json"
+    write_calibrations(path, [cal])
+    assert np.isnan(read_calibrations(path)[0].measures["symmetry_shank_deg"].q_high[0.9][0])
+    doc = write_document(tmp_path / "k.zedo.json", document(kicking_poses(10)))
+    a = analyse(read_result(doc), AnalysisSettings(), calibrations=read_calibrations(path))
+    shank = [r for r in a.rows if r.measure == "symmetry_shank_deg"]
+    assert shank and all(r.interval == "none: too few calibration cases" for r in shank)
+    assert all(np.isnan(r.low_90) and np.isnan(r.high_90) and r.call == "uncertain" for r in shank)
 
 
 def test_without_a_matching_calibration_every_call_is_uncertain_and_says_why(tmp_path: Path) -> None:

@@ -12,12 +12,12 @@ from zedo_cli.analysis.series import (
     entropy_of_rounded,
     interpolate_gaps,
     iqr,
-    pearson,
     rolling_centered,
     rolling_trailing_mean,
     shortest_turn_deg,
     step_difference,
 )
+from zedo_cli.stats import pearson
 
 NAN = np.nan
 SQUARES = np.arange(10.0) ** 2  # 0, 1, 4, 9, ..., 81

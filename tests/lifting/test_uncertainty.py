@@ -20,6 +20,7 @@ from zedo_cli.lifting.uncertainty import (
     read_calibrations,
     write_calibrations,
 )
+from zedo_cli.stats import TooFewCases
 
 JOINTS = tuple(f"j{i}" for i in range(3))
 FAST = get_preset("fast")
@@ -30,6 +31,12 @@ def test_conformal_scale_is_the_finite_sample_quantile() -> None:
     assert conformal_scale(scores, 0.9) == 10.0
     assert conformal_scale(np.arange(1, 101, dtype=float), 0.9) == 91.0  # ceil(101 * 0.9) = 91
     assert conformal_scale(np.array([np.nan, 2.0, 1.0]), 0.5) == 2.0  # NaN ignored; ceil(4 * 0.5) = 2
+
+
+def test_too_few_scores_back_no_radius() -> None:
+    # 8 scores cannot back a 90 % quantile (rank ceil(9 * 0.9) = 9): refused, never the largest score
+    with pytest.raises(TooFewCases, match="left_knee: too few calibration cases \\(8; a 0.9 quantile needs 9\\)"):
+        conformal_scale(np.arange(1, 9, dtype=float), 0.9, "left_knee")
 
 
 @pytest.mark.parametrize("hypotheses", [1, 8])

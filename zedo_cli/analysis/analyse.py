@@ -25,6 +25,7 @@ import numpy as np
 from ..data.skeleton import Skeleton, root_point
 from ..errors import ConfigError, InputFormatError, plural
 from ..formats.readers.result import ResultPoses
+from ..stats import TOO_FEW_CASES
 from .calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,
@@ -240,6 +241,8 @@ def calibrated_measures(
                     low, high = model.interval(est, v[sel], level)
                     at_level[name][0][sel] = np.clip(low, lo_r, hi_r)
                     at_level[name][1][sel] = np.clip(high, lo_r, hi_r)
+                    sparse = np.flatnonzero(sel)[np.isnan(low) | np.isnan(high)]
+                    how[name][sparse] = f"none: {TOO_FEW_CASES}"
     return raw, estimates, intervals, {k: list(v) for k, v in how.items()}
 
 

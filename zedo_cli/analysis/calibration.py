@@ -52,6 +52,7 @@ import numpy as np
 
 from ..data.skeleton import Skeleton
 from ..lifting.config import calibration_settings, settings_match
+from ..stats import conformal_quantile
 from ..versioned_json import read_models, write_items
 
 FORMAT = "zedo.measures"
@@ -71,15 +72,6 @@ MeasureFunction = Callable[[np.ndarray], dict[str, np.ndarray]]
 def wrap_deg(d: np.ndarray) -> np.ndarray:
     """Differences of angles wrapped into [-180, 180)."""
     return (np.asarray(d) + 180.0) % 360.0 - 180.0
-
-
-def conformal_quantile(scores: np.ndarray, level: float, *, keep_infinite: bool = False) -> float:
-    """The split-conformal quantile: the ceil((n + 1) level)-th smallest of `scores` (inf when n is too small).
-    NaN scores are left out, and infinite ones too unless `keep_infinite` (a score that no finite width
-    reaches still counts among the n)."""
-    scores = np.sort(scores[~np.isnan(scores) if keep_infinite else np.isfinite(scores)])
-    rank = int(np.ceil((len(scores) + 1) * level))
-    return float(scores[rank - 1]) if 0 < rank <= len(scores) else float("inf")
 
 
 def residuals(truth: np.ndarray, est: np.ndarray, circular: bool) -> np.ndarray:
@@ -112,6 +104,7 @@ class MeasureModel:
         return np.searchsorted(np.asarray(self.edges), np.asarray(value, dtype=float), side="right")
 
     def interval(self, est: np.ndarray, value: np.ndarray, level: float) -> tuple[np.ndarray, np.ndarray]:
+        """The interval's ends at `level`; NaN in a bin whose calibration had too few cases (`stats.TOO_FEW_CASES`)."""
         b = self.bins(value)
         return est - np.asarray(self.q_low[level])[b], est + np.asarray(self.q_high[level])[b]
 
@@ -126,7 +119,7 @@ class MeasureModel:
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> MeasureModel:
         def per_level(q: dict[str, list[float | None]]) -> dict[float, tuple[float, ...]]:
-            return {float(k): tuple(np.inf if x is None else float(x) for x in v) for k, v in q.items()}
+            return {float(k): tuple(np.nan if x is None else float(x) for x in v) for k, v in q.items()}
 
         return cls(float(d["center"]), float(d["weight"]), tuple(float(e) for e in d["edges"]),
                    per_level(d["q_low"]), per_level(d["q_high"]), bool(d["circular"]))  # fmt: skip

@@ -21,6 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..formats.readers.result import ResultPoses
+from ..stats import TOO_FEW_CASES
 from .calibration import DEFAULT_LEVEL, MeasureCalibration, clip_camera_mismatch
 from .features_3d import PREFIX, features_3d
 from .published_features import ClipFeatures, published_features
@@ -102,6 +103,9 @@ def _calibrated(
             lo_r, hi_r = feature_range(f.measure)
             est = model.estimate(np.array([f.value]))  # (1,)
             low, high = (float(np.clip(x[0], lo_r, hi_r)) for x in model.interval(est, np.array([f.value]), level))
+            if np.isnan(low) or np.isnan(high):
+                yield replace(f, interval=f"none: {TOO_FEW_CASES}")
+                continue
             yield replace(f, value=float(np.clip(est[0], lo_r, hi_r)), raw_value=f.value, low=low, high=high,
                           interval=INTERVAL_CALIBRATED)  # fmt: skip
 

@@ -38,9 +38,9 @@ from typing import Any
 
 import numpy as np
 
+from ..stats import conformal_quantile
 from ..versioned_json import read_models, write_items
 from .block_bootstrap import BootstrapSettings, ClipInterval
-from .calibration import conformal_quantile
 
 FORMAT = "zedo.head_intervals"
 FORMAT_VERSION = 1
@@ -168,7 +168,7 @@ def scores(estimate: np.ndarray, low: np.ndarray, high: np.ndarray, truth: np.nd
 
 def conformal_factor(score: np.ndarray, level: float) -> float:
     """The split-conformal quantile of `score (n,)` (NaN left out, infinite scores counted): the
-    ceil((n + 1) level)-th smallest; inf when n is too small for the level."""
+    ceil((n + 1) level)-th smallest; NaN when n is too small for the level (no calibration is fitted then)."""
     return conformal_quantile(score, level, keep_infinite=True)
 
 

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..stats import pearson
+
 MIN_FRAMES = 3
 
 
@@ -47,9 +49,4 @@ def series_features(frames: np.ndarray, theta: np.ndarray, fps: float) -> dict[s
 
 def left_right_correlation(left: np.ndarray, right: np.ndarray) -> float:
     """Pearson's r of two series over the frames where both are known."""
-    ok = np.isfinite(left) & np.isfinite(right)
-    if ok.sum() < MIN_FRAMES:
-        return np.nan
-    a, b = left[ok] - left[ok].mean(), right[ok] - right[ok].mean()
-    den = np.sqrt((a * a).sum() * (b * b).sum())
-    return float((a * b).sum() / den) if den > 1e-12 else np.nan
+    return pearson(left, right, min_count=MIN_FRAMES)

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..data.skeleton import Skeleton
+from ..stats import pearson
 from .series import (
     circular_mean_deg,
     circular_variance,
@@ -45,7 +46,6 @@ from .series import (
     interpolate_gaps,
     iqr,
     nan_median,
-    pearson,
     rolling_centered,
     rolling_trailing_mean,
     shortest_turn_deg,

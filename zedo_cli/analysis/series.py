@@ -13,7 +13,7 @@ arrays `(T, ...)`, on all columns at once.
   difference from the previous row, NaN wherever the row is unknown.
 - Statistics that skip NaNs as pandas does: `iqr` (quantiles with linear interpolation), `circular_mean_deg`
   and `circular_variance` (circstats.py: the mean resultant vector), `entropy_of_rounded` (natural log of
-  the frequencies of the rounded values, scipy.stats.entropy), `pearson` (pairwise complete).
+  the frequencies of the rounded values, scipy.stats.entropy); Pearson's r (pairwise complete) is `stats.pearson`.
 """
 
 from __future__ import annotations
@@ -149,14 +149,3 @@ def entropy_of_rounded(x: np.ndarray, decimals: int) -> float:
     _, counts = np.unique(v, return_counts=True)
     p = counts / counts.sum()
     return float(-(p * np.log(p)).sum())
-
-
-def pearson(a: np.ndarray, b: np.ndarray) -> float:
-    """Pearson's r of `a (n,)` and `b (n,)` over the positions where both are known; NaN when fewer than
-    two or either is constant there (pandas `corr`)."""
-    ok = np.isfinite(a) & np.isfinite(b)
-    if ok.sum() < 2 or np.ptp(a[ok]) == 0 or np.ptp(b[ok]) == 0:  # pandas' running sums are exactly 0 then
-        return np.nan
-    x, y = a[ok] - a[ok].mean(), b[ok] - b[ok].mean()
-    den = np.sqrt((x * x).sum() * (y * y).sum())
-    return float((x * y).sum() / den) if den > 0 else np.nan

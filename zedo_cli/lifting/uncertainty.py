@@ -1,4 +1,4 @@
-"""Calibrated per-joint 3D uncertainty of a lift (issue 17).
+"""Calibrated per-joint 3D uncertainty of a lift.
 
 For each lifted joint, `uncertainty_m` is the radius (metres) of the ball around the reported
 root-relative position that holds the true joint with probability `coverage` (90 %). The
@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..stats import require_quantile
 from ..versioned_json import read_models, write_items
 from .config import LiftConfig, calibration_settings, settings_match
 from .result import joint_spread
@@ -64,13 +65,10 @@ def radius_m(model: UncertaintyModel, spread: np.ndarray) -> np.ndarray:
     return model.scale * (spread + model.floor_m)
 
 
-def conformal_scale(scores: np.ndarray, coverage: float) -> float:
-    """The split-conformal quantile of `scores (n,)`: the ceil((n + 1) coverage)-th smallest."""
-    scores = np.sort(scores[np.isfinite(scores)])
-    if len(scores) == 0:
-        raise ValueError("no finite calibration scores")
-    rank = min(len(scores), int(np.ceil((len(scores) + 1) * coverage)))
-    return float(scores[rank - 1])
+def conformal_scale(scores: np.ndarray, coverage: float, joint: str = "a joint") -> float:
+    """The split-conformal quantile of `scores (n,)`: the ceil((n + 1) coverage)-th smallest; `TooFewCases`
+    where there are too few scores for `coverage` (no radius is written that no calibration backs)."""
+    return require_quantile(scores, coverage, f"uncertainty calibration of {joint}")
 
 
 def fit_model(
@@ -82,7 +80,7 @@ def fit_model(
         floor = np.nanmedian(spread, axis=0)
     else:
         floor = np.ones(error_m.shape[1])
-    scale = np.array([conformal_scale(error_m[:, j] / (spread[:, j] + floor[j]), coverage)
+    scale = np.array([conformal_scale(error_m[:, j] / (spread[:, j] + floor[j]), coverage, joints[j])
                       for j in range(error_m.shape[1])])  # fmt: skip
     return UncertaintyModel(prior_sha256, calibration_settings(cfg), coverage, joints, floor, scale, provenance)
 
