@@ -209,3 +209,22 @@ def test_a_filled_joint_outside_the_calibrated_range_gives_the_cameras_reason(tm
            "depth 0.4-2 m, focal length 600-2500 px)")  # fmt: skip
     assert [r.interval for r in forearm] == [why, why]  # the first with a filled wrist, the second without
     assert all(np.isnan(r.low_90) for r in forearm)
+
+
+def test_the_report_keeps_every_calibration_warning(tmp_path: Path) -> None:
+    from zedo_cli.analysis.report import report_html
+
+    # frames 0-14 at 1.0 m, 15-29 at 2.5 m: half the poses lie outside the calibrated depths
+    poses = kicking_poses(30)
+    poses[15:] += np.array([0.0, 0.0, 1.5])
+    doc = result_document(poses)
+    doc["params"].update({**CLI, "temporal": {"mode": "none"}})
+    a = analyse(read_result(write_document(tmp_path / "half.zedo.json", doc)),
+                calibrations=[calibration(), camera_calibration((0.6, 2.0))])  # fmt: skip
+    partly = "15 of 30 poses have no calibrated intervals"
+    assert a.uncertainty_available and any(n.startswith(partly) for n in a.notes)
+    assert partly in report_html(a)
+    none = analyse(read_result(focal_result(tmp_path, depth=3.0)), calibrations=[camera_calibration((0.6, 2.0))])
+    page = report_html(none)
+    assert not none.uncertainty_available and "No decisive calls" in page
+    assert page.count("no calibrated intervals: camera outside the calibrated range") == 0  # said in the decisions

@@ -246,6 +246,11 @@ def calibrated_measures(
     return raw, estimates, intervals, {k: list(v) for k, v in how.items()}
 
 
+def no_calibration_note(why: str) -> str:
+    """The analysis note of a result that no calibration holds for (`why`); the report's decisions state it."""
+    return f"no calibrated intervals: {why}; every symmetry call is uncertain (no calibration backs one)"
+
+
 def pose_cameras(result: ResultPoses, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The root depth (metres from the camera) and focal length (pixels, the mean of fx and fy) of each
     pose `index (M,)` of `result`; NaN where the result states neither its camera-frame position nor its camera."""
@@ -286,7 +291,7 @@ def analyse(
     a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source,
                  assignment=assignment)  # fmt: skip
     if not assignment.any:
-        a.notes.append(f"no calibrated intervals: {note}; every symmetry call is uncertain (no calibration backs one)")
+        a.notes.append(no_calibration_note(note))
     else:
         out = int((assignment.index < 0).sum())
         if out:

@@ -27,7 +27,7 @@ import numpy as np
 from ..files import write_text_atomic
 from ..formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
 from ..version import __version__
-from .analyse import SYMMETRY_NAMES, Analysis, poses_counted, summary
+from .analyse import SYMMETRY_NAMES, Analysis, no_calibration_note, poses_counted, summary
 from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
 from .figures import _figure, _svg
 from .geometry import joint, reflect, unit
@@ -277,7 +277,8 @@ def _decisions(a: Analysis) -> str:
 
 
 def _notes(a: Analysis) -> str:
-    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes[1:])  # the first is the calibration note
+    shown = set() if a.uncertainty_available else {no_calibration_note(a.calibration_note)}  # in the decisions
+    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes if n not in shown)
     return f"<ul class=meta>{notes}</ul>" if notes else ""
 
 
