@@ -232,3 +232,20 @@ def test_matplotlib_is_loaded_only_for_a_report(kick: Path) -> None:
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.startswith("frame_index,")
+
+
+def test_every_written_value_keeps_six_significant_digits(kick: Path) -> None:
+    a = analyse(read_result(kick), AnalysisSettings(fps=30.0))
+    written = {(r["frame_index"], r["person"], r["measure"]): r["value"] for r in rows_of(csv_text(a))}
+    doc = analysis_document(a)
+    by_json = {(r["frame_index"], r["person"], r["measure"]): r["value"] for r in doc["rows"]}
+    checked = 0
+    for r in a.rows:
+        if isinstance(r.value, float) and np.isfinite(r.value) and r.value != 0:
+            key = ("" if r.frame_index is None else str(r.frame_index), str(r.person), r.measure)
+            assert float(written[key]) == pytest.approx(r.value, rel=5e-6, abs=0)
+            assert by_json[(r.frame_index, r.person, r.measure)] == pytest.approx(r.value, rel=5e-6, abs=0)
+            checked += 1
+    assert checked > 100
+    small = [r for r in a.rows if isinstance(r.value, float) and 0 < abs(r.value) < 0.05]
+    assert small  # values below 0.05 exist (speeds, correlations near 0): three decimals would lose them

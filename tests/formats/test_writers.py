@@ -15,6 +15,7 @@ from writer_fixtures import INPUT_INFO, MISSING, PARAMS, UNLIFTED, make_case
 
 from zedo_cli.errors import ConfigError
 from zedo_cli.formats.readers.result import RESULT_FORMATS
+from zedo_cli.formats.writers.common import rounded
 from zedo_cli.formats.writers.outputs import default_output_name, output_format, write_result
 from zedo_cli.formats.writers.result_csv import coordinate_columns, sidecar_path
 from zedo_cli.formats.writers.result_json import build_result_document
@@ -101,7 +102,7 @@ def test_json_default_is_metres_camera_frame_and_keeps_its_layout() -> None:
     }
     assert doc["frames"][2]["camera"]["image_size"] is None and doc["camera"]["source"] == "mixed"
     person = doc["frames"][0]["persons"][1]
-    assert person["keypoints_3d"][0] == [round(v, 6) for v in res.poses_camera[1, 0]]
+    assert person["keypoints_3d"][0] == [rounded(float(v), 6) for v in res.poses_camera[1, 0]]
     assert person["observed"][2] is False and person["keypoints_2d"][2] is None
     assert person["reprojection_error_px"][2] is None and person["joint_confidence"][2] is None
     unlifted = doc["frames"][2]["persons"][0]
@@ -280,3 +281,12 @@ def test_real_lift_result_agrees_across_formats(tiny_prior: Prior, tmp_path: Pat
         poses[fmt] = read_back(tmp_path / f"r.{EXT[fmt]}", fmt)[0]
     for fmt in RESULT_FORMATS:
         np.testing.assert_allclose(poses[fmt], res.poses_root_relative * 1000.0, atol=1.5e-3)
+
+
+def test_numbers_keep_six_significant_digits_whatever_their_size() -> None:
+    assert rounded(0.03875, 3) == 0.03875  # three decimals would write 0.039
+    assert rounded(0.000123456789, 6) == 0.000123457
+    assert rounded(1.23456789, 6) == 1.234568  # never fewer decimals than the unit's
+    assert rounded(1234.56789, 3) == 1234.568
+    assert rounded(-0.0123456789, 3) == -0.0123457
+    assert rounded(0.0, 3) == 0.0 and np.isnan(rounded(np.nan, 3)) and rounded(np.inf, 3) == np.inf

@@ -27,20 +27,20 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from ..formats.writers.common import json_pieces, write_text
+from ..formats.writers.common import json_pieces, rounded, write_text
 from ..version import __version__
 from .analyse import COLUMNS, Analysis, summary
 from .symmetry import BAND_EDGES_DEG, PAIRS
 
 SCHEMA = "zedo.analysis/1"
-_DIGITS = 3
+_DECIMALS = 3  # at least: small values keep SIGNIFICANT digits (formats.writers.common.rounded)
 
 
 def _num(value: Any) -> Any:
     if isinstance(value, float):
         if not math.isfinite(value):
             return None
-        return int(value) if float(value).is_integer() else round(float(value), _DIGITS)
+        return int(value) if float(value).is_integer() else rounded(float(value), _DECIMALS)
     return value
 
 

@@ -16,6 +16,7 @@ the whole document as one string, so that memory does not grow with the text of 
 from __future__ import annotations
 
 import json
+import math
 import sys
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -37,6 +38,28 @@ AXES = {"x": "right", "y": "down", "z": "forward (away from the camera)"}
 _SCALE = {"m": 1.0, "mm": 1000.0}
 # Decimal places kept for 3D coordinates: a micrometre in either unit.
 _DIGITS = {"m": 6, "mm": 3}
+SIGNIFICANT = 6  # every number written keeps at least this many significant digits
+
+
+def rounded(value: float, decimals: int) -> float:
+    """`value` rounded to `decimals` decimals, or to more where those would keep fewer than SIGNIFICANT
+    significant digits (0.03875 stays 0.03875 at 3 decimals); NaN and infinities unchanged."""
+    magnitude = abs(value)
+    if magnitude >= 10.0 ** (SIGNIFICANT - 1 - decimals) or magnitude == 0.0 or not math.isfinite(value):
+        return round(value, decimals)
+    return round(value, SIGNIFICANT - 1 - math.floor(math.log10(magnitude)))
+
+
+def rounded_array(values: np.ndarray, decimals: int) -> np.ndarray:
+    """`rounded` of every element of `values` (a float array): the same floats a JSON result holds, so that a
+    file written from it and one exported from that JSON print alike."""
+    values = np.asarray(values, dtype=float)
+    out = np.round(values, decimals)
+    with np.errstate(invalid="ignore"):
+        small = np.flatnonzero((np.abs(values) < 10.0 ** (SIGNIFICANT - 1 - decimals)) & (values != 0))
+    flat = out.reshape(-1)
+    flat[small] = [rounded(v, decimals) for v in values.reshape(-1)[small].tolist()]
+    return out
 
 
 @dataclass(frozen=True)
@@ -185,7 +208,7 @@ def camera_block(k: np.ndarray, size: np.ndarray, source: str, lens: CameraModel
     unknown), where K came from, and the lens model with its coefficients in OpenCV's order
     (`CameraModel.from_json` reads the block back)."""
     return {
-        "K": k.round(6).tolist(),
+        "K": [[rounded(float(v), 6) for v in row] for row in k],
         "image_size": size.round(1).tolist() if np.isfinite(size).all() else None,
         "source": source,
         "model": "pinhole" if lens is None else lens.model,

@@ -49,6 +49,7 @@ from .common import (
     json_pieces,
     lens_at,
     output_poses,
+    rounded,
     write_pieces,
 )
 
@@ -84,7 +85,7 @@ def sidecar_path(path: str | Path) -> Path:
 
 
 def _cell(value: float, digits: int) -> str:
-    return "" if not math.isfinite(value) else repr(round(float(value), digits))
+    return "" if not math.isfinite(value) else repr(rounded(float(value), digits))
 
 
 def _bool(value: bool) -> str:

@@ -36,6 +36,7 @@ from .common import (
     json_pieces,
     lens_at,
     output_poses,
+    rounded,
     write_text,
 )
 
@@ -51,7 +52,7 @@ __all__ = [
 
 
 def _num(value: float, digits: int) -> float | None:
-    return None if not math.isfinite(value) else round(float(value), digits)
+    return None if not math.isfinite(value) else rounded(float(value), digits)
 
 
 def _points(points: np.ndarray, digits: int = 6) -> list[list[float | None]] | None:
@@ -211,7 +212,7 @@ def build_summary(kp: Keypoints2D, res: LiftResult) -> dict[str, Any]:
     summary.update({
         "frames_total": len(group_frames(kp.image_ids).members),
         "mean_reprojection_error_px": _num(mean_error, 3),
-        "seconds": round(res.seconds, 2),
+        "seconds": rounded(res.seconds, 2),
     })  # fmt: skip
     return summary
 

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ...files import atomic_path
-from .common import write_pieces
+from .common import rounded_array, write_pieces
 from .markers import MarkerTracks, check_track_paths, track_paths
 
 HEADER_KEYS = (
@@ -52,7 +52,7 @@ def trc_rows(tracks: MarkerTracks, track: int) -> Iterator[str]:
     poses = tracks.tracks[track]  # (F, M, 3) metres
     count = poses.shape[1]
     line = "%d\t%.6f" + "\t%.6f" * (3 * count) + "\n"
-    flat = poses.reshape(len(poses), -1)
+    flat = rounded_array(poses.reshape(len(poses), -1), 6)  # as the JSON holds them: exports print alike
     for start in range(0, len(flat), _ROWS_PER_PIECE):
         stop = start + _ROWS_PER_PIECE
         block = np.column_stack([tracks.frame_numbers[start:stop] + 1, tracks.times[start:stop], flat[start:stop]])
