@@ -3,6 +3,10 @@ frames sampled evenly from it. Frames are BGR `uint8 (H, W, 3)` arrays, as OpenC
 
 A file OpenCV cannot open, or one without a single decodable frame, raises `VideoError`
 (an input error, exit code 3) naming the file.
+
+The frame rate comes from the container (MP4, MOV, AVI, MKV, ...). A bare stream of coded frames (raw
+MJPEG, H.264 or H.265 "Annex B") has no container and stores no rate: OpenCV reports 25 fps for it, so
+such a file is recognised by its first bytes, never by the value, and its rate must be given (`--fps`).
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputFormatError, ZedoError
+from ..errors import ConfigError, InputFormatError, ZedoError
 
 QUEUE_DEPTH = 8  # frames decoded ahead / waiting to be encoded: 8 x 2.8 MB at 1280x720
 
@@ -25,16 +29,45 @@ class VideoError(InputFormatError):
     """A video file cannot be opened or decoded."""
 
 
+# The first bytes of bare streams, after a start code 00 00 01 for H.264 / H.265: the NAL unit types a stream
+# begins with (access unit delimiter, SEI, parameter sets). MPEG-1/2 streams (00 00 01 B3) store their rate.
+_JPEG_START = b"\xff\xd8\xff"
+_START_CODE = b"\x00\x00\x01"
+_H264_FIRST_NAL = {0x09, 0x06, 0x07, 0x27, 0x47, 0x67, 0x08, 0x28, 0x48, 0x68, 0x05, 0x25, 0x45, 0x65}
+_H265_FIRST_NAL = {0x40, 0x42, 0x44, 0x46, 0x4E, 0x50}
+
+
+def bare_stream_kind(head: bytes) -> str | None:
+    """What kind of bare (container-less) video stream a file starting with `head` is, or None for a
+    container (or anything else). Such a stream stores no frame rate."""
+    if head.startswith(_JPEG_START):
+        return "a raw MJPEG stream"
+    rest = head[1:] if head.startswith(b"\x00" + _START_CODE) else head
+    if rest.startswith(_START_CODE) and len(rest) > 3:
+        if rest[3] in _H264_FIRST_NAL:
+            return "a raw H.264 stream"
+        if rest[3] in _H265_FIRST_NAL:
+            return "a raw H.265 stream"
+    return None
+
+
+def _bare_stream(path: str | Path) -> str | None:
+    with open(path, "rb") as fh:
+        return bare_stream_kind(fh.read(8))
+
+
 @dataclass(frozen=True)
 class VideoInfo:
-    """What the container says about a clip. `fps` is None when it states none (or nonsense);
-    `frame_count` is the container's count (OpenCV's estimate for some containers)."""
+    """What the container says about a clip. `fps` is None when it states none (or nonsense), and for a
+    bare stream (`bare_stream`: its kind), which has no container to state one; `frame_count` is the
+    container's count (OpenCV's estimate for some containers; counted frame by frame for a bare stream)."""
 
     path: str
     width: int
     height: int
     fps: float | None
     frame_count: int
+    bare_stream: str | None = None
 
     @property
     def size(self) -> tuple[int, int]:
@@ -69,8 +102,22 @@ def probe_video(path: str | Path) -> VideoInfo:
     finally:
         cap.release()
     height, width = frame.shape[:2]
+    bare = _bare_stream(path)
+    if bare is not None:  # OpenCV's 25 fps and frame count are made up for a stream without a container
+        return VideoInfo(str(path), int(width), int(height), None, max(count_frames(path), 1), bare)
     return VideoInfo(str(path), int(width), int(height), fps if np.isfinite(fps) and 0 < fps < 1e4 else None,
                      max(count, 1))  # fmt: skip
+
+
+def require_frame_rate(info: VideoInfo, fps: float | None) -> float | None:
+    """The frame rate to use for `info`'s video: `fps` (the option) where given, else the container's;
+    a bare stream, which stores none, without `fps` is a usage error (its rate would be a guess)."""
+    if fps is not None:
+        return fps
+    if info.bare_stream is not None:
+        raise ConfigError(f"{info.path}: {info.bare_stream} stores no frame rate (no container): give --fps, the "
+                          "rate it was recorded at")  # fmt: skip
+    return info.fps
 
 
 def count_frames(path: str | Path) -> int:

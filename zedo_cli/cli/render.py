@@ -28,6 +28,7 @@ def render_command(
     out: Annotated[str, output_option(RenderOptions.help("output"))],
     video: Annotated[Optional[Path], _opt("video")] = None,
     images: Annotated[Optional[Path], _opt("images")] = None,
+    fps: Annotated[Optional[float], _opt("fps")] = None,
     side_view: Annotated[bool, _opt("side_view")] = False,
     overwrite: Annotated[bool, _opt("overwrite")] = False,
     quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
@@ -51,7 +52,7 @@ def render_command(
     """
     o: RenderOptions = resolve_options(RenderOptions).options
     res = read_result(result)
-    settings = RenderSettings(o.side_view, o.overwrite)
+    settings = RenderSettings(o.side_view, o.overwrite, o.fps)
     with step_progress(o.quiet, "render") as on_frame:
         if o.video is not None:
             summary = render_video(res, o.video, o.output, settings, on_frame)

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..camera.calibration import IMAGE_SUFFIXES
-from ..camera.video import QUEUE_DEPTH, VideoWriter, frames_ahead, probe_video
+from ..camera.video import QUEUE_DEPTH, VideoWriter, frames_ahead, probe_video, require_frame_rate
 from ..data.skeleton import center_on_root
 from ..errors import ConfigError, InputFormatError, ZedoError, plural
 from ..files import atomic_path, check_writable, make_output_folder
@@ -35,6 +35,7 @@ OnFrame = Callable[[int, int], None]
 class RenderSettings:
     side_view: bool = False  # a panel beside the frame: the skeletons seen from the side
     overwrite: bool = False
+    fps: float | None = None  # the video's frame rate where its file stores none (a bare stream)
 
 
 @dataclass(frozen=True)
@@ -170,7 +171,7 @@ def render_video(result: ResultPoses, video: str | Path, output: str | Path, set
         raise ConfigError(f"{output}: a video renders to an .mp4 file")
     check_writable(Path(output), settings.overwrite)
     info = probe_video(video)
-    fps = info.fps or result.fps
+    fps = require_frame_rate(info, settings.fps) or result.fps
     painter = Painter(result, settings)
     by_frame = _rows_by_frame(result)
     _check_size(result, info.width, info.height, [r for rows in by_frame.values() for r in rows], str(video))

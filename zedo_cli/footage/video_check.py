@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ..camera.video import VideoInfo, count_frames, probe_video
+from ..camera.video import VideoInfo, count_frames, probe_video, require_frame_rate
 from ..data.keypoints import Keypoints2D
 from ..errors import ConfigError, InputFormatError, plural
 
@@ -61,7 +61,7 @@ def video_options(
     if image_size is not None and (abs(image_size[0] - info.width) > 1 or abs(image_size[1] - info.height) > 1):
         raise ConfigError(f"--image-size {image_size[0]:g} {image_size[1]:g} differs from {video}'s "
                           f"{info.width}x{info.height}")  # fmt: skip
-    return info, (float(info.width), float(info.height)), fps if fps is not None else info.fps
+    return info, (float(info.width), float(info.height)), require_frame_rate(info, fps)
 
 
 def keypoint_frames(kp: Keypoints2D) -> tuple[int, int | None]:

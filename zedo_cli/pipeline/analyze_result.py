@@ -55,8 +55,10 @@ def analyse_result(res: ResultPoses, options: AnalyzeOptions, comparison: Refere
     """The measures of a result read, compared with the reference where one is given; the
     footage (--video) is checked to fit the result first."""
     if options.video is not None:
+        from ..camera.video import probe_video, require_frame_rate
         from ..footage.thumbnails import check_video_fits
 
+        require_frame_rate(probe_video(options.video), options.fps)  # a bare stream's rate must be stated
         check_video_fits(res, options.video)  # refused before anything is written
     a = analyse(res, options.analysis_settings())
     if comparison is not None:

@@ -49,8 +49,9 @@ class AnalyzeOptions(Options):
         None,
         gt=0,
         le=MAX_FPS,
-        description="Frame rate: treat the result as a video (movement features). Default: the fps zedo lift "
-        "recorded, else the frames are separate images.",
+        description="Frame rate: treat the result as a video (movement features); needed with a --video whose "
+        "file stores none (a raw MJPEG or H.264 stream). Default: the fps zedo lift recorded, else the frames are "
+        "separate images.",
     )
     level: float = Field(
         DEFAULT_LEVEL,

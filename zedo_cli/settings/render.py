@@ -8,6 +8,7 @@ from typing import Annotated, ClassVar, Optional
 from pydantic import Field
 
 from ..errors import ConfigError
+from .limits import MAX_FPS
 from .model import Options
 
 PathOption = Annotated[Optional[Path], Field(strict=False)]
@@ -24,6 +25,13 @@ class RenderOptions(Options):
     )
     images: PathOption = Field(
         None, description="The folder of images the keypoints came from (matched by file_name, else image_id)."
+    )
+    fps: Optional[float] = Field(
+        None,
+        gt=0,
+        le=MAX_FPS,
+        description="The video's frame rate, needed where its file stores none (a raw MJPEG or H.264 stream). "
+        "Default: the video's.",
     )
     side_view: bool = Field(
         False, description="Add a panel beside each frame: the skeletons from the side (depth against height)."
