@@ -16,7 +16,7 @@ motions of temporal.make_sequences, lifted by `fold<k>.safetensors` in `--folds`
 
 Test100 and SyRIP's synthetic rows are never read.
 
-    OMP_NUM_THREADS=2 .venv/bin/python benchmarks/depth_crossings.py --syrip-dir ../shared/data/syrip --folds FOLDS
+    OMP_NUM_THREADS=2 .venv/bin/python experiments/depth_crossings.py --syrip-dir ../shared/data/syrip --folds FOLDS
 """
 
 from __future__ import annotations
@@ -27,12 +27,12 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).parent))
-from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from depth_sign_vote import runs, sign_free_depth  # noqa: E402
-from folds import fold_clip_args, fold_priors  # noqa: E402
-from limb_depth_flips import CLEAR_DEPTH, JOINT, SEGMENTS  # noqa: E402
-from temporal import make_sequences  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
+from benchmarks.accuracy.limb_depth_flips import CLEAR_DEPTH, JOINT, SEGMENTS
+from benchmarks.lib.clips import make_sequences
+from benchmarks.lib.folds import fold_clip_args, fold_priors
+from benchmarks.lib.settings import CLIP_SETTINGS
+from experiments.depth_sign_vote import runs, sign_free_depth
 
 HALF_WIDTH = 4  # frames either side of the dip's lowest frame (0.13 s at 30 fps)
 SOURCES = ("true |unit z|", "lifted |unit z|", "estimate from the image-plane length")

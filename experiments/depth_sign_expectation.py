@@ -17,7 +17,7 @@ smoothed towards "as lifted"). Fitted on one fold's clips, applied to the other'
 
 Test100 and SyRIP's synthetic rows are never read.
 
-    OMP_NUM_THREADS=2 .venv/bin/python benchmarks/depth_sign_expectation.py --syrip-dir ../shared/data/syrip \
+    OMP_NUM_THREADS=2 .venv/bin/python experiments/depth_sign_expectation.py --syrip-dir ../shared/data/syrip \
         --folds FOLDS
 """
 
@@ -30,15 +30,14 @@ from pathlib import Path
 import numpy as np
 import torch
 
-sys.path.insert(0, str(Path(__file__).parent))
-from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from features_3d_accuracy import CASE_CLIPS  # noqa: E402
-from folds import fold_clip_args, fold_priors  # noqa: E402
-from temporal import make_sequences  # noqa: E402
-
-from zedo_cli.analysis.geometry import angle_between_deg  # noqa: E402
-from zedo_cli.analysis.published_features import Windows, smooth_positions  # noqa: E402
-from zedo_cli.data.skeleton import get_skeleton  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
+from benchmarks.calibrate.features_3d_accuracy import CASE_CLIPS
+from benchmarks.lib.clips import make_sequences
+from benchmarks.lib.folds import fold_clip_args, fold_priors
+from benchmarks.lib.settings import CLIP_SETTINGS
+from zedo_cli.analysis.geometry import angle_between_deg
+from zedo_cli.analysis.published_features import Windows, smooth_positions
+from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
 LIMBS = {"Elbow": ("shoulder", "elbow", "wrist"), "Knee": ("hip", "knee", "ankle")}

@@ -19,7 +19,7 @@ prior `fold<k>.safetensors` in `--folds` (default preset, `--temporal smooth`). 
 
 Test100 and SyRIP's synthetic rows are never read.
 
-    OMP_NUM_THREADS=2 .venv/bin/python benchmarks/depth_sign_vote.py --syrip-dir ../shared/data/syrip \
+    OMP_NUM_THREADS=2 .venv/bin/python experiments/depth_sign_vote.py --syrip-dir ../shared/data/syrip \
         --folds FOLDS [--interpolation segments]
 """
 
@@ -32,15 +32,14 @@ from pathlib import Path
 import numpy as np
 import torch
 
-sys.path.insert(0, str(Path(__file__).parent))
-from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from folds import fold_clip_args, fold_priors  # noqa: E402
-from limb_depth_flips import CLEAR_DEPTH, SEGMENTS, depth_direction, flipped  # noqa: E402
-from temporal import IMAGE_H, IMAGE_W, make_sequences  # noqa: E402
-
-from zedo_cli.analysis.features_3d import features_3d  # noqa: E402
-from zedo_cli.analysis.published_features import published_features  # noqa: E402
-from zedo_cli.data.skeleton import get_skeleton  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
+from benchmarks.accuracy.limb_depth_flips import CLEAR_DEPTH, SEGMENTS, depth_direction, flipped
+from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
+from benchmarks.lib.folds import fold_clip_args, fold_priors
+from benchmarks.lib.settings import CLIP_SETTINGS
+from zedo_cli.analysis.features_3d import features_3d
+from zedo_cli.analysis.published_features import published_features
+from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
 JOINT = {name: i for i, name in enumerate(SKELETON.joints)}

@@ -1,13 +1,13 @@
 """A tried and rejected remedy for the knee's clip mean angle (docs/movement.md, "What limits the knee's mean
 angle"): a prior that has seen more legs pointing away from the camera.
 
-`write`: per fold k of `--folds` (benchmarks/folds.py), `fold<k>legs-train.npz`: the fold's 450 training poses
+`write`: per fold k of `--folds` (benchmarks/lib/folds.py), `fold<k>legs-train.npz`: the fold's 450 training poses
 and a copy of each with one or both legs mirrored in depth about their hip (the knee's and the ankle's camera
 z reflected through the hip's; each leg with probability 1/2, at least one; seed 7 + k). A mirrored leg keeps
 its bone lengths, its knee angle and, orthographically, its 2D: it is the other solution of the depth
 ambiguity that bends the lifted knee. Train a prior on each as on the fold's own poses:
 
-    .venv/bin/python benchmarks/leg_depth_prior.py write --folds FOLDS
+    .venv/bin/python experiments/leg_depth_prior.py write --folds FOLDS
     zedo fit-prior FOLDS/fold<k>legs-train.npz --recipe weights_spec/syrip12-scratch.toml \
         -o FOLDS/fold<k>legs.safetensors
 
@@ -16,7 +16,7 @@ SyRIP images lifted from ground-truth and FiDIP 2D (default preset): MPJPE, PA-M
 and knee angles' mean absolute and signed error against the weak 3D truth. The synthetic clips' side is
 `features_3d_accuracy.py --weights legs`.
 
-    .venv/bin/python benchmarks/leg_depth_prior.py score --syrip-dir ../shared/data/syrip --folds FOLDS \
+    .venv/bin/python experiments/leg_depth_prior.py score --syrip-dir ../shared/data/syrip --folds FOLDS \
         --weights '' legs
 
 Test100 and SyRIP's synthetic rows are never read.
@@ -30,10 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).parent))
-from folds import FOLDS, fold_priors  # noqa: E402
-
-from zedo_cli.analysis.geometry import angle_between_deg  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
+from benchmarks.lib.folds import FOLDS, fold_priors
+from zedo_cli.analysis.geometry import angle_between_deg
 
 AUGMENT_SEED = 7
 ANGLES = {"elbow": ("shoulder", "elbow", "wrist"), "knee": ("hip", "knee", "ankle")}

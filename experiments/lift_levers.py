@@ -1,14 +1,14 @@
 """Lifting levers measured on held-out folds and not adopted (issue 17): the mirror average, a
 symmetrised prior and a confidence threshold, beside any LiftConfig variant.
 
-    python benchmarks/lift_levers.py --syrip-dir ../shared/data/syrip --folds folds --weights=-ema \\
+    python experiments/lift_levers.py --syrip-dir ../shared/data/syrip --folds folds --weights=-ema \\
         --variant mirror '{"mirror": "average"}' --variant sym '{"symmetrised": true}' \\
         --variant conf03 '{"min_confidence": 0.3}' --variant now '{}' --out levers.jsonl
 
 A variant is JSON: LiftConfig overrides of `fast`, plus "mirror": "average" (lift the mirror
 image too, mirror it back and average the two poses), "symmetrised": true (the prior's noise
 prediction averaged with that of the mirrored pose, mirrored back) and "min_confidence" (joints
-below it are missing). Rows as benchmarks/lift_validation.py writes them; Test100 is never read.
+below it are missing). Rows as benchmarks/calibrate/lift_validation.py writes them; Test100 is never read.
 """
 
 from __future__ import annotations
@@ -21,8 +21,10 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from folds import fold_priors
-from lift_validation import summarise
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
+from benchmarks.calibrate.lift_validation import summarise
+from benchmarks.lib.folds import fold_priors
 
 MIRROR_KEYS = ("mirror", "symmetrised", "min_confidence")
 

@@ -9,7 +9,7 @@ leaving one fold out, the shipped estimator (shrinkage) is fitted with Mondrian 
 bins of: the measured value (what zedo ships), the feature, or both (2 x 2), and the held-out
 share of decisive calls, their agreement with the truth's call and the 90 % coverage are printed.
 
-    python benchmarks/measure_conditioning.py --syrip-dir ../shared/data/syrip --folds folds/
+    python experiments/measure_conditioning.py --syrip-dir ../shared/data/syrip --folds folds/
 
 Test100 and SyRIP's synthetic rows are never read.
 """
@@ -17,11 +17,13 @@ Test100 and SyRIP's synthetic rows are never read.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
-from calibrate_measures import SKELETON, case_arrays
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
+from benchmarks.calibrate.calibrate_measures import SKELETON, case_arrays
 from zedo_cli.analysis.calibration import conformal_quantile, fit_measure, residuals
 from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 
@@ -38,8 +40,7 @@ def towards_camera(poses: np.ndarray, pair: str) -> np.ndarray:
 
 
 def lift_cases(args: argparse.Namespace) -> dict[str, np.ndarray]:
-    from folds import fold_priors
-
+    from benchmarks.lib.folds import fold_priors
     from zedo_cli.lifting.camera import resolve_intrinsics
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift

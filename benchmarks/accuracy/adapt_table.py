@@ -6,8 +6,9 @@ shuffling); the full-set row has one run per seed too. Every finished run is app
 --out as one JSON line, so an interrupted table resumes where it stopped. --add-poses adds
 poses (e.g. `zedo augment`'s) to every training set: the paper's "augmented" rows.
 
-    python benchmarks/adapt_table.py --syrip-dir ../shared/data/syrip --out adapt_table.jsonl
-    python benchmarks/adapt_table.py --syrip-dir ../shared/data/syrip --sizes 600 --add-poses aug.npz --out aug.jsonl
+    python benchmarks/accuracy/adapt_table.py --syrip-dir ../shared/data/syrip --out adapt_table.jsonl
+    python benchmarks/accuracy/adapt_table.py --syrip-dir ../shared/data/syrip --sizes 600 --add-poses aug.npz \\
+        --out aug.jsonl
 
 Runs go to --jobs worker processes, one CPU thread each.
 """
@@ -21,7 +22,8 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from resumable_runs import read_rows, run_and_record
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.resumable_runs import read_rows, run_and_record
 
 PAPER = {  # SyRIP Test100 MPJPE (mm), GT 2D, the paper's Table 3
     "control": {20: 67.8, 100: 56.4, 600: 49.4},

@@ -3,11 +3,11 @@ training poses, lift 150 *other* training poses (held out of the subset; ground-
 FiDIP-detected 2D too with --inputs gt detected; `fast` preset) with snapshots of the raw and EMA
 weights taken during one training, and score them.
 
-    python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy scratch \\
+    python benchmarks/accuracy/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy scratch \\
         --size 20 --subset-seeds 100 101 102 --snapshots 1000 2000 4000 8000 --warmup 5000 --out val.jsonl
-    python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
+    python benchmarks/accuracy/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
         --size 450 --add-poses aug.npz --snapshots 1000 --out val.jsonl
-    python benchmarks/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
+    python benchmarks/accuracy/adapt_validation.py --syrip-dir ../shared/data/syrip --strategy finetune \\
         --size 450 --subset-seeds 100 --write-subsets subsets --out val.jsonl
 
 The held-out poses are drawn (seed 1234) from the training poses outside the subset, so S can be
@@ -27,7 +27,8 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from resumable_runs import read_rows, run_and_record
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.resumable_runs import read_rows, run_and_record
 
 HELD_OUT_SEED = 1234
 SCORE_FIELDS = {"gt": "held_out_mpjpe_mm", "detected": "held_out_detected_mpjpe_mm"}

@@ -9,7 +9,7 @@ root-relative poses with the first's:
   vector extension (`ATEN_CPU_CAPABILITY`), and MKL's matrix products for AVX2 or SSE4.2
   (`MKL_ENABLE_INSTRUCTIONS`; MKL picks its kernels by the CPU, as torch does).
 
-    .venv/bin/python benchmarks/agreement.py --syrip-dir ../shared/data/syrip
+    .venv/bin/python benchmarks/accuracy/agreement.py --syrip-dir ../shared/data/syrip
 
 prints one row per setting: the largest and the 99th percentile joint difference (mm), and
 whether every pose was lifted alike (the same status).
@@ -75,7 +75,7 @@ def main() -> None:
     if args.child:
         child(args.syrip_dir, args.child)
         return
-    repo = Path(__file__).resolve().parents[1]
+    repo = Path(__file__).resolve().parents[2]
     with tempfile.TemporaryDirectory() as tmp:
         results = {}
         for name, env in SETTINGS.items():

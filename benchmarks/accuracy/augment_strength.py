@@ -8,7 +8,7 @@ For each strength, convert the same seeded draw of adult poses and report
   in mm (how much more than size and proportions moved).
 Only infant *training* poses are used, never test poses.
 
-    python benchmarks/augment_strength.py --model augmenter.safetensors --adult-dir ../shared/data/adult \\
+    python benchmarks/accuracy/augment_strength.py --model augmenter.safetensors --adult-dir ../shared/data/adult \\
         --syrip-dir ../shared/data/syrip
 """
 

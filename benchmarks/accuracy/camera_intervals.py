@@ -1,7 +1,7 @@
 """Which symmetry values of the f = 1000 px clips get an interval, end to end through `zedo analyze` (issue 35).
 
-benchmarks/calibrate_measures.py --cameras counts the frame-pairs with an interval from its own bookkeeping of the
-cases; this runs the real thing. For each fold and 2D input it makes the recipe's f = 1000 px clips again (the
+benchmarks/calibrate/calibrate_measures.py --cameras counts the frame-pairs with an interval from its own bookkeeping
+of the cases; this runs the real thing. For each fold and 2D input it makes the recipe's f = 1000 px clips again (the
 same random draws, checked against the lifted root depths saved in `--cases`/cameras), lifts them with the fold
 prior in `--temporal smooth` with their K (what `zedo lift --focal 1000 --temporal smooth` does), writes the
 result document and analyses it with `analysis.analyse` under each calibration file given, whose prior sha256 is
@@ -9,7 +9,7 @@ set to the fold prior's (the fold priors stand in for the bundled prior, as in t
 how many lifted symmetry values there are and the `interval` column's reasons with their counts, and for the
 values without an interval the lifted and the true root depths of their poses.
 
-    python benchmarks/camera_intervals.py --syrip-dir ../shared/data/syrip --folds folds/ --cases cases/ \\
+    python benchmarks/accuracy/camera_intervals.py --syrip-dir ../shared/data/syrip --folds folds/ --cases cases/ \\
         zedo_cli/weights/measures.json
 
 About 30 s a fold and input on one thread. Test100 and SyRIP's synthetic rows are never read.
@@ -20,21 +20,22 @@ from __future__ import annotations
 import argparse
 import collections
 import json
+import sys
 import tempfile
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from calibrate_measures import (
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.calibrate.calibrate_measures import (
     CAMERA_CLIPS,
     CAMERA_DRAWS,
-    CAMERAS,
     CLIP_KINDS,
     camera_images,
-    place_camera,
     relative_errors,
 )
-
+from benchmarks.lib.settings import CAMERAS, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, analyse
 from zedo_cli.analysis.calibration import read_calibrations
 
@@ -43,7 +44,8 @@ def f1000_clips(truth: np.ndarray, kp: dict, k: int, key: str) -> dict[str, np.n
     """The recipe's f = 1000 px clips of fold `k` and input `key`: its random stream replayed up to them
     (calibrate_measures.lift_camera_cases; nothing it lifts draws from that stream)."""
     import torch
-    from temporal import make_sequences
+
+    from benchmarks.lib.clips import make_sequences
 
     errors = relative_errors(kp["gt"].xy, kp["detected"].xy)
     rng = np.random.default_rng(1000 + k)
@@ -69,8 +71,7 @@ def reason(text: str) -> str:
 
 
 def main() -> int:
-    from folds import fold_priors
-
+    from benchmarks.lib.folds import fold_priors
     from zedo_cli.data.keypoints import Keypoints2D
     from zedo_cli.formats.readers.result import read_result
     from zedo_cli.formats.writers.result_json import build_result_document

@@ -7,17 +7,20 @@ joint) to its error (MPJPE against the 3D truth, root-relative). Prints, per thr
 of poses flagged, the mean error of the flagged and of the others, and how many of the poses with
 an error over 80 mm the flag catches.
 
-    .venv/bin/python benchmarks/hypothesis_spread.py --syrip-dir ../shared/data/syrip --folds folds
+    .venv/bin/python benchmarks/accuracy/hypothesis_spread.py --syrip-dir ../shared/data/syrip --folds folds
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from folds import fold_priors
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.folds import fold_priors
 
 THRESHOLDS_MM = (20, 30, 40, 50, 60, 80, 100)
 BAD_MM = 80.0

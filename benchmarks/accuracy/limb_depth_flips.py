@@ -2,8 +2,8 @@
 2D one): limbs lifted on the wrong side of the camera's depth axis (docs/movement.md, "What limits the
 knee's mean angle").
 
-For every fold prior `fold<k>.safetensors` in `--folds` (benchmarks/folds.py), the fold's held-out poses
-make benchmarks/features_3d_accuracy.py's clips (16 clips of 5 s at 30 fps, calibrate_measures.CLIP_SETTINGS,
+For every fold prior `fold<k>.safetensors` in `--folds` (benchmarks/lib/folds.py), the fold's held-out poses
+make benchmarks/calibrate/features_3d_accuracy.py's clips (16 clips of 5 s at 30 fps, settings.CLIP_SETTINGS,
 seed 100 + k), lifted frame by frame with the default preset and `--hypotheses 8` (hypothesis 0 is the
 reported pose, the others add the SDE noise), then smoothed as `--temporal smooth` smooths. It prints:
 
@@ -17,7 +17,8 @@ reported pose, the others add the SDE noise), then smoothed as `--temporal smoot
 
 Test100 and SyRIP's synthetic rows are never read.
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/limb_depth_flips.py --syrip-dir ../shared/data/syrip --folds FOLDS
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/accuracy/limb_depth_flips.py --syrip-dir ../shared/data/syrip \\
+        --folds FOLDS
 """
 
 from __future__ import annotations
@@ -28,13 +29,12 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).parent))
-from calibrate_measures import CLIP_SETTINGS  # noqa: E402
-from folds import fold_clip_args, fold_priors  # noqa: E402
-from temporal import make_sequences  # noqa: E402
-
-from zedo_cli.analysis.features_3d import features_3d  # noqa: E402
-from zedo_cli.data.skeleton import get_skeleton  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.clips import make_sequences
+from benchmarks.lib.folds import fold_clip_args, fold_priors
+from benchmarks.lib.settings import CLIP_SETTINGS
+from zedo_cli.analysis.features_3d import features_3d
+from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
 JOINT = {name: i for i, name in enumerate(SKELETON.joints)}

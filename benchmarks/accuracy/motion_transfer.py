@@ -9,7 +9,8 @@ fitted on `positions` clips only (as shipped) and on both. It prints the coverag
 every measure (cases pooled) and over the symmetry pairs, and the five measures of least coverage, per motion
 scored. Test100 and SyRIP's synthetic rows are never read.
 
-    OMP_NUM_THREADS=2 .venv/bin/python benchmarks/motion_transfer.py --syrip-dir ../shared/data/syrip --folds FOLDS
+    OMP_NUM_THREADS=2 .venv/bin/python benchmarks/accuracy/motion_transfer.py --syrip-dir ../shared/data/syrip \\
+        --folds FOLDS
 """
 
 from __future__ import annotations
@@ -21,10 +22,12 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from calibrate_measures import BINS, CLIP_SETTINGS, SYMMETRY_NAMES, case_arrays, fit_all, load_cases, scored
-from folds import fold_priors
-from temporal import make_sequences
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.calibrate.calibrate_measures import BINS, SYMMETRY_NAMES, case_arrays, fit_all, load_cases, scored
+from benchmarks.lib.clips import make_sequences
+from benchmarks.lib.folds import fold_priors
+from benchmarks.lib.settings import CLIP_SETTINGS
 from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG
 from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
 from zedo_cli.lifting.temporal import lift_sequence

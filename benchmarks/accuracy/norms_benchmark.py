@@ -1,8 +1,8 @@
 """Does the comparison with typical infants flag what it should, and only that? (issue 35's "Norms" targets)
 
-Synthetic 30 fps clips of one generator (benchmarks/temporal.py's: SyRIP key poses eased 1 s apart, the
+Synthetic 30 fps clips of one generator (benchmarks/lib/clips.py's: SyRIP key poses eased 1 s apart, the
 body turning and drifting, 3 px noise, 3 % dropped joints), made from the held-out poses of a fold
-(benchmarks/folds.py) and lifted by that fold's prior, so that the prior never saw them:
+(benchmarks/lib/folds.py) and lifted by that fold's prior, so that the prior never saw them:
 - `--reference` clips (20) build the reference with `zedo norms`;
 - `--typical` further clips (10) of the same generator: each should get p > 0.05, in both comparisons;
 - `--still` clips (5) whose left arm stays still relative to the trunk (the left elbow and wrist keep
@@ -11,7 +11,7 @@ body turning and drifting, 3 px noise, 3 % dropped joints), made from the held-o
 Every step runs through the command line, as a user would: `zedo lift --temporal smooth`, `zedo norms`,
 `zedo analyze --norms --json`. Prints each clip's published and extended z and p, and the counts.
 
-    python benchmarks/norms_benchmark.py --syrip-dir ../shared/data/syrip --folds folds/ --work /tmp/norms
+    python benchmarks/accuracy/norms_benchmark.py --syrip-dir ../shared/data/syrip --folds folds/ --work /tmp/norms
 
 Test100 and SyRIP's synthetic rows are never read.
 """
@@ -26,9 +26,10 @@ import time
 from pathlib import Path
 
 import numpy as np
-from folds import held_out_names
-from temporal import IMAGE_H, IMAGE_W, make_sequences
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
+from benchmarks.lib.folds import held_out_names
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 

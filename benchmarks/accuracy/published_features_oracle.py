@@ -16,8 +16,8 @@ plus a small 3 Hz tremor, segments foreshortened as they leave the image plane, 
 dropped at random, runs of missed joints and of missed frames, a joint missing throughout, hips seen
 later than the shoulders, a clip leaving early; 30, 25, 24, 29.97 and 50 fps; 0.8 s to 60 s.
 
-    /work/main/.venv/bin/python benchmarks/published_features_oracle.py \\
-        --python /work/refvenv/bin/python --reference ../shared/reference/chambers2020
+    python benchmarks/accuracy/published_features_oracle.py \\
+        --python .refvenv/bin/python --reference ../shared/reference/chambers2020
 """
 
 from __future__ import annotations

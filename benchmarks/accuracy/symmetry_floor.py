@@ -12,12 +12,12 @@ Beside it, for scale: the constant yardstick (every pose gets each pair's median
 Nothing is lifted and no prior is read, so nothing is chosen here; Test100 is read only with
 `--split test`.
 
-With `--errors DIR` (the per-pose lifts that `benchmarks/lift_validation.py --errors DIR` saved
+With `--errors DIR` (the per-pose lifts that `benchmarks/calibrate/lift_validation.py --errors DIR` saved
 on held-out folds), the error of those lifts is split: the lifted x, y with the truth's depth,
 and the truth's x, y with the lifted depth (root-relative camera frame, per input kind).
 
-    python benchmarks/symmetry_floor.py --syrip-dir ../shared/data/syrip [--split test]
-    python benchmarks/symmetry_floor.py --syrip-dir ../shared/data/syrip --errors folds/errors --variant fast
+    python benchmarks/accuracy/symmetry_floor.py --syrip-dir ../shared/data/syrip [--split test]
+    python benchmarks/accuracy/symmetry_floor.py --syrip-dir ../shared/data/syrip --errors folds/errors --variant fast
 """
 
 from __future__ import annotations

@@ -16,7 +16,7 @@ Reported per case: MPJPE of the root-relative poses (mm), the root point's error
 median), the mean reprojection error in the image lifted from (px) and the poses lifted. Nothing
 is chosen from Test100: every setting is the default.
 
-    nice -n 10 python benchmarks/wide_lens.py --syrip-dir ../shared/data/syrip [--out wide_lens.json]
+    nice -n 10 python benchmarks/accuracy/wide_lens.py --syrip-dir ../shared/data/syrip [--out wide_lens.json]
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """Calibrate the measure-level estimates and intervals of `zedo analyze` on held-out lifts (issue 28).
 
-1. `--lift`: every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/folds.py)
+1. `--lift`: every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/lib/folds.py)
    lifts its fold's held-out SyRIP training poses with the default preset and the pseudo camera,
    from ground-truth and FiDIP 2D (images), and synthetic clips made from the same held-out poses
-   (benchmarks/temporal.py's generator, 30 fps, 3 px noise) in `--temporal smooth` (videos). For
+   (benchmarks/lib/clips.py's generator, 30 fps, 3 px noise) in `--temporal smooth` (videos). For
    every case it saves the raw measures of the lift, their depth sensitivities and the measures
    of the truth (`--cases DIR`, one npz per fold, input and mode).
 2. Then, per mode, it cross-fits (leave one fold out; with one fold, two halves of its poses or
@@ -13,9 +13,9 @@
 3. `--write`: fits on every case and writes the calibrations (default: the package's
    weights/measures.json) for the shipped prior.
 
-    python benchmarks/folds.py --syrip-dir ../shared/data/syrip --out folds/
+    python benchmarks/lib/folds.py --syrip-dir ../shared/data/syrip --out folds/
     zedo fit-prior folds/fold0-train.npz --recipe weights_spec/syrip12-scratch.toml --out folds/fold0.safetensors
-    python benchmarks/calibrate_measures.py --syrip-dir ../shared/data/syrip --folds folds/ --cases cases/ \\
+    python benchmarks/calibrate/calibrate_measures.py --syrip-dir ../shared/data/syrip --folds folds/ --cases cases/ \\
         --lift --write
 
 Test100 and SyRIP's synthetic rows are never read.
@@ -25,12 +25,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, CameraRange, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, all_measures
 from zedo_cli.analysis.calibration import (
     LEVELS,
@@ -50,7 +53,6 @@ from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
 BINS = {"none": 2, "smooth": 4}  # bins of the measured value per measure (images: ~300 cases a fold, clips: ~2400)
-CLIP_SETTINGS = {"count": 16, "keyposes": 6, "transition_s": 1.0, "fps": 30.0, "noise_px": 3.0, "drop": 0.03, "gap": 3}
 
 
 def measures(p: np.ndarray) -> dict[str, np.ndarray]:
@@ -74,9 +76,9 @@ def case_arrays(lifted: np.ndarray, observed: np.ndarray, ok: np.ndarray, truth:
 
 def lift_cases(args: argparse.Namespace) -> None:
     import torch
-    from folds import fold_priors
-    from temporal import make_sequences
 
+    from benchmarks.lib.clips import make_sequences
+    from benchmarks.lib.folds import fold_priors
     from zedo_cli.lifting.camera import resolve_intrinsics
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
@@ -100,19 +102,6 @@ def lift_cases(args: argparse.Namespace) -> None:
         print(f"fold {k} clips: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
 
 
-@dataclass(frozen=True)
-class CameraRange:
-    """The camera set-ups drawn for the calibration of known intrinsics (`--cameras`): a focal length
-    log-uniform in `focal_px`, the infant's root `depth_m` from the camera (uniform), one of `frames`,
-    and a place in the frame with the whole body at least `margin` of the frame inside it."""
-
-    focal_px: tuple[float, float] = (600.0, 2500.0)
-    depth_m: tuple[float, float] = (0.5, 2.2)  # wider than DEPTH_EDGES: lifted depths err by ~10 %
-    frames: tuple[tuple[int, int], ...] = ((1280, 720), (1920, 1080))
-    margin: float = 0.05
-
-
-CAMERAS = CameraRange()
 F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the issue's target set-up
 CAMERA_DRAWS = 6  # cameras per held-out pose and 2D input (images)
 # More cases for the near range of lifted root depths (below NEAR_BELOW_M), where CAMERAS gives few: the same
@@ -130,31 +119,9 @@ CLIP_KINDS = (("intrinsics", CAMERAS, ("smooth", "none")), ("f1000", F1000, ("sm
 YAW, ROLL = 0.4, 0.2  # rad: the images turn as the clips do (temporal.make_sequences)
 
 
-def place_camera(rng: np.random.Generator, rel: np.ndarray, drift: np.ndarray, cams: CameraRange
-                 ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """A camera of `cams` and the root points `(T, 3)` of root-relative poses `rel (T, J, 3)` (drifting by
-    `drift (T, 3)`) with every joint of every frame inside the frame: K `(3, 3)` and the roots."""
-    lo, hi = np.log(cams.focal_px)
-    for attempt in range(5000):
-        if attempt % 50 == 0:  # the depth is kept for 50 tries of a lens, frame and place: depths stay near uniform
-            z = float(rng.uniform(*cams.depth_m))
-        w, h = cams.frames[rng.integers(len(cams.frames))]
-        f = float(np.exp(rng.uniform(lo, hi)))
-        u, v = rng.uniform(cams.margin, 1 - cams.margin, 2) * (w, h)  # where the root appears
-        root = np.array([(u - w / 2) * z / f, (v - h / 2) * z / f, z]) + drift
-        cam = rel + root[:, None]  # (T, J, 3)
-        if (cam[..., 2] < 0.1).any():
-            continue
-        px = f * cam[..., :2] / cam[..., 2:] + (w / 2, h / 2)
-        m = cams.margin * np.array([w, h])
-        if ((px >= m) & (px <= (w, h) - m)).all():
-            return np.array([[f, 0.0, w / 2], [0.0, f, h / 2], [0.0, 0.0, 1.0]]), root
-    raise RuntimeError(f"no camera of {cams} keeps the body in the frame")
-
-
 def relative_errors(gt: np.ndarray, detected: np.ndarray) -> np.ndarray:
     """A detector's error per joint `(N, J, 2)` relative to the 2D size of the ground truth (NaN: missed)."""
-    from temporal import scale_2d
+    from benchmarks.lib.clips import scale_2d
 
     return (detected - gt) / scale_2d(gt)[:, None, None]
 
@@ -164,7 +131,7 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
     """Each pose of `rel (P, J, 3)` turned a little and seen by `draws` cameras of `cams`, projected exactly
     (errors None: the ground-truth 2D) or with the pose's own detector error `(P, J, 2)` scaled to its size
     there and its confidences `(P, J)`."""
-    from temporal import _rotation, scale_2d
+    from benchmarks.lib.clips import _rotation, scale_2d
 
     idx = np.repeat(np.arange(len(rel)), draws)
     turn = _rotation(rng.uniform(-YAW, YAW, len(idx)), rng.uniform(-ROLL, ROLL, len(idx)))
@@ -184,7 +151,7 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
 def camera_cases(res: Any, data: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """`case_arrays` of a lift of camera cases, with each case's camera: focal length (px), true and lifted root
     depth (m), the body's 2D size (px) and frame width."""
-    from temporal import scale_2d
+    from benchmarks.lib.clips import scale_2d
 
     return {**case_arrays(res.poses_root_relative, res.observed, res.lifted, data["rel"]),
             "focal": data["k"][:, 0, 0], "depth": root_depth(data),
@@ -206,9 +173,9 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
     import time
 
     import torch
-    from folds import fold_priors
-    from temporal import make_sequences
 
+    from benchmarks.lib.clips import make_sequences
+    from benchmarks.lib.folds import fold_priors
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
     from zedo_cli.lifting.temporal import lift_sequence
@@ -251,8 +218,8 @@ def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, 
     `--temporal smooth` and frame by frame, saved as the kinds `near_<input>` of the intrinsics cases. Their own
     random stream, so the other camera cases are the same with or without them."""
     import torch
-    from temporal import make_sequences
 
+    from benchmarks.lib.clips import make_sequences
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
     from zedo_cli.lifting.temporal import lift_sequence
@@ -691,6 +658,8 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
             domain = CameraDomain((DEPTH_EDGES[r], DEPTH_EDGES[r + 1]), CAMERAS.focal_px)
             fitted = final.cases[r]
             near = DEPTH_EDGES[r + 1] <= NEAR_BELOW_M
+            # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
+            # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
             provenance = {
                 "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), seen by drawn known "
                 f"cameras (focal {CAMERAS.focal_px[0]:g}-{CAMERAS.focal_px[1]:g} px, root depth "
@@ -798,6 +767,8 @@ def main() -> int:
             figures["clip_medians"] = clip_median_coverage(cases, fold, group, bins)
             print("\nclip medians inside the median of the frames' 90 % interval ends:", figures["clip_medians"])
         models = fit_all(cases, np.ones(len(fold), bool), bins)
+        # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
+        # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
         provenance = {
             "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), GT and FiDIP 2D"
             + (", as synthetic 30 fps clips" if mode != "none" else "")

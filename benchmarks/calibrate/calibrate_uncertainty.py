@@ -1,6 +1,6 @@
 """Calibrate `uncertainty_m` on held-out SyRIP training poses and measure its coverage (issue 17).
 
-Reads the per-joint errors and hypotheses that `benchmarks/lift_validation.py --errors DIR`
+Reads the per-joint errors and hypotheses that `benchmarks/calibrate/lift_validation.py --errors DIR`
 saved for one variant (fold priors lifting their held-out poses from ground-truth and FiDIP
 2D), then
 
@@ -10,7 +10,7 @@ saved for one variant (fold priors lifting their held-out poses from ground-trut
 2. fits the final model on every held-out pose and adds it, for the shipped prior and the
    variant's settings, to the calibration file (default: the package's weights/uncertainty.json).
 
-    python benchmarks/calibrate_uncertainty.py --errors val-errors --variant default \\
+    python benchmarks/calibrate/calibrate_uncertainty.py --errors val-errors --variant default \\
         --config '{"twin_rate": 0.5, "hypotheses": 8}' --write
 
 Test100 and SyRIP's synthetic rows are never read.
@@ -110,6 +110,8 @@ def main() -> int:
     if args.write:
         path = args.calibration_file or bundled_calibrations_path()
         models = read_calibrations(path) if path.exists() else []
+        # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
+        # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
         final = replace(final, provenance={
             "data": "SyRIP training poses held out of 4-fold priors (benchmarks/folds.py), GT and FiDIP 2D; "
                     "never Test100 or the synthetic rows", "recipe": "benchmarks/calibrate_uncertainty.py "

@@ -1,9 +1,9 @@
 """How close the `3d_` clip features of lifted clips and the published 2D features come to the 3D truth
 (issue 35, part 2): elbow and knee `mean_angle` and `median_vel_angle`.
 
-For every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/folds.py), the fold's 150
-held-out SyRIP training poses make synthetic clips (benchmarks/temporal.py's generator with
-calibrate_measures.CLIP_SETTINGS: 16 clips of 5 s at 30 fps, eased between 6 key poses, turning and
+For every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/lib/folds.py), the fold's 150
+held-out SyRIP training poses make synthetic clips (benchmarks/lib/clips.py's generator with
+settings.CLIP_SETTINGS: 16 clips of 5 s at 30 fps, eased between 6 key poses, turning and
 drifting, 1 m from the pseudo camera, 3 px noise, 3 % of joints dropped, a 3-frame gap), whose 2D is
 lifted with the default preset in `--temporal smooth` as calibrate_measures.py lifts them. Per clip:
 
@@ -15,7 +15,7 @@ lifted with the default preset in `--temporal smooth` as calibrate_measures.py l
 It prints the mean absolute error against the truth over (clip, side) of each, per fold and pooled, and the
 ratio 3D / 2D (target: at most 0.5). Test100 and SyRIP's synthetic rows are never read.
 
-    /work/main/.venv/bin/python benchmarks/features_3d_accuracy.py --syrip-dir ../shared/data/syrip --folds /work/folds
+    python benchmarks/calibrate/features_3d_accuracy.py --syrip-dir ../shared/data/syrip --folds folds/
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from zedo_cli.analysis.features_3d import features_3d
 from zedo_cli.analysis.published_features import published_features
 from zedo_cli.data.skeleton import get_skeleton
@@ -75,10 +76,10 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
     and its focal length (`depth_m`, `focal_px`). One npz a fold and motion in `--cases`
     (`fold<k>-3d-clips-<motion>.npz`; other cameras and modes in its folders, `case_folder`)."""
     import torch
-    from calibrate_measures import CAMERAS, CLIP_SETTINGS, place_camera
-    from folds import fold_priors
-    from temporal import make_sequences
 
+    from benchmarks.lib.clips import make_sequences
+    from benchmarks.lib.folds import fold_priors
+    from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, place_camera
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 
@@ -295,8 +296,7 @@ def camera_coverage(hit: np.ndarray, depth_m: np.ndarray, focal_px: np.ndarray) 
 
 def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, coverage: dict[str, float]) -> None:
     """Fit on every fold's clips; add the clip-scope calibration of the shipped prior to `--out` (the others stay)."""
-    from calibrate_measures import CLIP_SETTINGS
-
+    from benchmarks.lib.settings import CLIP_SETTINGS
     from zedo_cli.analysis.calibration import MeasureCalibration, bundled_path, read_calibrations, write_calibrations
     from zedo_cli.lifting.config import DEFAULT_PRESET, calibration_settings, get_preset
     from zedo_cli.prior.weights import load_prior, resolve_prior_path
@@ -304,6 +304,8 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
     shipped = load_prior(resolve_prior_path(None))
     models = fit_features(np.concatenate([c["raw"] for c in cases.values()]),
                           np.concatenate([c["truth"] for c in cases.values()]), names)  # fmt: skip
+    # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
+    # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
     provenance = {
         "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), as synthetic 30 fps clips of "
         "each fold's held-out poses lifted by its prior; never Test100 or the synthetic rows",
@@ -316,8 +318,7 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
     }
     cameras, domain = ("pseudo",), None
     if args.cameras:
-        from calibrate_measures import CAMERAS
-
+        from benchmarks.lib.settings import CAMERAS
         from zedo_cli.analysis.calibration import CameraDomain
 
         cameras, domain = ("cli", "file"), CameraDomain(CAMERA_DEPTH_M, CAMERAS.focal_px)
@@ -367,10 +368,10 @@ def main() -> int:
         return calibrate(args)
 
     import torch
-    from calibrate_measures import CLIP_SETTINGS
-    from folds import fold_priors
-    from temporal import IMAGE_H, IMAGE_W, make_sequences
 
+    from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
+    from benchmarks.lib.folds import fold_priors
+    from benchmarks.lib.settings import CLIP_SETTINGS
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 

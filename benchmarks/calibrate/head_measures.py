@@ -2,7 +2,7 @@
 clips of an infant lying with its chest to the camera, a cot filmed from above, and the calibration
 of the clip intervals (docs/clinical.md, "Head"):
 
-    python benchmarks/head_measures.py --syrip-dir ../shared/data/syrip [--write] [--e2e-dir DIR]
+    python benchmarks/calibrate/head_measures.py --syrip-dir ../shared/data/syrip [--write] [--e2e-dir DIR]
 
 `--write` writes the fitted calibration to `zedo_cli/weights/head.json` (the bundled one), with the
 held-out coverage it measured.
@@ -563,6 +563,8 @@ def main() -> int:
                     f"holds of {dwell:g} s)")  # fmt: skip
             report[name] = process_coverage(rng_misc, seconds, dwell, args.process_clips)
     if args.write:
+        # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
+        # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
         made = HeadCalibration(
             head_settings_key(HeadSettings().midline_deg, HeadSettings().model, HeadSettings().bootstrap),
             {m: HeadMeasureCalibration(errors[m], {lv: MeasureFactor(fitted[lv][m][0], fitted[lv][m][1],

@@ -1,17 +1,17 @@
 """Score lifting settings on held-out SyRIP training poses, never on Test100 (issue 17).
 
-For every fold of `benchmarks/folds.py` whose prior exists (FOLDS/fold<k>.safetensors, trained
+For every fold of `benchmarks/lib/folds.py` whose prior exists (FOLDS/fold<k>.safetensors, trained
 on that fold's 450 poses), lift the fold's 150 held-out poses from ground-truth and FiDIP 2D
 with each variant (JSON overrides of a preset's LiftConfig) and report, per variant and input:
 MPJPE, PA-MPJPE, the fractions of poses whose twin-limb ratio exceeds 1.3 and 1.6, the mean
 symmetry-angle error against the weak ground truth, and poses/s.
 
-    python benchmarks/lift_validation.py --syrip-dir ../shared/data/syrip --folds folds/ \\
+    python benchmarks/calibrate/lift_validation.py --syrip-dir ../shared/data/syrip --folds folds/ \\
         --variant base '{}' --variant twin '{"twin_rate": 0.3}' --out val-lift.jsonl
 
 Every (fold, variant, input) appends one JSON line to --out (an interrupted sweep resumes);
 with --errors DIR the per-joint errors and hypothesis spreads are saved for calibration
-(benchmarks/calibrate_uncertainty.py).
+(benchmarks/calibrate/calibrate_uncertainty.py).
 """
 
 from __future__ import annotations
@@ -24,7 +24,9 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from folds import fold_priors
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.folds import fold_priors
 
 
 def score_variant(prior, truth, kp, cfg, seed: int) -> tuple[dict, dict]:

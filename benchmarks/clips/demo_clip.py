@@ -1,9 +1,9 @@
 """A synthetic infant clip as a detector would stream it: zedo JSON Lines 2D of one 30 fps clip
-made from SyRIP *training* poses (benchmarks/temporal.py's generator: key poses eased 1 s apart,
+made from SyRIP *training* poses (benchmarks/lib/clips.py's generator: key poses eased 1 s apart,
 the body turning and drifting, 3 px noise, 3 % dropped joints), for trying `zedo lift --temporal`
 and `zedo analyze` on a video:
 
-    python benchmarks/demo_clip.py --syrip-dir ../shared/data/syrip --out clip.jsonl
+    python benchmarks/clips/demo_clip.py --syrip-dir ../shared/data/syrip --out clip.jsonl
     zedo lift clip.jsonl --fps 30 --temporal smooth -o clip.zedo.json
     zedo analyze clip.zedo.json --report report/
 
@@ -20,11 +20,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
-from temporal import IMAGE_H, IMAGE_W, make_sequences
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.data.datasets import load_syrip_3d
 
 MARGIN_PX = 20.0

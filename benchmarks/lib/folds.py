@@ -1,6 +1,6 @@
 """K-fold split of the 600 SyRIP training poses, for choosing lifting settings without Test100.
 
-    python benchmarks/folds.py --syrip-dir ../shared/data/syrip --out folds/   # writes the folds
+    python benchmarks/lib/folds.py --syrip-dir ../shared/data/syrip --out folds/   # writes the folds
     zedo fit-prior folds/fold0-train.npz --recipe weights_spec/syrip12-scratch.toml --out folds/fold0.safetensors
 
 Each fold k holds out 150 training poses (a seeded permutation, seed 1234, cut into 4 parts):

@@ -10,7 +10,7 @@ equal), then runs, as a user would, in a fresh process each:
 and reports wall time and poses per second for each, then checks that both engines wrote the
 same files (equal apart from the creation time and the lifting seconds).
 
-    .venv/bin/python benchmarks/engines.py --workdir /tmp/zedo-engines --files 100 --poses 1000
+    .venv/bin/python benchmarks/speed/engines.py --workdir /tmp/zedo-engines --files 100 --poses 1000
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "prior_samples_coco.json"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "prior_samples_coco.json"
 TIMINGS = re.compile(r'"(created|seconds)": [^,\n]*')
 
 

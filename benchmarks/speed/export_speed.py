@@ -6,7 +6,7 @@ and every 20th person not lifted (the bundled prior's poses, 1 cm of seeded jitt
 `--lift` of those poses' projections with the bundled prior and the default preset, and reports
 poses per second for each.
 
-    .venv/bin/python benchmarks/export_speed.py --poses 100000 --lift 2000 --workdir /tmp/zedo-export
+    .venv/bin/python benchmarks/speed/export_speed.py --poses 100000 --lift 2000 --workdir /tmp/zedo-export
 """
 
 from __future__ import annotations

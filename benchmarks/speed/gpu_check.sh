@@ -8,7 +8,7 @@
 #      bundled prior's recipe timed on the GPU and extrapolated to its 8000 (an estimate).
 #   2. The same 10^6 poses with --chunk-size 65536, throughput only: whether larger chunks pay on a GPU.
 #
-# Run from the repository root:  bash benchmarks/gpu_check.sh
+# Run from the repository root:  bash benchmarks/speed/gpu_check.sh
 # Environment: PYTHON (default: python; needs torch with CUDA and zedo's dependencies), SYRIP_DIR (the
 # SyRIP folder: its 600 training poses are the pose source; default ../shared/data/syrip, else poses
 # sampled from the prior), OUT (a folder: the JSON reports are written there; default the current folder).
@@ -17,7 +17,8 @@ set -u
 PYTHON=${PYTHON:-python}
 OUT=${OUT:-.}
 SYRIP_DIR=${SYRIP_DIR:-../shared/data/syrip}
-export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)  # the repository root: its zedo_cli is the one timed
+export PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}"
 mkdir -p "$OUT"
 source_args=()
 [ -d "$SYRIP_DIR" ] && source_args=(--syrip-dir "$SYRIP_DIR")

@@ -4,8 +4,8 @@ Lifts the first `--poses` of SyRIP's 1400 real poses (700 images, ground-truth t
 throughput set of `zedo benchmark`, never Test100 alone) with a preset, `--rounds` times, and
 prints the total and the time in each phase, timed by wrapping the solver's functions:
 
-    python benchmarks/lift_profile.py --syrip-dir ../shared/data/syrip --preset fast --poses 500
-    python benchmarks/lift_profile.py --syrip-dir ../shared/data/syrip --preset fast --bf16 false
+    python benchmarks/speed/lift_profile.py --syrip-dir ../shared/data/syrip --preset fast --poses 500
+    python benchmarks/speed/lift_profile.py --syrip-dir ../shared/data/syrip --preset fast --bf16 false
 
 Phases: `fit` (the rotation/depth fit of the template), `network` (the prior's noise
 predictions), `rays` (moving joints onto their rays), `twin` and `proportions` (the bone-length

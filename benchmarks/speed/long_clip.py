@@ -3,7 +3,7 @@ synthetic infant (examples/infant_clip_demo.py: footage drawn with OpenCV, COCO-
 streams them) over `--minutes` minutes at 30 fps, one key pose sampled from the bundled prior every 0.8 s
 (seed 7), the body turning back and forth (at most 17 degrees about the vertical, 6 about the optical axis).
 
-    python benchmarks/long_clip.py --out /tmp/long            # 10 minutes: clip.mp4 and clip.keypoints.jsonl
+    python benchmarks/speed/long_clip.py --out /tmp/long            # 10 minutes: clip.mp4 and clip.keypoints.jsonl
     cd /tmp/long
     /usr/bin/time zedo lift clip.keypoints.jsonl --video clip.mp4 --temporal smooth -o clip.zedo.json
     /usr/bin/time zedo analyze clip.zedo.json --output-dir analysis --report analysis --video clip.mp4
@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
-import infant_clip_demo as demo  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples"))
+import infant_clip_demo as demo
 
 
 def long_motion(minutes: float, seed: int = 7) -> tuple[np.ndarray, tuple[str, ...]]:

@@ -7,8 +7,8 @@ and rendered with --side-view. Each figure is the best of --repeats runs, with t
 took (all threads): decoding, drawing and encoding run on three threads, so on an idle machine
 with 2 cores the frame rate can exceed 1000 / (ms CPU per frame).
 
-    python benchmarks/render_speed.py                 # 300 frames, 1280x720
-    python benchmarks/render_speed.py --frames 600 --size 1920 1080
+    python benchmarks/speed/render_speed.py                 # 300 frames, 1280x720
+    python benchmarks/speed/render_speed.py --frames 600 --size 1920 1080
 """
 
 from __future__ import annotations

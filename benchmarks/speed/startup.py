@@ -10,8 +10,8 @@ disturbs least) of each, and each median's ratio to import torch's. Ratios, not 
 a busy machine still compares; the runs are interleaved so that a change in load hits every
 command alike.
 
-    .venv/bin/python benchmarks/startup.py --rounds 7
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/startup.py --rounds 7 . /path/to/older/checkout
+    .venv/bin/python benchmarks/speed/startup.py --rounds 7
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/speed/startup.py --rounds 7 . /path/to/older/checkout
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import tempfile
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "examples" / "prior_samples_coco.json"
 
 

@@ -1,18 +1,14 @@
-"""benchmarks/depth_crossings.py measures what its docs say: a crossing of the image plane at speed dips
+"""experiments/depth_crossings.py measures what its docs say: a crossing of the image plane at speed dips
 sharply (a V), a turn-back slowly (a U); the ROC AUC is the share of positive-negative pairs ranked right;
 the sign-free depth estimate recovers |unit z| from the image-plane length and the clip's median length."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 from helpers import synthetic_poses
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from depth_crossings import roc_auc, unit_depths, v_depth  # noqa: E402
-from limb_depth_flips import JOINT  # noqa: E402
+from benchmarks.accuracy.limb_depth_flips import JOINT
+from experiments.depth_crossings import roc_auc, unit_depths, v_depth
 
 
 def test_a_crossing_dips_sharper_than_a_turn_back() -> None:

@@ -1,17 +1,13 @@
-"""The rejected depth-sign vote of benchmarks/depth_sign_vote.py does what its docs say: within a run of frames
+"""The rejected depth-sign vote of experiments/depth_sign_vote.py does what its docs say: within a run of frames
 where a segment points clearly along the depth axis, frames lifted on the losing side take the winning sign
 with the segment's length kept, and the distal joints move with it; frames outside runs are left alone."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 from helpers import synthetic_poses
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from depth_sign_vote import JOINT, Vote, runs, vote  # noqa: E402
+from experiments.depth_sign_vote import JOINT, Vote, runs, vote
 
 
 def test_runs_are_the_stretches_of_true() -> None:

@@ -1,18 +1,13 @@
-"""benchmarks/leg_depth_prior.py's mirrored legs (a rejected remedy, docs/movement.md) are the other solution of the
+"""experiments/leg_depth_prior.py's mirrored legs (a rejected remedy, docs/movement.md) are the other solution of the
 depth ambiguity: the same 2D (orthographic), bone lengths and knee angle, at least one leg moved per pose."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 from helpers import synthetic_poses
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from leg_depth_prior import interior_angle, mirror_legs  # noqa: E402
-
-from zedo_cli.data.skeleton import get_skeleton  # noqa: E402
+from experiments.leg_depth_prior import interior_angle, mirror_legs
+from zedo_cli.data.skeleton import get_skeleton
 
 JOINTS = list(get_skeleton("syrip12").joints)
 
