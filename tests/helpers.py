@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import importlib
 import json
+import sys
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import torch
@@ -11,7 +14,8 @@ import torch
 from zedo_cli.data.skeleton import center_on_root, get_skeleton
 from zedo_cli.lifting.camera import project
 
-SYRIP_DIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "syrip"
+REPO = Path(__file__).resolve().parents[1]
+SYRIP_DIR = REPO.parent / "shared" / "data" / "syrip"
 SKELETON = get_skeleton("syrip12")
 # An infant-sized syrip12 pose (metres): hips, knees, ankles, shoulders, elbows, wrists.
 BASE_POSE = np.array([
@@ -68,3 +72,12 @@ def write_coco(path: Path, n: int = 3, *, drop_joint: int | None = None) -> Path
     cats = [{"id": 1, "name": "person", "keypoints": COCO_NAMES, "skeleton": []}]
     path.write_text(json.dumps({"images": images, "annotations": anns, "categories": cats}))
     return path
+
+
+def benchmark_module(name: str) -> ModuleType:
+    """A module of benchmarks/ (`"lib.clips"`, `"calibrate.calibrate_measures"`, ...), imported as the scripts
+    import the shared code: `benchmarks.<name>` with the repository root on sys.path (benchmarks/README.md).
+    The default suite tests benchmarks/ only, never experiments/."""
+    if str(REPO) not in sys.path:
+        sys.path.insert(0, str(REPO))
+    return importlib.import_module(f"benchmarks.{name}")

@@ -169,3 +169,47 @@ def test_unknown_api_name_is_an_attribute_error():
 
     with pytest.raises(AttributeError, match="no_such_name"):
         zedo_cli.no_such_name  # noqa: B018
+
+
+# The repository's other code (benchmarks/README.md, experiments/README.md): benchmarks/ holds only folders of
+# scripts and their shared lib/, experiments/ the rejected remedies, which the default suite never imports.
+ROOT = PACKAGE.parent
+
+
+def test_benchmarks_holds_folders_not_scripts():
+    loose = sorted(p.name for p in (ROOT / "benchmarks").iterdir() if p.is_file() and p.name != "README.md")
+    assert loose == [], "a benchmark script belongs in one of benchmarks/'s folders (benchmarks/README.md)"
+    assert (ROOT / "benchmarks" / "lib" / "__init__.py").is_file()
+
+
+def _reaches_experiments(node: ast.AST) -> bool:
+    """An import of experiments, or a call that puts it on the path or imports it by name."""
+    if isinstance(node, ast.Import):
+        return any(a.name.split(".")[0] == "experiments" for a in node.names)
+    if isinstance(node, ast.ImportFrom):
+        return (node.module or "").split(".")[0] == "experiments"
+    if isinstance(node, ast.Call):
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+        if name in ("insert", "append", "extend", "import_module", "__import__", "benchmark_module"):
+            return any(isinstance(n, ast.Constant) and "experiments" in str(n.value) for n in ast.walk(node))
+    return False
+
+
+def test_experiments_stand_apart_from_the_default_suite():
+    assert (ROOT / "experiments" / "README.md").is_file()
+    assert sorted((ROOT / "experiments").glob("*.py")), "experiments/ holds the rejected remedies' scripts"
+    reaching = [
+        f"{path.relative_to(ROOT)}:{node.lineno}"
+        for path in sorted((ROOT / "tests").rglob("*.py"))
+        for node in ast.walk(ast.parse(path.read_text()))
+        if _reaches_experiments(node)
+    ]
+    assert reaching == [], "tests/ must not import experiments/ or put it on the path: " + ", ".join(reaching)
+
+
+def test_the_experiments_check_sees_an_import_and_a_path_insert():
+    code = (
+        "import sys\nsys.path.insert(0, str(ROOT / 'experiments'))\nfrom experiments.x import y\nimport experiments\n"
+    )
+    assert sum(_reaches_experiments(n) for n in ast.walk(ast.parse(code))) == 3

@@ -13,7 +13,12 @@ from zedo_cli.formats import INPUT_FORMATS
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
-PAGES = [README, *sorted((ROOT / "docs").glob("*.md"))]
+PAGES = [
+    README,
+    *sorted((ROOT / "docs").glob("*.md")),
+    ROOT / "benchmarks" / "README.md",
+    ROOT / "experiments" / "README.md",
+]
 MAX_README_LINES = 300
 
 # [text](target) and ![alt](target); a target has no spaces (an optional "title" is dropped).

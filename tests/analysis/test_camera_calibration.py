@@ -173,10 +173,9 @@ def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_2_m(
 
 
 def test_the_recipe_replaces_every_range_of_a_mode_and_leaves_the_pseudo_cameras_in_place() -> None:
-    import sys
+    from helpers import benchmark_module
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-    from calibrate_measures import replace_calibrations
+    replace_calibrations = benchmark_module("calibrate.calibrate_measures").replace_calibrations
 
     pseudo, clips = calibration(), replace(calibration("smooth"), scope="clips")
     old = [pseudo, camera_calibration((0.6, 2.0)), camera_calibration((0.6, 2.0), temporal="smooth"), clips]

@@ -1,16 +1,14 @@
-"""The benchmark clips' two motions between key poses (benchmarks/temporal.py, `interpolation`): the
+"""The benchmark clips' two motions between key poses (benchmarks/lib/clips.py, `interpolation`): the
 `segments` motion keeps one infant's bones, which easing the joints' positions does not."""
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
-from helpers import synthetic_poses
+from helpers import benchmark_module, synthetic_poses
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from temporal import SYRIP12_JOINTS, _segment_vectors, make_sequences, segment_interpolation  # noqa: E402
+clips = benchmark_module("lib.clips")
+SYRIP12_JOINTS, _segment_vectors = clips.SYRIP12_JOINTS, clips._segment_vectors
+make_sequences, segment_interpolation = clips.make_sequences, clips.segment_interpolation
 
 
 def _key_poses(count: int, seed: int) -> np.ndarray:

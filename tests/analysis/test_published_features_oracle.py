@@ -4,16 +4,16 @@ unchanged in its own venv (pandas 1.5): every feature within 0.5 %, the entropie
 Runs when ZEDO_CHAMBERS_PYTHON names that venv's python
 (`bash ../shared/reference/chambers2020/make_venv.sh DIR`, then ZEDO_CHAMBERS_PYTHON=DIR/bin/python) and the
 reference code is at ../shared/reference/chambers2020; skips otherwise. The clips and the comparison are
-benchmarks/published_features_oracle.py's (which runs more and longer clips)."""
+benchmarks/accuracy/published_features_oracle.py's (which runs more and longer clips)."""
 
 from __future__ import annotations
 
 import os
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import benchmark_module
 
 ROOT = Path(__file__).resolve().parents[2]
 REFERENCE = ROOT.parent / "shared" / "reference" / "chambers2020"
@@ -23,15 +23,9 @@ pytestmark = pytest.mark.skipif(
     not (PYTHON and Path(PYTHON).is_file() and (REFERENCE / "run_reference.py").is_file()),
     reason="set ZEDO_CHAMBERS_PYTHON to the reference venv's python (../shared/reference/chambers2020)",
 )
-sys.path.insert(0, str(ROOT / "benchmarks"))
-from published_features_oracle import (  # noqa: E402
-    ClipSpec,
-    compare,
-    infant_clip,
-    reference_features,
-    tolerance,
-    zedo_features,
-)
+oracle = benchmark_module("accuracy.published_features_oracle")
+ClipSpec, compare, infant_clip = oracle.ClipSpec, oracle.compare, oracle.infant_clip
+reference_features, tolerance, zedo_features = oracle.reference_features, oracle.tolerance, oracle.zedo_features
 
 CLIPS = [
     ClipSpec("30fps-gaps", 30.0, 6.0, 11, runs=3, frame_gaps=1),

@@ -12,7 +12,7 @@ are widened by t(k - 1) / z for k blocks and by the blocks' taper (`taper_correc
 correct the too narrow intervals of clips of few stretches of behaviour, not wholly (coverage
 below 90 % for clips of a few minutes with long holds). The interval is for the long-run share
 (or median) of the process the clip was drawn from, and knows nothing of the frames' own errors:
-`head_calibration` widens it to its measured coverage (`benchmarks/head_measures.py`,
+`head_calibration` widens it to its measured coverage (`benchmarks/calibrate/head_measures.py`,
 docs/clinical.md, "Head").
 
 Series lie on the clip's frame grid (`frame - first frame`), NaN where a frame has no value (not in

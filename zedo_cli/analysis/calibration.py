@@ -3,7 +3,7 @@
 A lifted pose's symmetry and joint angles are only as good as its depth, and the 2D alone leaves
 the depth of limbs that point towards or away from the camera to the prior. For every measure m
 the calibration, fitted on lifts of poses the lifting prior never saw (fold priors, held-out
-SyRIP training poses, `benchmarks/calibrate_measures.py`), holds:
+SyRIP training poses, `benchmarks/calibrate/calibrate_measures.py`), holds:
 
 - the estimate: the measured value shrunk towards the calibration truths' median c,
   est = c + w (m - c), with w of WEIGHT_GRID the one with the least mean absolute error on the

@@ -29,10 +29,11 @@ import numpy as np
 
 from .calibration import MeasureModel
 
-# Seconds over which a frame's error persists. Measured on held-out synthetic clips (benchmarks/calibrate_measures.py
-# --cameras; docs/clinical.md) as the integrated autocorrelation time of the ranks of the truth in the frames'
-# calibrated distributions: median 0.47-0.56 s, 90th percentile 0.79-0.95 s over the camera kinds; the 90th
-# percentile, rounded up. A clip's own persistence, when longer, wins (block_frames).
+# Seconds over which a frame's error persists. Measured on held-out synthetic clips
+# (benchmarks/calibrate/calibrate_measures.py --cameras; docs/clinical.md) as the integrated autocorrelation time
+# of the ranks of the truth in the frames' calibrated distributions: median 0.47-0.56 s, 90th percentile
+# 0.79-0.95 s over the camera kinds; the 90th percentile, rounded up. A clip's own persistence, when longer,
+# wins (block_frames).
 ERROR_PERSISTENCE_S = 1.0
 DRAWS = 2000  # bootstrap draws per clip and pair
 MAX_PHASES = 16  # distinct block offsets per clip (the draws share them)

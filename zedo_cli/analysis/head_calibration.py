@@ -17,13 +17,13 @@ few long holds says little about its own variance; alone it under-covers. So, pe
    multiplied by it. One bootstrap interval (at the bootstrap's own level, 90 %) serves every
    level: only the quantile changes.
 
-The truths are those of `benchmarks/head_measures.py`: a share is the process's long-run share of
+The truths are those of `benchmarks/calibrate/head_measures.py`: a share is the process's long-run share of
 frames by the head's true yaw, the median tilt the long-run median of the tilt's definition on the
 noiseless points; the clips measured for the held-out coverage are other infants' poses and seeds.
 
 A calibration holds for the settings it was fitted with (`HeadSettings` except `min_confidence`,
 and the bootstrap's except its seed); other settings get no interval. The bundled file is
-`zedo_cli/weights/head.json` (`python benchmarks/head_measures.py --write`).
+`zedo_cli/weights/head.json` (`python benchmarks/calibrate/head_measures.py --write`).
 """
 
 from __future__ import annotations

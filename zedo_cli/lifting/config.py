@@ -162,7 +162,7 @@ def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
     return set(calibrated) <= set(wanted) and all(calibrated.get(k, defaults.get(k)) == v for k, v in wanted.items())
 
 
-# fast (issue 17; docs/uncertainty.md "Plausible skeletons", benchmarks/lift_validation.py on held-out folds):
+# fast (issue 17; docs/uncertainty.md "Plausible skeletons", benchmarks/calibrate/lift_validation.py on held-out folds):
 # - 20 prior steps of 0.03 from noise level 0.2 (the reference: 1000 of 1/1000 from 0.1);
 # - before each step, observed joints are moved 0.75 of the way onto their rays (the reference: all
 #   the way), so the 2D and the prior settle where both fit instead of the 2D being taken as exact:
@@ -207,7 +207,7 @@ def get_preset(name: str) -> LiftConfig:
 
 
 TEMPORAL_MODES = ("none", "smooth", "two-pass")
-# measured (benchmarks/temporal.py): by far the least jitter and the cheapest; two-pass is about 1 mm
+# measured (benchmarks/accuracy/temporal.py): by far the least jitter and the cheapest; two-pass is about 1 mm
 # more accurate with fast's softer rays but leaves 3-4 times the jitter
 DEFAULT_TEMPORAL_MODE = "smooth"
 DEFAULT_SIGMA_FRAMES = 2.0

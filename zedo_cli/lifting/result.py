@@ -13,7 +13,7 @@ from .config import LiftConfig
 LIFTED = "lifted"  # `LiftResult.status` of a lifted instance; else a reason (`solver.NOT_LIFTED`)
 # A pose whose K hypotheses lie further apart than this (`hypothesis_spread_m`) may land in another
 # solution (a limb or the whole pose at another depth): flagged `unstable_solution`. Chosen on held-out
-# SyRIP folds (benchmarks/hypothesis_spread.py; docs/lifting.md, "Same answer on every machine").
+# SyRIP folds (benchmarks/accuracy/hypothesis_spread.py; docs/lifting.md, "Same answer on every machine").
 UNSTABLE_SPREAD_M = 0.08
 
 

@@ -22,7 +22,7 @@ them (NaN-aware): a gap never spreads into its neighbours. Where the input numbe
 (`frames`), the filter runs on that time axis: a frame missing from the input (an OpenPose
 frame without people) is a gap too, and a gap longer than the filter's radius (3 sigma) is
 never blended across. Measured against frame-by-frame in
-`benchmarks/temporal.py`.
+`benchmarks/accuracy/temporal.py`.
 
 Only one sequence is smoothed: frames that are not one (several image sizes, frame numbers or
 file names that do not count up, a pose that jumps from frame to frame) are refused before any

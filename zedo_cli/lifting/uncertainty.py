@@ -10,7 +10,7 @@ where `spread_j` is the RMS distance of the K hypotheses' joint j from the repor
 one hypothesis), `floor_j` a fixed floor (the median spread on the calibration poses; 1 with one
 hypothesis, so the radius is a per-joint constant) and `scale_j` the conformal quantile of
 `error / (spread + floor)` on held-out poses. The constants are fitted by
-`benchmarks/calibrate_uncertainty.py` on poses no fold prior saw (never Test100) and hold only
+`benchmarks/calibrate/calibrate_uncertainty.py` on poses no fold prior saw (never Test100) and hold only
 for the prior and lifting settings they were fitted with: a calibration names the prior's
 sha256 and the settings, and a lift with anything else reports no uncertainty (and says why)
 rather than a number that was never checked.

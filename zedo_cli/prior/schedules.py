@@ -58,7 +58,7 @@ STRATEGIES = ("control", "finetune", "scratch")
 # The adaptation recipe of `control` and `finetune`: the paper's objective and optimiser with a
 # schedule sized for small sets. `scratch` has nothing to adapt from and keeps the core recipe
 # (8000 epochs, warm-up 5000), which its short-schedule runs needed. Both were chosen on SyRIP
-# training poses held out of the subset (benchmarks/adapt_validation.py, docs/benchmarks.md).
+# training poses held out of the subset (benchmarks/accuracy/adapt_validation.py, docs/benchmarks.md).
 ADAPT_TRAINING = TrainConfig(epochs=1000, batch_size=5000, warmup_steps=200)
 SCRATCH_TRAINING = TrainConfig()
 
