@@ -242,3 +242,13 @@ def test_resolve_missing_file(tmp_path: Path) -> None:
     path = str(tmp_path / "absent.json")
     with pytest.raises(IntrinsicsError, match="absent.json"):
         resolve_intrinsics(SIZES, IDS, NAMES, intrinsics_file=path)
+
+
+def test_a_missing_image_size_names_every_option_that_gives_one() -> None:
+    from zedo_cli.errors import CameraInputError
+
+    sizes = np.array([[np.nan, np.nan]])
+    with pytest.raises(CameraInputError, match="instance 0 .* has no image size") as err:
+        resolve_intrinsics(sizes, [7], [None])
+    for option in ("--image-size W H", "--video FILE", "--images COCO.json", "--principal-point", "--intrinsics"):
+        assert option in str(err.value)

@@ -1,4 +1,4 @@
-"""Measure-level estimates and calibrated intervals of `zedo analyze` (issue 28).
+"""Measure-level estimates and calibrated intervals of `zedo analyze`.
 
 A lifted pose's symmetry and joint angles are only as good as its depth, and the 2D alone leaves
 the depth of limbs that point towards or away from the camera to the prior. For every measure m

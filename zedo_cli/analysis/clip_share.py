@@ -1,4 +1,4 @@
-"""The share of a clip's frames in which a symmetry pair is asymmetric, with an interval (issue 35).
+"""The share of a clip's frames in which a symmetry pair is asymmetric, with an interval.
 
 What it estimates: of one person's frames with a calibrated value, the share whose TRUE symmetry
 angle exceeds the threshold. Each frame's calibration (analysis.calibration) gives a conformal

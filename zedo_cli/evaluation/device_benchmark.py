@@ -1,4 +1,4 @@
-"""The device benchmark (`zedo benchmark --scale`, issue 38): lift throughput and peak memory for
+"""The device benchmark (`zedo benchmark --scale`): lift throughput and peak memory for
 large batches on one device, CPU/device agreement on the same poses, and `fit-prior` time.
 
 The inputs are synthetic: 3D poses from a pool (SyRIP's 600 training poses, never Test100; or

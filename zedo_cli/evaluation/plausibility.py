@@ -1,4 +1,4 @@
-"""Anatomical plausibility and symmetry-angle agreement of lifted poses (issue 17's measures).
+"""Anatomical plausibility and symmetry-angle agreement of lifted poses .
 
 - Twin-limb ratio (`data.skeleton.twin_limb_ratio`): per pose, the largest longer/shorter ratio
   of a left/right upper arm, forearm, thigh or shank; reported as the fractions of poses above

@@ -162,29 +162,17 @@ def settings_match(calibrated: dict[str, Any], wanted: dict[str, Any]) -> bool:
     return set(calibrated) <= set(wanted) and all(calibrated.get(k, defaults.get(k)) == v for k, v in wanted.items())
 
 
-# fast (issue 17; docs/uncertainty.md "Plausible skeletons", benchmarks/calibrate/lift_validation.py on held-out folds):
-# - 20 prior steps of 0.03 from noise level 0.2 (the reference: 1000 of 1/1000 from 0.1);
-# - before each step, observed joints are moved 0.75 of the way onto their rays (the reference: all
-#   the way), so the 2D and the prior settle where both fit instead of the 2D being taken as exact:
-#   on four folds 42.5 -> 41.5 mm (GT 2D) and 46.2 -> 45.3 (FiDIP), symmetry-angle error 18.2 ->
-#   16.1 and 17.5 -> 15.7 degrees, mean reprojection error 2.8 -> 8.3 px;
-# - joints with under 0.6 times their pose's median confidence move less of the way, in proportion:
-#   on the same folds FiDIP 45.28 -> 45.08 mm and 15.7 -> 15.4 degrees, GT 2D +0.03 mm; relative,
-#   as a fixed threshold (0.5) did as well on FiDIP but lost 1.1 mm and refused 7 of 600 poses when
-#   the same detections' confidences were scaled by 0.4 (another detector's scale);
-# - the hips move 0.6 of that (a 2D hip is a surface landmark, the prior's hip a joint inside the
-#   pelvis): on the same folds 41.54 -> 41.02 mm (GT 2D) and 45.08 -> 44.38 (FiDIP), symmetry
-#   16.0 -> 15.2 and 15.4 -> 14.8 degrees; 2D projected from a body model's own joints lose by it;
-# - then two rounds of the twin-limb term (rate 0.85) and the bone-proportion term (rate 0.7; with
-#   exact rays 0.3 was chosen, as higher rates raised the symmetry-angle error);
-# - after the loop, twin limbs over 1.4 times each other are brought to 1.4 (the loop alone left
-#   1.5-1.7 % of fold poses over 1.6; the cap none, for 0.02-0.03 mm);
-# - one hypothesis by default (more give a spread for the uncertainty at K times the cost); with
-#   --hypotheses K the others take the full SDE noise and the reported pose stays hypothesis 0
-#   (their mean cost 0.8 mm);
-# - the network in bfloat16 where the CPU (AMX or AVX512-BF16) or GPU has it, float32 elsewhere,
-#   where bfloat16 is several times slower (issue 38; docs/benchmarks.md "Where the time goes"): its
-#   20 steps 2.0-2.4x cheaper on this project's Xeon, Test100 38.79 / 43.36 mm (float32: 43.35).
+# fast: settings chosen on held-out folds, never on Test100 (the figures behind each: docs/decisions.md, "The fast
+# preset's settings"):
+# - 20 prior steps of 0.03 from noise level 0.2;
+# - before each step, observed joints move 0.75 of the way onto their rays (the 2D is not taken as exact); joints
+#   under 0.6 times their pose's median confidence move less, in proportion; the hips move 0.6 of that (a 2D hip is
+#   a surface landmark, the prior's hip a joint inside the pelvis);
+# - then two rounds of the twin-limb term (rate 0.85) and the bone-proportion term (rate 0.7);
+# - after the loop, twin limbs over 1.4 times each other are brought to 1.4;
+# - one hypothesis by default; with --hypotheses K the others take the full SDE noise and the reported pose stays
+#   hypothesis 0;
+# - the network in bfloat16 where the CPU (AMX or AVX512-BF16) or GPU has it, float32 elsewhere.
 _FAST = LiftConfig(preset="fast", init_steps=100, steps=20, t_start=0.2, step_delta=None, release_fraction=0.15,
                    ray_weight=0.75, ray_confidence_ratio=0.6, hip_ray_factor=0.6, twin_rate=0.85, proportion_rate=0.7,
                    length_iterations=2, twin_ratio_cap=1.4, hypothesis_noise=1.0, aggregate="first",

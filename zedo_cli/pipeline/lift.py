@@ -293,7 +293,7 @@ def network_precision(cfg: LiftConfig, device: str) -> str:
 
 
 def stability_note(hypotheses: int) -> str:
-    """What the output says about poses that may have landed in another solution (issue 38)."""
+    """What the output says about poses that may have landed in another solution."""
     from ..lifting.result import UNSTABLE_SPREAD_M
 
     limit = f"{UNSTABLE_SPREAD_M * 1000:g} mm"

@@ -1,4 +1,4 @@
-"""A prior made of several score networks trained alike with different seeds (issue 17).
+"""A prior made of several score networks trained alike with different seeds.
 
 The lifting loop asks the prior for one noise prediction per step; an ensemble answers with the
 mean of its members' predictions. Two trainings of one recipe differ by about 2 mm on SyRIP

@@ -89,8 +89,8 @@ def _older_result(path: str, params: dict[str, Any], prior: dict[str, Any]) -> t
         wanted = replace(base, **{k: values[k] for k in CONFIG_KEYS if k in values}).to_dict()
     except (TypeError, ConfigError) as exc:
         raise ConfigError(f"{path}: params.config: {exc}") from None
-    # bf16 and chunk_size do not change the poses (CALIBRATION_IRRELEVANT): `fast` results from before
-    # issue 38 record bf16 false, where `fast` now says null (bfloat16 where the device has it).
+    # bf16 and chunk_size do not change the poses (CALIBRATION_IRRELEVANT): older `fast` results record bf16
+    # false, where `fast` now says null (bfloat16 where the device has it).
     fixed = [k for k in wanted if k in config and k not in (*CONFIG_KEYS, *CALIBRATION_IRRELEVANT)
              and config[k] != wanted[k]]  # fmt: skip
     if fixed or set(config) - set(LiftConfig().to_dict()):

@@ -1,4 +1,4 @@
-"""A JSON document whose large arrays are decoded one element at a time (issue 19).
+"""A JSON document whose large arrays are decoded one element at a time.
 
 ``json.loads`` of a 50 MB detector output builds about ten times its size in Python objects,
 all alive while the reader walks them. `scan_document` instead checks the whole text once with
