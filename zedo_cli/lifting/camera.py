@@ -270,7 +270,8 @@ def _command_line_intrinsics(
     else:
         raise CameraInputError(
             f"instance {i} (image_id {image_id!r}) has no image size: pass --image-size W H, --video FILE (its "
-            "size), --images COCO.json (a COCO results file's annotations), --principal-point CX CY or --intrinsics K.json"
+            "size), --images COCO.json (a COCO results file's annotations), --principal-point CX CY or "
+            "--intrinsics K.json"
         )
     f = PSEUDO_FOCAL_PX if focal is None else focal
     source = "pseudo" if focal is None and principal_point is None else "cli"
