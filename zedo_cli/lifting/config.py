@@ -194,7 +194,7 @@ def get_preset(name: str) -> LiftConfig:
         raise ConfigError(f"unknown preset {name!r}; presets: {', '.join(PRESETS)}") from None
 
 
-TEMPORAL_MODES = ("none", "smooth", "two-pass")
+TEMPORAL_MODES = ("none", "smooth", "two-pass", "clip")
 # measured (benchmarks/accuracy/temporal.py): by far the least jitter and the cheapest; two-pass is about 1 mm
 # more accurate with fast's softer rays but leaves 3-4 times the jitter
 DEFAULT_TEMPORAL_MODE = "smooth"

@@ -63,6 +63,11 @@ class LiftResult:
     uncertainty_coverage: float | None = None  # the probability the radii hold (the calibration's)
     # (N,) `hypothesis_spread`, NaN where not lifted; None when K = 1 (nothing to compare).
     hypothesis_spread_m: np.ndarray | None = None
+    # (N, J) joints whose depth side the 2D cannot tell (`--temporal clip`: the limb's stretch between two
+    # passages near the image plane); None: not measured (the other modes).
+    depth_ambiguous: np.ndarray | None = None
+    # `--temporal clip`: each track's skeleton as the result's params record it (`clip.TrackSkeleton.to_dict`).
+    track_skeletons: list[dict] | None = None
 
     def unstable(self) -> np.ndarray | None:
         """`(N,)` lifted poses whose hypotheses spread over UNSTABLE_SPREAD_M; None when K = 1."""

@@ -314,7 +314,7 @@ def run_lift(
     kp: Keypoints2D, prior: Prior, cfg: LiftConfig, intrinsics: np.ndarray, *, min_confidence: float,
     device: str, temporal: str = "none", sigma: float = 2.0, tracks: np.ndarray | None = None,
     frames: np.ndarray | None = None, seed: int = 0, calibrations: tuple[UncertaintyModel, ...] | None = None,
-    lenses: Sequence[CameraModel | None] | None = None, callback: Progress | None = None,
+    lenses: Sequence[CameraModel | None] | None = None, callback: Progress | None = None, fps: float | None = None,
 ) -> LiftResult:  # fmt: skip
     """Lift frame by frame, or as a sequence (`temporal`: the frames checked to be one first);
     with the calibrated per-joint uncertainty where the prior and settings have one in
@@ -329,7 +329,7 @@ def run_lift(
         res = lift_sequence(kp.xy, kp.confidence, intrinsics, prior, cfg, mode=temporal, sigma=sigma,
                             tracks=tracks, frames=frames, min_confidence=min_confidence, device=device,
                             callback=callback, seed=seed, cameras=lenses, image_sizes=kp.image_sizes,
-                            file_names=kp.file_names)  # fmt: skip
+                            file_names=kp.file_names, fps=fps)  # fmt: skip
         return replace(res, uncertainty_note=f"not calibrated for --temporal {temporal}")
     res = lift(kp.xy, kp.confidence, intrinsics, prior, cfg, min_confidence=min_confidence,
                device=device, callback=callback, seed=seed, cameras=lenses)  # fmt: skip
@@ -345,7 +345,8 @@ def lift_prepared(prep: PreparedInput, prior: Prior, plan: LiftPlan, callback: P
     o, kp, source = plan.options, prep.keypoints, prep.source
     res = run_lift(kp, prior, plan.cfg, prep.cameras.matrices, min_confidence=o.min_confidence, device=plan.device,
                    temporal=o.temporal, sigma=o.sigma, tracks=prep.tracks, frames=prep.frames, seed=o.seed,
-                   calibrations=plan.calibrations, lenses=prep.cameras.lenses, callback=callback)  # fmt: skip
+                   calibrations=plan.calibrations, lenses=prep.cameras.lenses, callback=callback,
+                   fps=plan.fps)  # fmt: skip
     if not o.save_hypotheses:  # the writers write the hypotheses a result keeps
         res = replace(res, hypotheses=None)
     if not res.lifted.any():  # nothing but flags to write: fail loudly instead
@@ -359,7 +360,11 @@ def lift_prepared(prep: PreparedInput, prior: Prior, plan: LiftPlan, callback: P
         person=o.person,
         person_selection=prep.counts,
         fps=plan.fps,
-        temporal={"mode": o.temporal, "sigma_frames": o.sigma},
+        temporal={
+            "mode": o.temporal,
+            "sigma_frames": o.sigma,
+            **({} if res.track_skeletons is None else {"skeletons": res.track_skeletons}),
+        },
         camera_sources=sorted(set(prep.cameras.sources)),  # pseudo, cli or file: what measure calibrations match
         uncertainty=uncertainty_params(res),
         save_hypotheses=o.save_hypotheses,

@@ -98,7 +98,8 @@ class LiftOptions(Options):
     temporal: Literal[TEMPORAL_MODES] = Field(  # type: ignore[valid-type]
         "none",
         description=f"For sequences: {', '.join(TEMPORAL_MODES)}. smooth: a Gaussian filter over time after "
-        "lifting; two-pass: smooth, then 3 prior steps back onto the rays.",
+        "lifting; two-pass: smooth, then 3 prior steps back onto the rays; clip: two-pass, then each track as one "
+        "infant (one skeleton, limb bones at their length, depth sides kept, ambiguous stretches flagged).",
     )
     sigma: float = Field(
         DEFAULT_SIGMA_FRAMES, gt=0, le=MAX_SIGMA_FRAMES, description="Width of --temporal's Gaussian, in frames."

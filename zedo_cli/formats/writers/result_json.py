@@ -77,6 +77,10 @@ def _person(
     unstable = res.unstable()
     if unstable is not None and unstable[i]:  # K > 1: hypotheses far apart (lifting.result.UNSTABLE_SPREAD_M)
         flags.append("unstable_solution")
+    if res.depth_ambiguous is not None and res.lifted[i] and res.depth_ambiguous[i].any():  # --temporal clip
+        flags.append(
+            "depth_ambiguous: " + ", ".join(kp.skeleton.joints[j] for j in np.flatnonzero(res.depth_ambiguous[i]))
+        )
     d = opts.digits
     return {
         "instance_index": i,

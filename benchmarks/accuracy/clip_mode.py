@@ -1,0 +1,184 @@
+"""`--temporal clip` against the other temporal modes on clips of one infant each, per source.
+
+Sources: `syrip` (SyRIP poses, one infant's bones kept and each segment turned from key pose to key pose,
+`make_sequences(interpolation="segments")`; `--split test` for Test100, the final check, else the training
+poses) and `adult` (the adult motion capture made infant-like, `zedo_cli.evaluation.clips`, when it is
+installed with the data). Each clip is seen through a camera of f = 1000 px (known, `--camera known`) or the
+pseudo camera (`--camera pseudo`), 3 px detector noise, 3 % of joints dropped. Scored against the 3D truth,
+pelvis-centred without scale or rotation alignment, over the frames every mode lifted:
+bone-length CV (the eight limb bones' coefficient of variation within a clip, averaged), MPJPE (mm),
+elbow/knee interior-angle MAE (deg), MPJVE (mm/s, the velocity error of root-relative joints), mean
+reprojection error (px); and for clip mode the skeleton's bone ratios against the truth, its 90 %
+intervals' coverage (known camera), the depth side of segments over 30 degrees out of the image plane in
+frames not flagged, and the share of limb-frames flagged.
+
+    .venv/bin/python benchmarks/accuracy/clip_mode.py --syrip-dir ../shared/data/syrip --clips 8
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
+from zedo_cli.data.datasets import load_syrip_3d
+from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.lifting.camera import Intrinsics
+from zedo_cli.lifting.clip import BONE_NAMES, LIMB_BONES
+from zedo_cli.lifting.config import get_preset
+from zedo_cli.lifting.temporal import lift_sequence
+from zedo_cli.prior.weights import load_prior, resolve_prior_path
+
+SKELETON = get_skeleton("syrip12")
+MODES = ("none", "smooth", "two-pass", "clip")
+FPS = 30.0
+
+
+def known_camera(focal: float):  # noqa: ANN201
+    def place(rng: np.random.Generator, rel: np.ndarray, drift: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        k = Intrinsics(focal, focal, IMAGE_W / 2, IMAGE_H / 2, "cli").matrix()
+        root = np.array([0.0, 0.0, 1.0]) + rng.normal(0, [0.03, 0.03, 0.05]) + drift
+        return k, root
+
+    return place
+
+
+def bone_cv(poses: np.ndarray) -> float:
+    """Mean over the eight limb bones of their coefficient of variation within the clip (%)."""
+    cvs = []
+    for a, b in LIMB_BONES:
+        length = np.linalg.norm(poses[:, SKELETON.index(a)] - poses[:, SKELETON.index(b)], axis=-1)
+        length = length[np.isfinite(length)]
+        cvs.append(length.std() / length.mean())
+    return 100 * float(np.mean(cvs))
+
+
+def interior_angles(poses: np.ndarray) -> np.ndarray:
+    """Elbow and knee interior angles `(T, 4)` in degrees (180 = straight)."""
+    out = []
+    for a, b, c in (("left_hip", "left_knee", "left_ankle"), ("right_hip", "right_knee", "right_ankle"),
+                    ("left_shoulder", "left_elbow", "left_wrist"), ("right_shoulder", "right_elbow", "right_wrist")):
+        u = poses[:, SKELETON.index(a)] - poses[:, SKELETON.index(b)]
+        v = poses[:, SKELETON.index(c)] - poses[:, SKELETON.index(b)]
+        cos = (u * v).sum(-1) / np.linalg.norm(u, axis=-1) / np.linalg.norm(v, axis=-1)
+        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.stack(out, 1)
+
+
+def depth_side(truth_cam: np.ndarray, est_cam: np.ndarray, flags: np.ndarray | None) -> tuple[int, int, int]:
+    """Limb segments over 30 degrees out of the image plane (by the truth) in frames whose child joint is not
+    flagged: (right side, counted, flagged limb-frames)."""
+    right = counted = flagged = 0
+    for a, b in LIMB_BONES:
+        ia, ib = SKELETON.index(a), SKELETON.index(b)
+        seg_t, seg_e = truth_cam[:, ib] - truth_cam[:, ia], est_cam[:, ib] - est_cam[:, ia]
+        ray = truth_cam[:, ib] / np.linalg.norm(truth_cam[:, ib], axis=-1, keepdims=True)
+        along_t = (seg_t * ray).sum(-1) / np.linalg.norm(seg_t, axis=-1)
+        along_e = (seg_e * ray).sum(-1)
+        out_of_plane = np.abs(along_t) > np.sin(np.radians(30))
+        ok = np.isfinite(along_e)
+        f = np.zeros(len(ok), bool) if flags is None else flags[:, ib]
+        flagged += int((f & ok).sum())
+        use = out_of_plane & ok & ~f
+        counted += int(use.sum())
+        right += int((np.sign(along_e[use]) == np.sign(along_t[use])).sum())
+    return right, counted, flagged
+
+
+def score(truth: np.ndarray, lifted: np.ndarray, reproj: np.ndarray) -> dict[str, float]:
+    """Figures of one clip's lift against its camera-frame truth, over frames lifted."""
+    ok = np.isfinite(lifted).all((1, 2))
+    t_rel = truth - truth[:, SKELETON.root_indices].mean(1, keepdims=True)
+    e_rel = lifted - lifted[:, SKELETON.root_indices].mean(1, keepdims=True)
+    err = np.linalg.norm(e_rel[ok] - t_rel[ok], axis=-1)
+    vel = np.diff(e_rel, axis=0) * FPS - np.diff(t_rel, axis=0) * FPS
+    both = ok[1:] & ok[:-1]
+    ang = np.abs(interior_angles(lifted[ok]) - interior_angles(truth[ok]))
+    return {"cv": bone_cv(lifted[ok]), "mpjpe": 1000 * float(err.mean()), "angle": float(np.nanmean(ang)),
+            "mpjve": 1000 * float(np.linalg.norm(vel[both], axis=-1).mean()), "reproj": float(np.nanmean(reproj[ok]))}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--syrip-dir", required=True)
+    ap.add_argument("--split", choices=("train", "test"), default="train")
+    ap.add_argument("--clips", type=int, default=8)
+    ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--camera", choices=("known", "pseudo"), default="known")
+    ap.add_argument("--source", choices=("syrip", "adult"), default="syrip")
+    ap.add_argument("--modes", nargs="+", default=list(MODES))
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    prior = load_prior(resolve_prior_path(None))
+    cfg = get_preset("fast")
+    rng = np.random.default_rng(args.seed)
+    data = clips_of(args, rng)
+    rows: dict[str, list[dict[str, float]]] = {m: [] for m in args.modes}
+    extra = {"side": [0, 0, 0], "ratio": [], "cover": [], "limb_frames": 0}
+    seconds = dict.fromkeys(args.modes, 0.0)
+    for clip in range(args.clips):
+        idx = np.flatnonzero(data["tracks"] == clip)
+        truth = data["cam"][idx]
+        for mode in args.modes:
+            start = time.perf_counter()
+            res = lift_sequence(data["xy"][idx], data["conf"][idx], data["k"][idx], prior, cfg, mode=mode, fps=FPS,
+                                seed=args.seed)  # fmt: skip
+            seconds[mode] += time.perf_counter() - start
+            rows[mode].append(score(truth, res.poses_camera, res.reprojection_error_px))
+            if mode == "clip":
+                clip_figures(extra, truth, res)
+    print(f"source {args.source} ({args.split}), camera {args.camera}, {args.clips} clips of {args.seconds:g} s")
+    print("| mode | bone-length CV % | MPJPE mm | elbow/knee MAE deg | MPJVE mm/s | reprojection px | s/clip |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
+    for mode in args.modes:
+        m = {k: np.mean([r[k] for r in rows[mode]]) for k in rows[mode][0]}
+        print(f"| {mode} | {m['cv']:.2f} | {m['mpjpe']:.1f} | {m['angle']:.1f} | {m['mpjve']:.0f} | {m['reproj']:.2f} "
+              f"| {seconds[mode] / args.clips:.1f} |")  # fmt: skip
+    if "clip" in args.modes:
+        right, counted, flagged = extra["side"]
+        print(f"clip: depth side right {100 * right / max(counted, 1):.1f} % of {counted} unflagged segment-frames "
+              f"over 30 deg out of plane; flagged {100 * flagged / max(extra['limb_frames'], 1):.1f} % of limb-frames")
+        ratio = np.array(extra["ratio"])
+        print(f"clip: bone ratios within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
+              f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true length "
+              f"{100 * np.mean(extra['cover']):.0f} % ({len(extra['cover'])} bones)")  # fmt: skip
+
+
+def clip_figures(extra: dict, truth: np.ndarray, res) -> None:  # noqa: ANN001
+    right, counted, flagged = depth_side(truth, res.poses_camera, res.depth_ambiguous)
+    extra["side"] = [extra["side"][0] + right, extra["side"][1] + counted, extra["side"][2] + flagged]
+    extra["limb_frames"] += int(np.isfinite(res.poses_camera).all((1, 2)).sum()) * len(LIMB_BONES)
+    skel = res.track_skeletons[0]
+    if "bones" not in skel:
+        return
+    true_len = {BONE_NAMES[(a, b)]: float(np.median(np.linalg.norm(truth[:, SKELETON.index(a)]
+                                                                   - truth[:, SKELETON.index(b)], axis=-1)))
+                for a, b in LIMB_BONES}  # fmt: skip
+    est = {b: v["length_m"] for b, v in skel["bones"].items()}
+    total_t, total_e = sum(true_len.values()), sum(est.values())
+    for b in est:
+        extra["ratio"].append(abs(est[b] / total_e - true_len[b] / total_t) / (true_len[b] / total_t))
+        extra["cover"].append(skel["bones"][b]["low_m"] <= true_len[b] <= skel["bones"][b]["high_m"])
+
+
+def clips_of(args: argparse.Namespace, rng: np.random.Generator) -> dict[str, np.ndarray]:
+    if args.source == "adult":
+        from zedo_cli.evaluation.clips import adult_benchmark_clips
+
+        return adult_benchmark_clips(rng, count=args.clips, seconds=args.seconds, fps=FPS,
+                                     focal_px=1000.0 if args.camera == "known" else None)  # fmt: skip
+    poses = load_syrip_3d(args.syrip_dir, args.split).poses
+    keys = int(args.seconds) + 1
+    place = known_camera(1000.0) if args.camera == "known" else None
+    return make_sequences(poses, rng, count=args.clips, keyposes=keys, transition_s=1.0, fps=FPS, noise_px=3.0,
+                          drop=0.03, gap=3, place=place, interpolation="segments")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

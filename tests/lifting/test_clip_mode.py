@@ -1,0 +1,107 @@
+"""`--temporal clip`: the two solutions of a bone on its ray, the side kept over a track, ambiguous stretches,
+one skeleton per track with every limb bone at its length, and the fallback of a short track."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from helpers import K_TEST
+from test_temporal import QUICK, _video
+
+from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.errors import ConfigError
+from zedo_cli.lifting.clip import (
+    BONE_NAMES,
+    LIMB_BONES,
+    MIN_TRACK_FRAMES,
+    ambiguous_stretches,
+    choose_sides,
+    ray_solutions,
+    unit_rays,
+)
+from zedo_cli.lifting.temporal import lift_sequence
+from zedo_cli.prior.weights import Prior
+
+SYRIP12 = get_skeleton("syrip12")
+
+
+def test_a_bone_on_its_ray_has_a_near_and_a_far_solution_at_its_length() -> None:
+    parent = np.array([[0.05, 0.02, 1.0]])
+    ray = unit_rays(np.array([[[400.0, 260.0]]]), K_TEST[None])[:, 0]
+    near, far, reach = ray_solutions(parent, ray, 0.2)
+    assert reach[0]
+    for point in (near, far):
+        assert np.linalg.norm(point - parent) == pytest.approx(0.2)
+        assert np.linalg.norm(np.cross(point, ray)) == pytest.approx(0.0, abs=1e-12)  # on the ray
+    assert near[0, 2] < far[0, 2]
+    short_near, short_far, short = ray_solutions(parent, ray, 0.01)  # the ray passes further than 1 cm
+    assert not short[0] and np.allclose(short_near, short_far)
+    assert np.linalg.norm(short_near - parent) == pytest.approx(0.01)
+
+
+def test_the_side_changes_only_near_the_image_plane() -> None:
+    # frames 0-29 prefer the near side, 30-59 weakly prefer the far side while the solutions stay far apart
+    cost = np.zeros((60, 2))
+    cost[:30, 1] = 0.5
+    cost[30:, 0] = 0.05
+    apart = np.full(60, 1.5)
+    assert (choose_sides(cost, apart) == 0).all()  # a flip mid-stretch would cost more than it gains
+    close = apart.copy()
+    close[29:31] = 0.02  # the limb passes the image plane at frame 30
+    sides = choose_sides(cost, close)
+    assert (sides[:30] == 0).all() and (sides[31:] == 1).all()
+    margin = np.where(np.arange(60) < 30, 0.9, 0.1)
+    flags = ambiguous_stretches(margin, close)
+    assert not flags[:29].any() and flags[31:].all()  # the weakly preferred stretch is said to be ambiguous
+
+
+def _clip_mode(prior: Prior, n: int, tracks: np.ndarray | None = None) -> tuple:
+    poses, xy, conf, k = _video(n)
+    res = lift_sequence(xy, conf, k, prior, QUICK, mode="clip", tracks=tracks, fps=30.0)
+    return poses, res
+
+
+def test_every_frame_holds_the_tracks_one_skeleton(tiny_prior: Prior) -> None:
+    _, res = _clip_mode(tiny_prior, 40)
+    assert res.lifted.all() and res.depth_ambiguous is not None and res.depth_ambiguous.shape == (40, 12)
+    (skel,) = res.track_skeletons
+    assert skel["frames"] == 40 and "fallback" not in skel
+    for a, b in LIMB_BONES:
+        lengths = np.linalg.norm(res.poses_camera[:, SYRIP12.index(a)] - res.poses_camera[:, SYRIP12.index(b)], axis=-1)
+        bone = skel["bones"][BONE_NAMES[(a, b)]]
+        np.testing.assert_allclose(lengths, bone["length_m"], rtol=1e-5)
+        assert bone["low_m"] <= bone["length_m"] <= bone["high_m"]
+    assert set(skel["torso"]) == {"hip_width", "shoulder_width", "trunk_length"}
+    np.testing.assert_allclose(res.poses_root_relative, res.poses_camera - res.root_translation[:, None], atol=1e-12)
+    assert np.nanmax(res.reprojection_error_px) < 40
+
+
+def test_same_input_and_seed_same_output(tiny_prior: Prior) -> None:
+    _, first = _clip_mode(tiny_prior, 30)
+    _, again = _clip_mode(tiny_prior, 30)
+    np.testing.assert_array_equal(first.poses_camera, again.poses_camera)
+    assert first.track_skeletons == again.track_skeletons
+
+
+def test_a_short_track_keeps_its_two_pass_poses_and_says_why(tiny_prior: Prior) -> None:
+    n = 40 + MIN_TRACK_FRAMES - 1
+    tracks = np.r_[np.zeros(40, int), np.ones(MIN_TRACK_FRAMES - 1, int)]
+    _, res = _clip_mode(tiny_prior, n, tracks)
+    long, short = res.track_skeletons
+    assert long["track"] == 0 and "bones" in long
+    assert short["track"] == 1 and short["fallback"].startswith("too few frames with every limb seen")
+    assert not res.depth_ambiguous[40:].any()
+    two_pass = lift_sequence(*_video(n)[1:], tiny_prior, QUICK, mode="two-pass", tracks=tracks)
+    np.testing.assert_allclose(res.poses_camera[40:], two_pass.poses_camera[40:])
+
+
+def test_clip_mode_needs_the_limbs_joints(tiny_prior: Prior) -> None:
+    from dataclasses import replace
+
+    from zedo_cli.lifting.temporal import lift_tracks_as_infants
+
+    _, res = _clip_mode(tiny_prior, 20)
+    h36m = get_skeleton("h36m17")
+    with pytest.raises(ConfigError, match="--temporal clip needs the limbs' joints"):
+        lift_tracks_as_infants(replace(res), np.zeros((20, 12, 2)), np.repeat(K_TEST[None], 20, 0),
+                               replace(h36m, joints=h36m.joints[:12]), None, None, 2.0, 30.0, 0)  # fmt: skip

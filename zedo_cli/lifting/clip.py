@@ -1,0 +1,340 @@
+"""`--temporal clip`: each person track of a video lifted as one infant, with one skeleton.
+
+Frame-by-frame lifts give an infant bones that change length from frame to frame, and a limb that
+points along the camera axis its depth side picked anew in every frame. Clip mode starts from the
+`two-pass` lift of the track and then:
+
+1. **One skeleton per track** (`estimate_skeleton`): a bone is at least as long as its parent joint's
+   distance from its child's ray, and as long where it lies in the image plane; each of the eight limb
+   bones' length is the 90th percentile of that distance over the track's frames where both its joints
+   are observed (the parent where the two-pass lift put it). Its 90 % interval is a moving-block
+   bootstrap of that estimate over the frames (blocks of a second). The torso's shape
+   (both hips and both shoulders) is the median of the track's torso poses, rigidly aligned.
+2. **The torso** of each frame is that shape, placed by OpenCV's PnP on the torso's smoothed 2D
+   (from the two-pass pose, so it keeps its side), then each torso joint moved towards its ray by at most
+   `TORSO_FLEX` of the trunk length: the shoulder girdle may move, within that tolerance.
+3. **The limbs**, each bone from its parent outward: the child joint on its ray at the bone's exact
+   length has two solutions, one towards the camera and one away (they meet where the bone lies in
+   the image plane). The side is chosen over the whole track at once (`choose_sides`, a Viterbi pass):
+   each frame prefers the side nearer the two-pass pose, and changing side costs `SIDE_CHANGE_COST`
+   times how far apart the two solutions are, so the side changes only where the limb passes near the
+   image plane. A joint not observed keeps its two-pass direction from its parent at the bone's length.
+4. **Ambiguity said, not hidden**: between two passages near the image plane a limb keeps one side;
+   where the two-pass pose hardly prefers it over that stretch (mean margin under `AMBIGUOUS_MARGIN`
+   bone lengths), its child joint is flagged depth-ambiguous in every frame of the stretch.
+
+The 2D is the detections smoothed as in `two-pass` (rays through raw pixels bring their noise back).
+A track too short for a skeleton (under `MIN_TRACK_FRAMES` frames with the limbs seen) keeps its
+two-pass poses, and its skeleton says why.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..data.skeleton import Skeleton, root_point
+
+Smoother = Callable[[np.ndarray], np.ndarray]
+
+# (parent, child) of each limb bone, by joint name; each chain from the torso outward
+LIMB_BONES = (
+    ("left_hip", "left_knee"), ("left_knee", "left_ankle"), ("right_hip", "right_knee"), ("right_knee", "right_ankle"),
+    ("left_shoulder", "left_elbow"), ("left_elbow", "left_wrist"),
+    ("right_shoulder", "right_elbow"), ("right_elbow", "right_wrist"),
+)  # fmt: skip
+TORSO = ("left_hip", "right_hip", "left_shoulder", "right_shoulder")
+BONE_NAMES = {
+    ("left_hip", "left_knee"): "left_thigh", ("left_knee", "left_ankle"): "left_shank",
+    ("right_hip", "right_knee"): "right_thigh", ("right_knee", "right_ankle"): "right_shank",
+    ("left_shoulder", "left_elbow"): "left_upper_arm", ("left_elbow", "left_wrist"): "left_forearm",
+    ("right_shoulder", "right_elbow"): "right_upper_arm", ("right_elbow", "right_wrist"): "right_forearm",
+}  # fmt: skip
+MIN_TRACK_FRAMES = 15  # frames with both joints of every limb bone seen: fewer give no skeleton
+REACH_QUANTILE = 0.9  # of a bone's frames whose child ray its length reaches
+TORSO_FLEX = 0.1  # of the trunk length: how far a torso joint may leave the track's torso shape
+SIDE_CHANGE_COST = 4.0  # per bone length of distance between the two solutions where the side changes
+AMBIGUOUS_MARGIN = 0.5  # of the solutions' distance: a stretch whose side the two-pass pose prefers by less is flagged
+NEAR_PLANE = 0.5  # a bone whose two solutions lie under this many bone lengths apart is near the image plane
+BOOTSTRAP_DRAWS = 200
+LEVEL = 0.9
+
+
+@dataclass(frozen=True)
+class TrackSkeleton:
+    """One track's skeleton in the lift's own scale (metres): limb bone lengths with their 90 % intervals,
+    and the torso's widths and trunk length; `fallback` says why a track kept its two-pass poses."""
+
+    track: int | str  # the track's label
+    frames: int  # frames the lengths were measured on
+    bones_m: dict[str, float] = field(default_factory=dict)
+    low_m: dict[str, float] = field(default_factory=dict)
+    high_m: dict[str, float] = field(default_factory=dict)
+    torso_m: dict[str, float] = field(default_factory=dict)
+    fallback: str | None = None
+
+    def to_dict(self) -> dict[str, object]:
+        """The skeleton as a result's params record it."""
+        out: dict[str, object] = {"track": self.track, "frames": self.frames}
+        if self.fallback is not None:
+            out["fallback"] = self.fallback
+            return out
+        out["bones"] = {b: {"length_m": _r(v), "low_m": _r(self.low_m[b]), "high_m": _r(self.high_m[b])}
+                        for b, v in self.bones_m.items()}  # fmt: skip
+        out["torso"] = {k: _r(v) for k, v in self.torso_m.items()}
+        out["level"] = LEVEL
+        out["method"] = (f"the {REACH_QUANTILE:.0%} quantile over the track's frames with both joints seen of the "
+                         "parent joint's distance from the child's ray; interval: moving-block bootstrap "
+                         f"({BOOTSTRAP_DRAWS} draws, 1 s blocks)")  # fmt: skip
+        return out
+
+
+def _r(x: float) -> float:
+    return float(f"{x:.6g}")
+
+
+def unit_rays(xy: np.ndarray, intrinsics: np.ndarray) -> np.ndarray:
+    """Unit rays `(T, J, 3)` through pixels `(T, J, 2)` (undistorted) of cameras `(T, 3, 3)`; NaN where missing."""
+    kinv = np.linalg.inv(intrinsics)  # (T, 3, 3)
+    homo = np.concatenate([xy, np.ones(xy.shape[:-1] + (1,))], -1)
+    rays = np.einsum("tij,tkj->tki", kinv, homo)
+    return rays / np.linalg.norm(rays, axis=-1, keepdims=True)
+
+
+def ray_solutions(parent: np.ndarray, ray: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The two points `(T, 3)` on the rays `(T, 3)` at `length` from `parent (T, 3)` (nearer and further
+    from the camera), and `reach (T,)`: False where the ray passes further than `length` from the parent
+    (both are then the point at `length` towards the ray's closest approach)."""
+    along = (ray * parent).sum(-1)  # depth of the closest approach
+    disc = along**2 - (parent * parent).sum(-1) + length**2
+    reach = disc >= 0
+    half = np.sqrt(np.maximum(disc, 0.0))
+    near, far = (along - half)[:, None] * ray, (along + half)[:, None] * ray
+    closest = along[:, None] * ray - parent
+    norm = np.linalg.norm(closest, axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        short = parent + length * closest / norm
+    near = np.where(reach[:, None], near, short)
+    far = np.where(reach[:, None], far, short)
+    return near, far, reach
+
+
+def choose_sides(cost: np.ndarray, separation: np.ndarray) -> np.ndarray:
+    """Per frame the side `(T,)` (0 near, 1 far) of least total cost over the track: `cost (T, 2)` of each
+    side in each frame (NaN: no preference), plus SIDE_CHANGE_COST x the solutions' `separation (T,)` (in
+    bone lengths, the smaller of the two frames') at each change of side (Viterbi)."""
+    t = len(cost)
+    cost = np.nan_to_num(cost, nan=0.0)
+    sep = np.nan_to_num(separation, nan=0.0)
+    total = cost[0].copy()
+    back = np.zeros((t, 2), dtype=np.int8)
+    for i in range(1, t):
+        change = SIDE_CHANGE_COST * min(sep[i - 1], sep[i])
+        stay, switch = total, total[::-1] + change
+        back[i] = np.where(stay <= switch, [0, 1], [1, 0])
+        total = np.minimum(stay, switch) + cost[i]
+    sides = np.empty(t, dtype=np.int8)
+    sides[-1] = int(np.argmin(total))
+    for i in range(t - 1, 0, -1):
+        sides[i - 1] = back[i, sides[i]]
+    return sides
+
+
+def ambiguous_stretches(margin: np.ndarray, separation: np.ndarray) -> np.ndarray:
+    """`(T,)` frames in stretches between passages near the image plane (`separation` under NEAR_PLANE) whose
+    mean preference `margin (T,)` for the chosen side (in the two solutions' distance; NaN: none) is under
+    AMBIGUOUS_MARGIN."""
+    near = np.nan_to_num(separation, nan=0.0) < NEAR_PLANE
+    flags = np.zeros(len(margin), bool)
+    stretch = np.cumsum(near)  # a new stretch after every near-plane frame
+    for s in np.unique(stretch[~near]):
+        idx = np.flatnonzero((stretch == s) & ~near)
+        m = margin[idx]
+        if np.isfinite(m).any() and np.nanmean(m) < AMBIGUOUS_MARGIN:
+            flags[idx] = True
+    return flags
+
+
+def block_bootstrap_quantile(values: np.ndarray, block: int, rng: np.random.Generator) -> tuple[float, float]:
+    """The 90 % interval of the REACH_QUANTILE quantile of the series `values (n,)` (time order) by a moving-block
+    bootstrap."""
+    n = len(values)
+    block = max(1, min(block, n))
+    starts = rng.integers(0, n - block + 1, size=(BOOTSTRAP_DRAWS, -(-n // block)))
+    idx = (starts[..., None] + np.arange(block)).reshape(BOOTSTRAP_DRAWS, -1)[:, :n]
+    drawn = np.quantile(values[idx], REACH_QUANTILE, axis=1)
+    return float(np.quantile(drawn, (1 - LEVEL) / 2)), float(np.quantile(drawn, (1 + LEVEL) / 2))
+
+
+def _kabsch(source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotation `(3, 3)` and translation `(3,)` taking the points `source (P, 3)` closest to `target (P, 3)`."""
+    cs, ct = source.mean(0), target.mean(0)
+    u, _, vt = np.linalg.svd((source - cs).T @ (target - ct))
+    d = np.sign(np.linalg.det(vt.T @ u.T))
+    rot = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
+    return rot, ct - rot @ cs
+
+
+@dataclass(frozen=True)
+class ClipTrack:
+    """One track's arrays, frames in time order: the two-pass poses `cam (T, J, 3)` (camera frame, NaN where
+    not lifted), `observed (T, J)`, smoothed undistorted pixels `xy (T, J, 2)`, `intrinsics (T, 3, 3)`."""
+
+    cam: np.ndarray
+    observed: np.ndarray
+    xy: np.ndarray
+    intrinsics: np.ndarray
+    fps: float
+
+
+def estimate_skeleton(track: ClipTrack, skeleton: Skeleton, label: int | str, seed: int = 0) -> TrackSkeleton:
+    """The track's limb bone lengths (with 90 % intervals) and torso widths; a fallback where too few
+    frames show every limb."""
+    at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
+    lifted = np.isfinite(track.cam).all((1, 2))
+    rays = unit_rays(track.xy, track.intrinsics)
+    rng = np.random.default_rng(seed)
+    block = max(1, int(round(track.fps)))
+    bones, low, high = {}, {}, {}
+    counts = []
+    for parent, child in LIMB_BONES:
+        seen = lifted & track.observed[:, at[parent]] & track.observed[:, at[child]]
+        counts.append(int(seen.sum()))
+        if seen.sum() < MIN_TRACK_FRAMES:
+            continue
+        p, r = track.cam[seen, at[parent]], rays[seen, at[child]]
+        gap = np.linalg.norm(p - (p * r).sum(-1, keepdims=True) * r, axis=-1)  # the parent's distance from the ray
+        name = BONE_NAMES[(parent, child)]
+        bones[name] = float(np.quantile(gap, REACH_QUANTILE))
+        low[name], high[name] = block_bootstrap_quantile(gap, block, rng)
+    if len(bones) < len(LIMB_BONES):
+        return TrackSkeleton(label, min(counts), fallback=(
+            f"too few frames with every limb seen for a skeleton ({min(counts)}; {MIN_TRACK_FRAMES} needed): "
+            "lifted as two-pass"))  # fmt: skip
+    torso = track.cam[lifted][:, [at[n] for n in TORSO]]
+    shape = torso_shape(torso)
+    hips, shoulders = shape[:2].mean(0), shape[2:].mean(0)
+    widths = {"hip_width": float(np.linalg.norm(shape[0] - shape[1])),
+              "shoulder_width": float(np.linalg.norm(shape[2] - shape[3])),
+              "trunk_length": float(np.linalg.norm(shoulders - hips))}  # fmt: skip
+    return TrackSkeleton(label, min(counts), bones, low, high, widths)
+
+
+def torso_shape(torso: np.ndarray) -> np.ndarray:
+    """The median shape `(4, 3)` of torso poses `(T, 4, 3)` (hips, then shoulders), each rigidly aligned to the
+    first, centred at the origin."""
+    ref = torso[0] - torso[0].mean(0)
+    aligned = []
+    for pose in torso:
+        rot, shift = _kabsch(pose, ref)
+        aligned.append(pose @ rot.T + shift)
+    shape = np.median(np.stack(aligned), axis=0)
+    return shape - shape.mean(0)
+
+
+def place_torso(track: ClipTrack, shape: np.ndarray, skeleton: Skeleton, trunk: float) -> np.ndarray:
+    """Per frame the torso joints `(T, 4, 3)`: `shape` placed by PnP on the torso's pixels from its rigid fit to
+    the two-pass torso, then each joint moved towards its ray by at most TORSO_FLEX x `trunk`."""
+    import cv2
+
+    idx = [skeleton.index(n) for n in TORSO]
+    out = np.full((len(track.cam), 4, 3), np.nan)
+    rays = unit_rays(track.xy[:, idx], track.intrinsics)
+    for t in np.flatnonzero(np.isfinite(track.cam[:, idx]).all((1, 2))):
+        rot, shift = _kabsch(shape, track.cam[t, idx])
+        seen = track.observed[t, idx]
+        if seen.all():
+            rvec, _ = cv2.Rodrigues(rot)
+            ok, rvec, tvec = cv2.solvePnP(shape, track.xy[t, idx].astype(np.float64), track.intrinsics[t], None,
+                                          rvec, shift.reshape(3, 1).copy(), True, cv2.SOLVEPNP_ITERATIVE)  # fmt: skip
+            if ok and tvec[2, 0] > 0:
+                rot, shift = cv2.Rodrigues(rvec)[0], tvec[:, 0]
+        placed = shape @ rot.T + shift
+        on_ray = (rays[t] * placed).sum(-1, keepdims=True) * rays[t]
+        move = on_ray - placed
+        dist = np.linalg.norm(move, axis=-1, keepdims=True)
+        limit = TORSO_FLEX * trunk
+        step = np.where(dist > limit, move * limit / np.maximum(dist, 1e-12), move)
+        out[t] = np.where(seen[:, None], placed + step, placed)
+    return out
+
+
+def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
+                skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The track's poses `(T, J, 3)` with the torso `(T, 4, 3)` and every limb bone at its length, the sides
+    chosen over the track (`choose_sides`), and `(T, J)` the joints flagged depth-ambiguous."""
+    at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
+    out = track.cam.copy()
+    out[:, [at[n] for n in TORSO]] = torso
+    ambiguous = np.zeros(track.observed.shape, bool)
+    rays = unit_rays(track.xy, track.intrinsics)
+    ok = np.isfinite(torso).all((1, 2))
+    for parent, child in LIMB_BONES:
+        length = skel.bones_m[BONE_NAMES[(parent, child)]]
+        p_new, p_old, c_old = out[:, at[parent]], track.cam[:, at[parent]], track.cam[:, at[child]]
+        direction = c_old - p_old
+        with np.errstate(invalid="ignore", divide="ignore"):
+            kept = p_new + length * direction / np.linalg.norm(direction, axis=-1, keepdims=True)
+        seen = track.observed[:, at[child]] & ok
+        near, far, reach = ray_solutions(p_new, np.where(seen[:, None], rays[:, at[child]], 0.0), length)
+        cost = np.stack([np.linalg.norm(near - kept, axis=-1), np.linalg.norm(far - kept, axis=-1)], 1) / length
+        separation = np.linalg.norm(far - near, axis=-1) / length
+        cost[~(seen & reach)] = np.nan
+        separation[~(seen & reach)] = 0.0
+        sides = choose_sides(cost, separation)
+        chosen = np.where((sides == 0)[:, None], near, far)
+        out[:, at[child]] = np.where((seen & ok)[:, None], chosen, np.where(ok[:, None], kept, np.nan))
+        gain = (
+            np.take_along_axis(cost, (1 - sides)[:, None], 1)[:, 0] - np.take_along_axis(cost, sides[:, None], 1)[:, 0]
+        )
+        with np.errstate(invalid="ignore", divide="ignore"):
+            margin = (
+                gain / separation
+            )  # 1: the two-pass pose on the chosen solution, 0: half-way, < 0: nearer the other
+        ambiguous[:, at[child]] = ambiguous_stretches(margin, separation) & seen & reach
+    return out, ambiguous
+
+
+def smooth_chains(poses: np.ndarray, skel: TrackSkeleton, skeleton: Skeleton, smooth: Smoother) -> np.ndarray:
+    """`poses (T, J, 3)` with the torso joints' paths and every limb bone's direction smoothed over time by
+    `smooth`, the limbs rebuilt from the torso outward at their lengths (which smoothing positions would break)."""
+    at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
+    out = poses.copy()
+    torso = [at[n] for n in TORSO]
+    out[:, torso] = smooth(poses[:, torso])
+    for parent, child in LIMB_BONES:
+        step = poses[:, at[child]] - poses[:, at[parent]]
+        direction = smooth(step / np.linalg.norm(step, axis=-1, keepdims=True))
+        direction /= np.linalg.norm(direction, axis=-1, keepdims=True)
+        out[:, at[child]] = out[:, at[parent]] + skel.bones_m[BONE_NAMES[(parent, child)]] * direction
+    return out
+
+
+def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str, smooth: Smoother,
+                    seed: int = 0) -> tuple[np.ndarray, np.ndarray, TrackSkeleton]:  # fmt: skip
+    """One track lifted as one infant: its poses `(T, J, 3)` in the camera frame, the depth-ambiguous joints
+    `(T, J)` and its skeleton (the two-pass poses where it has a fallback). `smooth` filters a track's series
+    `(T, ...)` over time (NaN-aware), as the temporal modes do."""
+    skel = estimate_skeleton(track, skeleton, label, seed)
+    if skel.fallback is not None:
+        return track.cam.copy(), np.zeros(track.observed.shape, bool), skel
+    lifted = np.isfinite(track.cam).all((1, 2))
+    shape = torso_shape(track.cam[lifted][:, [skeleton.index(n) for n in TORSO]])
+    torso = place_torso(track, shape, skeleton, skel.torso_m["trunk_length"])
+    poses, ambiguous = solve_limbs(track, skel, torso, skeleton)
+    poses[~lifted] = np.nan
+    poses = smooth_chains(poses, skel, skeleton, smooth)
+    return poses, ambiguous & lifted[:, None], skel
+
+
+def root_relative(poses: np.ndarray, skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray]:
+    """Root-relative poses `(N, J, 3)` and root points `(N, 3)` of camera-frame poses `(N, J, 3)`."""
+    root = root_point(poses, skeleton)
+    return poses - root[:, None], root
+
+
+def needs_joints(skeleton: Skeleton) -> Sequence[str]:
+    """The joints clip mode needs that `skeleton` lacks (empty: it has them all)."""
+    return [n for n in (*TORSO, *(j for b in LIMB_BONES for j in b)) if n not in skeleton.joints]
