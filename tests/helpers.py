@@ -12,6 +12,7 @@ from zedo_cli.data.skeleton import center_on_root, get_skeleton
 from zedo_cli.lifting.camera import project
 
 SYRIP_DIR = Path(__file__).resolve().parents[2] / "shared" / "data" / "syrip"
+ADULT_DIR = SYRIP_DIR.parent / "adult"  # the adult motion capture (../shared/data/adult)
 SKELETON = get_skeleton("syrip12")
 # An infant-sized syrip12 pose (metres): hips, knees, ankles, shoulders, elbows, wrists.
 BASE_POSE = np.array([
