@@ -190,7 +190,8 @@ def adult_infant_clips(
     """`count` clips of `seconds` (at most 10 minutes) each, one infant per clip. A clip starts at
     a random frame of a random adult clip (the file drawn in proportion to its clips' duration) and
     goes on with the same file's next clips (wrapping round to its first), joined by eased
-    transitions; short adult clips are joined like any other. Same seed, same clips."""
+    transitions; short adult clips are joined like any other. Same seed, same clips. The arguments
+    are checked at the call, the clips made as they are taken."""
     settings = settings or ClipSettings()
     if not 0 < seconds <= MAX_SECONDS or count < 0:
         raise ConfigError(f"clips must last (0, {MAX_SECONDS:g}] s and count >= 0, got {seconds} s, {count}")
@@ -200,8 +201,15 @@ def adult_infant_clips(
     if not files:
         raise ConfigError("no adult clips to make infant clips from")
     weight = np.array([sum(library.clips[i].duration_s for i in library.of_file(f)) for f in files])
+    return _generate(library, infants, frames, count, settings, rng, files, weight / weight.sum())
+
+
+def _generate(
+    library: AdultLibrary, infants: InfantBodies, frames: int, count: int, settings: ClipSettings,
+    rng: np.random.Generator, files: tuple[str, ...], chance: np.ndarray,
+) -> Iterator[InfantClip]:  # fmt: skip
     for _ in range(count):
-        file = files[int(rng.choice(len(files), p=weight / weight.sum()))]
+        file = files[int(rng.choice(len(files), p=chance))]
         motion, names = _follow_on(library, library.of_file(file), frames, settings, rng)
         yield _assemble(motion, names, file, infants, settings, rng)
 
