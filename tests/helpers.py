@@ -16,6 +16,7 @@ from zedo_cli.lifting.camera import project
 
 REPO = Path(__file__).resolve().parents[1]
 SYRIP_DIR = REPO.parent / "shared" / "data" / "syrip"
+ADULT_DIR = SYRIP_DIR.parent / "adult"  # the adult motion capture (../shared/data/adult)
 SKELETON = get_skeleton("syrip12")
 # An infant-sized syrip12 pose (metres): hips, knees, ankles, shoulders, elbows, wrists.
 BASE_POSE = np.array([
