@@ -62,8 +62,12 @@ def bone_cv(poses: np.ndarray) -> float:
 def interior_angles(poses: np.ndarray) -> np.ndarray:
     """Elbow and knee interior angles `(T, 4)` in degrees (180 = straight)."""
     out = []
-    for a, b, c in (("left_hip", "left_knee", "left_ankle"), ("right_hip", "right_knee", "right_ankle"),
-                    ("left_shoulder", "left_elbow", "left_wrist"), ("right_shoulder", "right_elbow", "right_wrist")):
+    for a, b, c in (
+        ("left_hip", "left_knee", "left_ankle"),
+        ("right_hip", "right_knee", "right_ankle"),
+        ("left_shoulder", "left_elbow", "left_wrist"),
+        ("right_shoulder", "right_elbow", "right_wrist"),
+    ):
         u = poses[:, SKELETON.index(a)] - poses[:, SKELETON.index(b)]
         v = poses[:, SKELETON.index(c)] - poses[:, SKELETON.index(b)]
         cos = (u * v).sum(-1) / np.linalg.norm(u, axis=-1) / np.linalg.norm(v, axis=-1)
@@ -100,8 +104,13 @@ def score(truth: np.ndarray, lifted: np.ndarray, reproj: np.ndarray) -> dict[str
     vel = np.diff(e_rel, axis=0) * FPS - np.diff(t_rel, axis=0) * FPS
     both = ok[1:] & ok[:-1]
     ang = np.abs(interior_angles(lifted[ok]) - interior_angles(truth[ok]))
-    return {"cv": bone_cv(lifted[ok]), "mpjpe": 1000 * float(err.mean()), "angle": float(np.nanmean(ang)),
-            "mpjve": 1000 * float(np.linalg.norm(vel[both], axis=-1).mean()), "reproj": float(np.nanmean(reproj[ok]))}
+    return {
+        "cv": bone_cv(lifted[ok]),
+        "mpjpe": 1000 * float(err.mean()),
+        "angle": float(np.nanmean(ang)),
+        "mpjve": 1000 * float(np.linalg.norm(vel[both], axis=-1).mean()),
+        "reproj": float(np.nanmean(reproj[ok])),
+    }
 
 
 def main() -> None:
@@ -142,8 +151,10 @@ def main() -> None:
               f"| {seconds[mode] / args.clips:.1f} |")  # fmt: skip
     if "clip" in args.modes:
         right, counted, flagged = extra["side"]
-        print(f"clip: depth side right {100 * right / max(counted, 1):.1f} % of {counted} unflagged segment-frames "
-              f"over 30 deg out of plane; flagged {100 * flagged / max(extra['limb_frames'], 1):.1f} % of limb-frames")
+        print(
+            f"clip: depth side right {100 * right / max(counted, 1):.1f} % of {counted} unflagged segment-frames "
+            f"over 30 deg out of plane; flagged {100 * flagged / max(extra['limb_frames'], 1):.1f} % of limb-frames"
+        )
         ratio = np.array(extra["ratio"])
         print(f"clip: bone ratios within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
               f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true length "
@@ -167,12 +178,34 @@ def clip_figures(extra: dict, truth: np.ndarray, res) -> None:  # noqa: ANN001
         extra["cover"].append(skel["bones"][b]["low_m"] <= true_len[b] <= skel["bones"][b]["high_m"])
 
 
+def adult_clips(args: argparse.Namespace) -> dict[str, np.ndarray]:
+    """The adult motion made infant-like (`zedo_cli.evaluation.clips`), as `make_sequences` gives clips: 3 px
+    jitter and 3 % of joints dropped, no other habit, before a camera of f = 1000 px or the pseudo camera."""
+    from zedo_cli.evaluation.clips import (
+        PSEUDO_CAMERA,
+        CameraSetup,
+        ClipSettings,
+        DetectorHabits,
+        adult_infant_clips,
+        infant_bodies_from_syrip,
+        load_adult_library,
+    )
+
+    camera = PSEUDO_CAMERA if args.camera == "pseudo" else CameraSetup("f1000", 1000.0, 1280, 720, (0.9, 1.1))
+    habits = DetectorHabits(jitter_px=3.0, dropout=0.03, swaps_per_min=0, hand_jumps_per_min=0, losses_per_min=0)
+    settings = ClipSettings(fps=FPS, cameras=(camera,), habits=habits)
+    library = load_adult_library(Path(args.syrip_dir).parent / "adult")
+    clips = list(adult_infant_clips(library, infant_bodies_from_syrip(args.syrip_dir), args.seconds, args.clips,
+                                    args.seed, settings))  # fmt: skip
+    k = [np.repeat(c.intrinsics.matrix()[None], len(c.xy), 0) for c in clips]
+    return {"cam": np.concatenate([c.poses3d for c in clips]), "xy": np.concatenate([c.xy for c in clips]),
+            "conf": np.concatenate([c.confidence for c in clips]), "k": np.concatenate(k),
+            "tracks": np.concatenate([np.full(len(c.xy), i) for i, c in enumerate(clips)])}  # fmt: skip
+
+
 def clips_of(args: argparse.Namespace, rng: np.random.Generator) -> dict[str, np.ndarray]:
     if args.source == "adult":
-        from zedo_cli.evaluation.clips import adult_benchmark_clips
-
-        return adult_benchmark_clips(rng, count=args.clips, seconds=args.seconds, fps=FPS,
-                                     focal_px=1000.0 if args.camera == "known" else None)  # fmt: skip
+        return adult_clips(args)
     poses = load_syrip_3d(args.syrip_dir, args.split).poses
     keys = int(args.seconds) + 1
     place = known_camera(1000.0) if args.camera == "known" else None
