@@ -34,6 +34,7 @@ from zedo_cli.lifting.clip import BONE_NAMES, LIMB_BONES
 from zedo_cli.lifting.config import get_preset
 from zedo_cli.lifting.temporal import lift_sequence
 from zedo_cli.prior.weights import load_prior, resolve_prior_path
+from zedo_cli.stats import conformal_quantile
 
 SKELETON = get_skeleton("syrip12")
 MODES = ("none", "smooth", "two-pass", "clip")
@@ -123,13 +124,14 @@ def main() -> None:
     ap.add_argument("--source", choices=("syrip", "adult"), default="syrip")
     ap.add_argument("--modes", nargs="+", default=list(MODES))
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--fit-ratio", action="store_true", help="print the skeleton shares' conformal quantile")
     args = ap.parse_args()
     prior = load_prior(resolve_prior_path(None))
     cfg = get_preset("fast")
     rng = np.random.default_rng(args.seed)
     data = clips_of(args, rng)
     rows: dict[str, list[dict[str, float]]] = {m: [] for m in args.modes}
-    extra = {"side": [0, 0, 0], "ratio": [], "cover": [], "limb_frames": 0}
+    extra = {"side": [0, 0, 0], "ratio": [], "log_ratio": [], "cover": [], "limb_frames": 0}
     seconds = dict.fromkeys(args.modes, 0.0)
     for clip in range(args.clips):
         idx = np.flatnonzero(data["tracks"] == clip)
@@ -156,9 +158,12 @@ def main() -> None:
             f"over 30 deg out of plane; flagged {100 * flagged / max(extra['limb_frames'], 1):.1f} % of limb-frames"
         )
         ratio = np.array(extra["ratio"])
-        print(f"clip: bone ratios within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
-              f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true length "
+        print(f"clip: bone shares within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
+              f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true share "
               f"{100 * np.mean(extra['cover']):.0f} % ({len(extra['cover'])} bones)")  # fmt: skip
+        if args.fit_ratio:
+            q = conformal_quantile(np.array(extra["log_ratio"]), 0.9)
+            print(f"clip: the 90 % conformal quantile of |log(estimated / true share)| here: {q:.4f}")
 
 
 def clip_figures(extra: dict, truth: np.ndarray, res) -> None:  # noqa: ANN001
@@ -171,11 +176,12 @@ def clip_figures(extra: dict, truth: np.ndarray, res) -> None:  # noqa: ANN001
     true_len = {BONE_NAMES[(a, b)]: float(np.median(np.linalg.norm(truth[:, SKELETON.index(a)]
                                                                    - truth[:, SKELETON.index(b)], axis=-1)))
                 for a, b in LIMB_BONES}  # fmt: skip
-    est = {b: v["length_m"] for b, v in skel["bones"].items()}
-    total_t, total_e = sum(true_len.values()), sum(est.values())
-    for b in est:
-        extra["ratio"].append(abs(est[b] / total_e - true_len[b] / total_t) / (true_len[b] / total_t))
-        extra["cover"].append(skel["bones"][b]["low_m"] <= true_len[b] <= skel["bones"][b]["high_m"])
+    total_t = sum(true_len.values())
+    for b, bone in skel["bones"].items():
+        share = true_len[b] / total_t
+        extra["ratio"].append(abs(bone["share"] / share - 1))
+        extra["log_ratio"].append(abs(np.log(bone["share"] / share)))
+        extra["cover"].append(bone["share_low"] <= share <= bone["share_high"])
 
 
 def adult_clips(args: argparse.Namespace) -> dict[str, np.ndarray]:

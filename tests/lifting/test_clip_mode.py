@@ -70,7 +70,7 @@ def test_every_frame_holds_the_tracks_one_skeleton(tiny_prior: Prior) -> None:
         lengths = np.linalg.norm(res.poses_camera[:, SYRIP12.index(a)] - res.poses_camera[:, SYRIP12.index(b)], axis=-1)
         bone = skel["bones"][BONE_NAMES[(a, b)]]
         np.testing.assert_allclose(lengths, bone["length_m"], rtol=1e-5)
-        assert bone["low_m"] <= bone["length_m"] <= bone["high_m"]
+        assert bone["share_low"] < bone["share"] < bone["share_high"]
     assert set(skel["torso"]) == {"hip_width", "shoulder_width", "trunk_length"}
     np.testing.assert_allclose(res.poses_root_relative, res.poses_camera - res.root_translation[:, None], atol=1e-12)
     assert np.nanmax(res.reprojection_error_px) < 40
@@ -104,4 +104,4 @@ def test_clip_mode_needs_the_limbs_joints(tiny_prior: Prior) -> None:
     h36m = get_skeleton("h36m17")
     with pytest.raises(ConfigError, match="--temporal clip needs the limbs' joints"):
         lift_tracks_as_infants(replace(res), np.zeros((20, 12, 2)), np.repeat(K_TEST[None], 20, 0),
-                               replace(h36m, joints=h36m.joints[:12]), None, None, 2.0, 30.0, 0)  # fmt: skip
+                               replace(h36m, joints=h36m.joints[:12]), None, None, 2.0, 30.0)  # fmt: skip

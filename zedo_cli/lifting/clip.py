@@ -7,8 +7,9 @@ points along the camera axis its depth side picked anew in every frame. Clip mod
 1. **One skeleton per track** (`estimate_skeleton`): a bone is at least as long as its parent joint's
    distance from its child's ray, and as long where it lies in the image plane; each of the eight limb
    bones' length is the 90th percentile of that distance over the track's frames where both its joints
-   are observed (the parent where the two-pass lift put it). Its 90 % interval is a moving-block
-   bootstrap of that estimate over the frames (blocks of a second). The torso's shape
+   are observed (the parent where the two-pass lift put it). Each bone's share of the eight bones' sum
+   has a 90 % interval of the width that held on clips of another source (`RATIO_LOG_ERROR_90`); the
+   lengths themselves are in the lift's scale, which a pseudo camera does not fix. The torso's shape
    (both hips and both shoulders) is the median of the track's torso poses, rigidly aligned.
 2. **The torso** of each frame is that shape, placed by OpenCV's PnP on the torso's smoothed 2D
    (from the two-pass pose, so it keeps its side), then each torso joint moved towards its ray by at most
@@ -57,9 +58,19 @@ REACH_QUANTILE = 0.9  # of a bone's frames whose child ray its length reaches
 TORSO_FLEX = 0.1  # of the trunk length: how far a torso joint may leave the track's torso shape
 SIDE_CHANGE_COST = 4.0  # per bone length of distance between the two solutions where the side changes
 AMBIGUOUS_MARGIN = 0.5  # of the solutions' distance: a stretch whose side the two-pass pose prefers by less is flagged
+# Knees bend backwards only, elbows forwards only: a solution bending one past straight by more than its slack
+# (the sine of the angle) costs HINGE_COST per unit of that sine. The slacks leave the SyRIP training poses' knees
+# within range in 98-100 % of poses and their elbows (whose hinge turns with the upper arm) in 99 %.
+HINGES = {("left_knee", "left_ankle"): "knee", ("right_knee", "right_ankle"): "knee",
+          ("left_elbow", "left_wrist"): "elbow", ("right_elbow", "right_wrist"): "elbow"}  # fmt: skip
+HINGE_SLACK = {"knee": 0.2, "elbow": 0.4}
+HINGE_COST = 3.0
 NEAR_PLANE = 0.5  # a bone whose two solutions lie under this many bone lengths apart is near the image plane
-BOOTSTRAP_DRAWS = 200
 LEVEL = 0.9
+# The 90 % split-conformal quantile of |log(estimated / true share)| of a bone's share of the eight limb bones'
+# sum, on clips of SyRIP training poses (benchmarks/accuracy/clip_mode.py --source syrip --fit-ratio; checked on
+# the adult motion, another source: docs/lifting.md, "Clip mode").
+RATIO_LOG_ERROR_90 = 0.085
 
 
 @dataclass(frozen=True)
@@ -70,8 +81,6 @@ class TrackSkeleton:
     track: int | str  # the track's label
     frames: int  # frames the lengths were measured on
     bones_m: dict[str, float] = field(default_factory=dict)
-    low_m: dict[str, float] = field(default_factory=dict)
-    high_m: dict[str, float] = field(default_factory=dict)
     torso_m: dict[str, float] = field(default_factory=dict)
     fallback: str | None = None
 
@@ -81,13 +90,16 @@ class TrackSkeleton:
         if self.fallback is not None:
             out["fallback"] = self.fallback
             return out
-        out["bones"] = {b: {"length_m": _r(v), "low_m": _r(self.low_m[b]), "high_m": _r(self.high_m[b])}
-                        for b, v in self.bones_m.items()}  # fmt: skip
+        total = sum(self.bones_m.values())
+        spread = np.exp(RATIO_LOG_ERROR_90)
+        out["bones"] = {b: {"length_m": _r(v), "share": _r(v / total), "share_low": _r(v / total / spread),
+                            "share_high": _r(v / total * spread)} for b, v in self.bones_m.items()}  # fmt: skip
         out["torso"] = {k: _r(v) for k, v in self.torso_m.items()}
         out["level"] = LEVEL
-        out["method"] = (f"the {REACH_QUANTILE:.0%} quantile over the track's frames with both joints seen of the "
-                         "parent joint's distance from the child's ray; interval: moving-block bootstrap "
-                         f"({BOOTSTRAP_DRAWS} draws, 1 s blocks)")  # fmt: skip
+        out["method"] = (f"length: the {REACH_QUANTILE:.0%} quantile, over the track's frames with both joints seen, "
+                         "of the parent joint's distance from the child's ray (the lift's scale); share: the bone "
+                         "over the eight limb bones' sum, its interval split-conformal on synthetic clips of SyRIP "
+                         "training poses")  # fmt: skip
         return out
 
 
@@ -157,17 +169,6 @@ def ambiguous_stretches(margin: np.ndarray, separation: np.ndarray) -> np.ndarra
     return flags
 
 
-def block_bootstrap_quantile(values: np.ndarray, block: int, rng: np.random.Generator) -> tuple[float, float]:
-    """The 90 % interval of the REACH_QUANTILE quantile of the series `values (n,)` (time order) by a moving-block
-    bootstrap."""
-    n = len(values)
-    block = max(1, min(block, n))
-    starts = rng.integers(0, n - block + 1, size=(BOOTSTRAP_DRAWS, -(-n // block)))
-    idx = (starts[..., None] + np.arange(block)).reshape(BOOTSTRAP_DRAWS, -1)[:, :n]
-    drawn = np.quantile(values[idx], REACH_QUANTILE, axis=1)
-    return float(np.quantile(drawn, (1 - LEVEL) / 2)), float(np.quantile(drawn, (1 + LEVEL) / 2))
-
-
 def _kabsch(source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rotation `(3, 3)` and translation `(3,)` taking the points `source (P, 3)` closest to `target (P, 3)`."""
     cs, ct = source.mean(0), target.mean(0)
@@ -189,15 +190,13 @@ class ClipTrack:
     fps: float
 
 
-def estimate_skeleton(track: ClipTrack, skeleton: Skeleton, label: int | str, seed: int = 0) -> TrackSkeleton:
+def estimate_skeleton(track: ClipTrack, skeleton: Skeleton, label: int | str) -> TrackSkeleton:
     """The track's limb bone lengths (with 90 % intervals) and torso widths; a fallback where too few
     frames show every limb."""
     at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
     lifted = np.isfinite(track.cam).all((1, 2))
     rays = unit_rays(track.xy, track.intrinsics)
-    rng = np.random.default_rng(seed)
-    block = max(1, int(round(track.fps)))
-    bones, low, high = {}, {}, {}
+    bones = {}
     counts = []
     for parent, child in LIMB_BONES:
         seen = lifted & track.observed[:, at[parent]] & track.observed[:, at[child]]
@@ -208,7 +207,7 @@ def estimate_skeleton(track: ClipTrack, skeleton: Skeleton, label: int | str, se
         gap = np.linalg.norm(p - (p * r).sum(-1, keepdims=True) * r, axis=-1)  # the parent's distance from the ray
         name = BONE_NAMES[(parent, child)]
         bones[name] = float(np.quantile(gap, REACH_QUANTILE))
-        low[name], high[name] = block_bootstrap_quantile(gap, block, rng)
+
     if len(bones) < len(LIMB_BONES):
         return TrackSkeleton(label, min(counts), fallback=(
             f"too few frames with every limb seen for a skeleton ({min(counts)}; {MIN_TRACK_FRAMES} needed): "
@@ -219,7 +218,7 @@ def estimate_skeleton(track: ClipTrack, skeleton: Skeleton, label: int | str, se
     widths = {"hip_width": float(np.linalg.norm(shape[0] - shape[1])),
               "shoulder_width": float(np.linalg.norm(shape[2] - shape[3])),
               "trunk_length": float(np.linalg.norm(shoulders - hips))}  # fmt: skip
-    return TrackSkeleton(label, min(counts), bones, low, high, widths)
+    return TrackSkeleton(label, min(counts), bones, widths)
 
 
 def torso_shape(torso: np.ndarray) -> np.ndarray:
@@ -261,6 +260,23 @@ def place_torso(track: ClipTrack, shape: np.ndarray, skeleton: Skeleton, trunk: 
     return out
 
 
+def hyperextension(poses: np.ndarray, child: np.ndarray, middle: str, end: str, at: dict[str, int]) -> np.ndarray:
+    """`(T,)` how far past straight the hinge at `middle` bends with its distal joint at `child (T, 3)`: the
+    distal bone's component (unit bone) along the side a knee never bends to (the thigh's front) or an elbow
+    (the upper arm's back), beyond its HINGE_SLACK; 0 within the joint's range."""
+    side = HINGES[(middle, end)]
+    prox = {"knee": "hip", "elbow": "shoulder"}[side]
+    lr = "left" if middle.startswith("left") else "right"
+    lateral = poses[:, at[f"left_{prox}"]] - poses[:, at[f"right_{prox}"]]  # towards the body's left
+    upper = poses[:, at[middle]] - poses[:, at[f"{lr}_{prox}"]]
+    front = np.cross(upper, lateral)  # the front of the thigh or upper arm, (left, up, forward) right-handed
+    front /= np.linalg.norm(front, axis=-1, keepdims=True)
+    distal = child - poses[:, at[middle]]
+    along = (distal * front).sum(-1) / np.linalg.norm(distal, axis=-1)
+    past = along if side == "knee" else -along
+    return np.maximum(past - HINGE_SLACK[side], 0.0)
+
+
 def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
                 skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
     """The track's poses `(T, J, 3)` with the torso `(T, 4, 3)` and every limb bone at its length, the sides
@@ -280,6 +296,9 @@ def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
         seen = track.observed[:, at[child]] & ok
         near, far, reach = ray_solutions(p_new, np.where(seen[:, None], rays[:, at[child]], 0.0), length)
         cost = np.stack([np.linalg.norm(near - kept, axis=-1), np.linalg.norm(far - kept, axis=-1)], 1) / length
+        if (parent, child) in HINGES:
+            cost += HINGE_COST * np.stack([hyperextension(out, near, parent, child, at),
+                                           hyperextension(out, far, parent, child, at)], 1)  # fmt: skip
         separation = np.linalg.norm(far - near, axis=-1) / length
         cost[~(seen & reach)] = np.nan
         separation[~(seen & reach)] = 0.0
@@ -312,12 +331,12 @@ def smooth_chains(poses: np.ndarray, skel: TrackSkeleton, skeleton: Skeleton, sm
     return out
 
 
-def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str, smooth: Smoother,
-                    seed: int = 0) -> tuple[np.ndarray, np.ndarray, TrackSkeleton]:  # fmt: skip
+def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str,
+                    smooth: Smoother) -> tuple[np.ndarray, np.ndarray, TrackSkeleton]:  # fmt: skip
     """One track lifted as one infant: its poses `(T, J, 3)` in the camera frame, the depth-ambiguous joints
     `(T, J)` and its skeleton (the two-pass poses where it has a fallback). `smooth` filters a track's series
     `(T, ...)` over time (NaN-aware), as the temporal modes do."""
-    skel = estimate_skeleton(track, skeleton, label, seed)
+    skel = estimate_skeleton(track, skeleton, label)
     if skel.fallback is not None:
         return track.cam.copy(), np.zeros(track.observed.shape, bool), skel
     lifted = np.isfinite(track.cam).all((1, 2))

@@ -35,6 +35,7 @@ the filter pulled off its detection is `poor_fit` (not lifted), as frame by fram
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -253,14 +254,13 @@ def lift_sequence(
     status = np.where(first.lifted, second.status, first.status)
     refined = replace(second, status=status, hypotheses=None, hypothesis_spread_m=None)
     if mode == "clip":
-        refined = lift_tracks_as_infants(refined, xy_smooth, intrinsics, prior.skeleton, tracks, frames, sigma, fps,
-                                         seed)  # fmt: skip
+        refined = lift_tracks_as_infants(refined, xy_smooth, intrinsics, prior.skeleton, tracks, frames, sigma, fps)
     return replace(_refit(refined, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
 
 
 def lift_tracks_as_infants(res: LiftResult, xy_smooth: np.ndarray, intrinsics: np.ndarray, skeleton: Skeleton,
-                           tracks: np.ndarray | None, frames: np.ndarray | None, sigma: float, fps: float | None,
-                           seed: int) -> LiftResult:  # fmt: skip
+                           tracks: np.ndarray | None, frames: np.ndarray | None, sigma: float,
+                           fps: float | None) -> LiftResult:  # fmt: skip
     """`res` (a two-pass lift) with each track lifted as one infant (`clip.lift_clip_track`)."""
     missing = needs_joints(skeleton)
     if missing:
@@ -275,9 +275,8 @@ def lift_tracks_as_infants(res: LiftResult, xy_smooth: np.ndarray, intrinsics: n
         track = ClipTrack(cam, res.observed[idx], xy_smooth[idx], intrinsics[idx], fps or DEFAULT_CLIP_FPS)
         label = labels[idx[0]].item() if hasattr(labels[idx[0]], "item") else labels[idx[0]]
         at = None if frames is None else np.asarray(frames)[idx]
-        poses[idx], ambiguous[idx], skel = lift_clip_track(
-            track, skeleton, label, lambda v, at=at: smooth_on_frames(v, at, sigma), seed
-        )
+        smooth = functools.partial(smooth_on_frames, frames=at, sigma=sigma)
+        poses[idx], ambiguous[idx], skel = lift_clip_track(track, skeleton, label, smooth)
         skeletons.append(skel.to_dict())
     rel, root = root_relative(poses, skeleton)
     return replace(res, poses_camera=poses, poses_root_relative=rel, root_translation=root,
