@@ -10,6 +10,7 @@ from pathlib import Path
 
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_can_create, check_output_folder, check_output_kind
+from ..formats.readers.deeplabcut import is_deeplabcut_file
 from ..formats.readers.labelme import is_labelme_folder
 from ..formats.readers.openpose import is_openpose_folder, is_zedo_output
 from ..formats.readers.source import check_input_file
@@ -25,12 +26,14 @@ PLOT_ROLES = ("first", "median", "worst")  # formats.plots writes <prefix>.<role
 def _folder_inputs(folder: Path) -> list[str]:
     """An OpenPose folder (per-frame `*_keypoints.json`, or numbered frames such as Pose2Sim's
     `cam01.0030.json`) or a folder of LabelMe files is one input, a sequence; any other folder
-    stands for its keypoint files (zedo's own outputs left out)."""
+    stands for its keypoint files: JSON, JSON Lines and DeepLabCut's tables (zedo's own outputs left out)."""
     if is_openpose_folder(folder) or is_labelme_folder(folder):
         return [str(folder)]
-    files = sorted(p for p in folder.iterdir() if p.suffix in _INPUT_SUFFIXES and not is_zedo_output(p))
+    files = sorted(p for p in folder.iterdir()
+                   if (p.suffix in _INPUT_SUFFIXES or is_deeplabcut_file(p)) and not is_zedo_output(p))  # fmt: skip
     if not files:
-        raise InputFormatError(f"{folder}: folder holds no keypoint files (*.json, *.jsonl) and no OpenPose frames")
+        raise InputFormatError(f"{folder}: folder holds no keypoint files (*.json, *.jsonl, DeepLabCut's *.csv "
+                               "and *.h5) and no OpenPose frames")  # fmt: skip
     return [str(p) for p in files]
 
 

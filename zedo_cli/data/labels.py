@@ -46,7 +46,7 @@ UNSIDED_PARTS: dict[str, tuple[str, ...]] = {
     "head_top": ("head_top", "headtop", "top_head", "top_of_head", "crown", "vertex"),
     "chin": ("chin",),
     "mouth": ("mouth", "lips"),
-    "thorax": ("thorax", "chest", "sternum", "upper_chest"),
+    "thorax": ("thorax", "chest", "sternum", "upper_chest", "mid_shoulder", "shoulder_center", "shoulder_centre"),
     "pelvis": ("pelvis", "mid_hip", "midhip", "hip_center", "hip_centre", "root", "sacrum"),
     "spine": ("spine", "mid_spine", "belly", "navel", "umbilicus"),
 }

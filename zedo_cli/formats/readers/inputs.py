@@ -10,6 +10,7 @@ Formats (``--format`` names) and the module that reads each:
 - ``zedo-2d``: `zedo2d.py`; ``zedo-jsonl``: `jsonl.py` (JSON Lines, from a file or stdin)
 - ``labelme``: `labelme.py` (LabelMe point files, one image each, or a folder of them as one clip)
 - ``label-studio``: `labelstudio.py` (Label Studio keypoint exports, JSON or JSON_MIN)
+- ``deeplabcut``: `deeplabcut.py` (DeepLabCut's CSV and ``.h5`` tables, single- or multi-animal)
 
 Coordinates are 0-indexed pixels from the image's top-left. Missing joints come out as NaN with
 confidence 0, never as positions. Every malformed input raises `InputFormatError` whose message
@@ -34,12 +35,14 @@ from ...data.skeleton import Skeleton, get_skeleton
 from ...errors import ConfigError
 from .alphapose import is_alphapose_entry, read_alphapose
 from .coco import OCCLUDED_CONFIDENCE, parse_images, read_coco_annotations, read_coco_results
+from .deeplabcut import looks_like_deeplabcut, read_deeplabcut_h5, read_deeplabcut_text
 from .jsonl import looks_like_jsonl, read_zedo_jsonl, read_zedo_jsonl_text
 from .labelme import is_labelme, is_labelme_folder, read_labelme, read_labelme_dir
 from .labelstudio import is_label_studio, read_label_studio
 from .mmpose import mmpose_layout, read_mmpose, read_mmpose_demo, read_mmpose_image, read_mmpose_video
 from .openpose import frame_files, read_openpose, read_openpose_dir
-from .source import STDIN, load_document, parse_document, read_text
+from .sniff import is_hdf5
+from .source import STDIN, load_document, parse_document, read_head, read_text
 from .validate import as_dict, error, is_list, kind
 from .zedo2d import ZEDO_2D_SCHEMA, read_zedo_2d
 
@@ -62,7 +65,9 @@ _READERS: dict[str, Callable[[Any, str, Skeleton | None], Keypoints2D]] = {
     "labelme": read_labelme,
     "label-studio": read_label_studio,
 }
-INPUT_FORMATS = ("auto", *_READERS)
+# Tables, not JSON: read from their text (CSV) or file (.h5), never from a parsed JSON document.
+_TABLE_FORMATS = ("deeplabcut",)
+INPUT_FORMATS = ("auto", *_READERS, *_TABLE_FORMATS)
 _JSONL_SUFFIXES = (".jsonl", ".ndjson")
 _EXPECTED = (
     "expected COCO annotations (images, annotations, categories), a COCO results or AlphaPose list "
@@ -184,19 +189,25 @@ def read_parsed(
     does carry must agree with it.
     """
     fmt = _format_option(format)
+    if fmt in _TABLE_FORMATS:
+        raise error(path, "", f"--format {fmt} reads DeepLabCut's CSV or .h5 files, not a JSON document")
     return _READERS[fmt or detect_format(data, path)](data, path, _skeleton_option(skeleton))
 
 
 def read_keypoints_text(
     text: str, path: str = "<input>", *, format: str | None = None, skeleton: str | Skeleton | None = None
 ) -> Keypoints2D:
-    """Read the text of a keypoint file (JSON, or zedo JSON Lines); `path` names it in messages.
+    """Read the text of a keypoint file (JSON, zedo JSON Lines or a DeepLabCut CSV); `path` names
+    it in messages.
 
-    Auto-detection takes JSON Lines for a ``.jsonl``/``.ndjson`` name or when the first line is
-    a frame object on its own, and otherwise parses one JSON document.
+    Auto-detection takes a DeepLabCut CSV when the first cell is ``scorer``, JSON Lines for a
+    ``.jsonl``/``.ndjson`` name or when the first line is a frame object on its own, and otherwise
+    parses one JSON document.
     """
     fmt = _format_option(format)
     forced = _skeleton_option(skeleton)
+    if fmt == "deeplabcut" or (fmt is None and looks_like_deeplabcut(text)):
+        return read_deeplabcut_text(text, path, forced)
     if fmt == "zedo-jsonl" or (fmt is None and (path.endswith(_JSONL_SUFFIXES) or looks_like_jsonl(text))):
         return read_zedo_jsonl_text(text, path, forced)
     return read_parsed(parse_document(text, path), path, format=fmt, skeleton=forced)
@@ -210,8 +221,8 @@ def read_keypoints(
     images: str | Path | None = None,
     skeleton: str | Skeleton | None = None,
 ) -> Keypoints2D:
-    """Read a 2D keypoint file ("-" = stdin), or a directory of OpenPose or LabelMe frame files, into
-    `Keypoints2D` (xy (N, J, 2) pixels, float64).
+    """Read a 2D keypoint file ("-" = stdin; a DeepLabCut ``.h5`` by its HDF5 signature), or a
+    directory of OpenPose or LabelMe frame files, into `Keypoints2D` (xy (N, J, 2) pixels, float64).
 
     `format`: one of `INPUT_FORMATS`; None or "auto" detects it. `images`: a companion COCO
     annotation file whose ``images[]`` give sizes and file names (for a results file), joined
@@ -230,8 +241,12 @@ def read_keypoints(
             )
         labelme = fmt == "labelme" or (fmt is None and is_labelme_folder(Path(name)))
         kp = read_labelme_dir(name, forced) if labelme else read_openpose_dir(name, forced)
+    elif name != STDIN and fmt in (None, "deeplabcut") and is_hdf5(read_head(name)):
+        kp = read_deeplabcut_h5(name, forced)
     else:
-        kp = read_keypoints_text(read_text(name), name, format=fmt, skeleton=forced)
+        # --format deeplabcut reads a file that does not look like a table, to say which row is wrong
+        text = read_text(name, sniff=fmt != "deeplabcut")
+        kp = read_keypoints_text(text, name, format=fmt, skeleton=forced)
     if images is not None:
         kp = _join_images(kp, str(images))
     return kp if size is None else fill_image_sizes(kp, size)[0]

@@ -165,7 +165,7 @@ def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) ->
     if data[:4] == b"PK\x03\x04":
         return _read_npz(data, name)
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark: a CSV that Excel saved as UTF-8
     except UnicodeDecodeError:
         raise InputFormatError(f"{name}: not a zedo result (neither UTF-8 text nor a NPZ archive)") from None
     stripped = text.lstrip()
@@ -459,7 +459,7 @@ def _finish(
 
 def _read_sidecar(path: Path) -> dict[str, Any]:
     try:
-        meta = loads(path.read_text(encoding="utf-8"))
+        meta = loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, UnicodeDecodeError, ValueError, RecursionError) as exc:
         raise InputFormatError(f"{path}: not a readable JSON sidecar ({exc})") from None
     if not isinstance(meta, dict):
@@ -487,6 +487,11 @@ def _cell(value: str, where: str) -> float:
         raise InputFormatError(f"{where}: not a number: {value!r}") from None
 
 
+def _true(value: str | None) -> bool:
+    """A CSV boolean: ``true`` as zedo writes it, ``TRUE`` as Excel saves it."""
+    return value is not None and value.strip().lower() == "true"
+
+
 def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
     rows = list(csv.DictReader(io.StringIO(text)))
     columns = list(rows[0].keys()) if rows else text.splitlines()[0].split(",")
@@ -511,8 +516,8 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
             raise InputFormatError(f"{where}: frame_index, person and joint_index must be integers") from None
         if key not in order:
             order[key] = {"image_id": row["image_id"], "file_name": row.get("file_name") or None,
-                          "lifted": row["lifted"] == "true", "camera": _csv_camera(row, where),
-                          "status": row.get("status") or ("lifted" if row["lifted"] == "true" else "not_lifted"),
+                          "lifted": _true(row["lifted"]), "camera": _csv_camera(row, where),
+                          "status": row.get("status") or ("lifted" if _true(row["lifted"]) else "not_lifted"),
                           "k_source": row.get("k_source") or "",
                           "instance": _int_cell(row.get("instance_index"), len(order)), "points": {}, "observed": {},
                           "radii": {}, "pixels": {}, "confidence": {}, "errors": {}, "other": {},
@@ -531,7 +536,7 @@ def _read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         inst["errors"][j] = _cell(row.get("reprojection_error_px") or "", f"{where}: reprojection_error_px")
         inst["points"][j] = [_cell(row[c], f"{where}: {c}") for c in xyz]
         inst["pixels"][j] = [_cell(row.get(c) or "", f"{where}: {c}") for c in ("u_px", "v_px")]
-        inst["observed"][j] = row.get("observed", "true") == "true"
+        inst["observed"][j] = _true(row.get("observed", "true"))
         if "uncertainty_m" in row:
             inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
     names = tuple(joint_names[j] for j in sorted(joint_names))

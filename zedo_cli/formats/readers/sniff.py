@@ -1,13 +1,14 @@
 """What kind of file an input is, from its first bytes: so that an image, a video, a CSV table or
 a NumPy file given to `zedo lift` is told what zedo reads, instead of a JSON parser's message
-("invalid JSON at line 1", "not UTF-8 text")."""
+("invalid JSON at line 1", "not UTF-8 text"). DeepLabCut's tables are read: a CSV whose first cell
+is ``scorer``, and an HDF5 file (its ``.h5``)."""
 
 from __future__ import annotations
 
 from .validate import error
 
 WHAT_ZEDO_READS = (
-    "zedo lift reads a 2D detector's keypoints (COCO, OpenPose, AlphaPose, MMPose, zedo JSON/JSONL): "
+    "zedo lift reads a 2D detector's keypoints (COCO, OpenPose, AlphaPose, MMPose, DeepLabCut, zedo JSON/JSONL): "
     "run a 2D pose detector on it first (see docs/inputs.md)"
 )
 HEAD_BYTES = 4096  # enough for every signature below and a CSV's first lines
@@ -32,6 +33,7 @@ _SIGNATURES: tuple[tuple[int, bytes, str], ...] = (
     (0, b"%PDF", "a PDF document"),
     (0, b"\x89HDF", "an HDF5 file"),
 )
+_HDF5 = b"\x89HDF\r\n\x1a\n"  # DeepLabCut's .h5 tables are HDF5
 
 
 def file_kind(head: bytes) -> str | None:
@@ -45,8 +47,25 @@ def file_kind(head: bytes) -> str | None:
         return None
     first = text.split("\n", 1)[0]
     if "," in first or "\t" in first or ";" in first:
-        return "a CSV table (or other delimited text)"
+        return "a CSV table (or other delimited text; a DeepLabCut CSV starts with its scorer row)"
     return None
+
+
+def first_cell(text: str) -> str:
+    """The first cell of a CSV text's first line, without a byte-order mark, quotes or spaces."""
+    line = text.lstrip("\ufeff \t\r\n").split("\n", 1)[0]
+    return line.split(",", 1)[0].strip().strip('"').strip()
+
+
+def is_hdf5(head: bytes) -> bool:
+    """The first bytes of an HDF5 file (DeepLabCut's ``.h5``)."""
+    return head.startswith(_HDF5)
+
+
+def is_table_zedo_reads(head: bytes) -> bool:
+    """DeepLabCut's tables: a CSV whose first cell is ``scorer`` (after a byte-order mark), or an
+    HDF5 file (the reader says whether it holds DeepLabCut's DataFrame)."""
+    return is_hdf5(head) or first_cell(head.decode("utf-8", errors="replace")) == "scorer"
 
 
 def not_keypoints(name: str, what: str) -> Exception:
@@ -55,7 +74,8 @@ def not_keypoints(name: str, what: str) -> Exception:
 
 
 def check_kind(name: str, head: bytes) -> None:
-    """Refuse an input whose first bytes say it is an image, a video, a table or an array."""
+    """Refuse an input whose first bytes say it is an image, a video, a table or an array that zedo
+    does not read."""
     what = file_kind(head)
-    if what is not None:
+    if what is not None and not is_table_zedo_reads(head):
         raise not_keypoints(name, what)

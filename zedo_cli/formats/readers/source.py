@@ -58,17 +58,22 @@ def open_regular(name: str) -> int:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
 
 
-def check_input_file(name: str) -> None:
-    """An input file, checked before any work: a regular file that can be read, within the size
-    limit (`open_regular`), and not an image, video, table or array (`sniff.check_kind`)."""
+def read_head(name: str) -> bytes:
+    """The first `HEAD_BYTES` of file `name`, after the checks of `open_regular`."""
     fd = open_regular(name)
     try:
-        head = os.read(fd, HEAD_BYTES)
+        return os.read(fd, HEAD_BYTES)
     except OSError as exc:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
     finally:
         os.close(fd)
-    check_kind(name, head)
+
+
+def check_input_file(name: str) -> None:
+    """An input file, checked before any work: a regular file that can be read, within the size
+    limit (`open_regular`), and not an image, video, table or array that zedo does not read
+    (`sniff.check_kind`)."""
+    check_kind(name, read_head(name))
 
 
 _CHUNK_BYTES = 1 << 20
@@ -88,9 +93,11 @@ def _read_bounded(stream: Any, name: str) -> bytearray:
     return raw
 
 
-def read_text(name: str) -> str:
-    """The UTF-8 text of file `name` ("-" = stdin); a byte-order mark is dropped. Inputs that
-    are not regular files, or larger than `MAX_INPUT_BYTES`, are refused before reading."""
+def read_text(name: str, *, sniff: bool = True) -> str:
+    """The UTF-8 text of file `name` ("-" = stdin); a byte-order mark (Excel's UTF-8 CSV) is
+    dropped. Inputs that are not regular files, or larger than `MAX_INPUT_BYTES`, are refused
+    before reading; with `sniff`, so is an image, a video or another kind of file zedo does not
+    read (`sniff.check_kind`)."""
     try:
         if name == STDIN:
             raw = _read_bounded(sys.stdin.buffer, name)
@@ -99,7 +106,8 @@ def read_text(name: str) -> str:
                 raw = _read_bounded(handle, name)
     except OSError as exc:
         raise error(name, "", f"cannot read file: {exc.strerror or exc}") from None
-    check_kind(name, bytes(raw[:HEAD_BYTES]))  # an image or a video: say what zedo reads, not "not UTF-8"
+    if sniff:  # an image or a video: say what zedo reads, not "not UTF-8"
+        check_kind(name, bytes(raw[:HEAD_BYTES]))
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
