@@ -24,20 +24,20 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..files import write_text_atomic
-from ..formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
-from ..version import __version__
-from .analyse import SYMMETRY_NAMES, Analysis, no_calibration_note, poses_counted, summary
+from ...files import write_text_atomic
+from ...formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
+from ...version import __version__
+from ..analyse import SYMMETRY_NAMES, Analysis, no_calibration_note, poses_counted, summary
+from ..pose.geometry import joint, reflect, unit
+from ..pose.joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
+from ..pose.symmetry import BAND_EDGES_DEG, PAIRS
 from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
 from .figures import _figure, _svg
-from .geometry import joint, reflect, unit
-from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
-from .symmetry import BAND_EDGES_DEG, PAIRS
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..data.skeleton import Skeleton
+    from ...data.skeleton import Skeleton
 
 MAX_TABLE_ROWS = 300  # per table; the CSV has every row
 MAX_SKELETONS = 6

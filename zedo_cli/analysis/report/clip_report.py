@@ -16,12 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..formats.colours import LEFT_HEX, RIGHT_HEX
-from .analyse import SYMMETRY_NAMES, Analysis, Row
-from .compare import furthest_from_typical
+from ...formats.colours import LEFT_HEX, RIGHT_HEX
+from ..analyse import SYMMETRY_NAMES, Analysis, Row
+from ..compare import furthest_from_typical
+from ..pose.head import TURN_CALLS
+from ..pose.joint_angles import ANGLE_BASES, SIDES, angle_name
 from .figures import _figure, _svg
-from .head import TURN_CALLS
-from .joint_angles import ANGLE_BASES, SIDES, angle_name
 from .plain_words import describe, has_words
 
 MAX_POINTS = 600  # per plotted series: the clip decimated to at most this many time steps (a panel is ~500 px wide)
