@@ -35,8 +35,8 @@ from benchmarks.calibrate.features_3d_accuracy import CASE_CLIPS
 from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
-from zedo_cli.analysis.geometry import angle_between_deg
-from zedo_cli.analysis.published_features import Windows, smooth_positions
+from zedo_cli.analysis.clip.published_features import Windows, smooth_positions
+from zedo_cli.analysis.pose.geometry import angle_between_deg
 from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")

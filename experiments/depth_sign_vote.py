@@ -37,8 +37,8 @@ from benchmarks.accuracy.limb_depth_flips import CLEAR_DEPTH, SEGMENTS, depth_di
 from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
-from zedo_cli.analysis.features_3d import features_3d
-from zedo_cli.analysis.published_features import published_features
+from zedo_cli.analysis.clip.features_3d import features_3d
+from zedo_cli.analysis.clip.published_features import published_features
 from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")

@@ -32,7 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from benchmarks.lib.folds import FOLDS, fold_priors
-from zedo_cli.analysis.geometry import angle_between_deg
+from zedo_cli.analysis.pose.geometry import angle_between_deg
 
 AUGMENT_SEED = 7
 ANGLES = {"elbow": ("shoulder", "elbow", "wrist"), "knee": ("hip", "knee", "ankle")}

@@ -24,8 +24,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from benchmarks.calibrate.calibrate_measures import SKELETON, case_arrays
-from zedo_cli.analysis.calibration import conformal_quantile, fit_measure, residuals
-from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
+from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
+from zedo_cli.analysis.uncertainty.calibration import conformal_quantile, fit_measure, residuals
 
 
 def towards_camera(poses: np.ndarray, pair: str) -> np.ndarray:

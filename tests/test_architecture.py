@@ -1,5 +1,6 @@
 """The package's layering rule (docs/ARCHITECTURE.md): each subpackage imports only from the
-layers below it, modules never import each other in a cycle, and `zedo_cli` itself stays light."""
+layers below it, modules never import each other in a cycle, `zedo_cli` itself stays light, and inside
+`analysis` the measure families keep their own order, few modules a folder and short modules."""
 
 from __future__ import annotations
 
@@ -125,6 +126,66 @@ def test_no_formats_module_both_reads_and_writes():
         if len(sides | ({own} if own else set())) > 1:
             mixed.append(f"{module} -> {sorted(t for t in targets if side(t))}")
     assert not mixed, "formats modules that hold both reading and writing:\n" + "\n".join(sorted(mixed))
+
+
+# Inside analysis/ (docs/ARCHITECTURE.md): folders by measure family, lowest first, then the modules at its
+# top (the orchestration: analyse, outputs, compare), then the report, which renders an Analysis. A module
+# imports only from its own part and from lower ones.
+ANALYSIS = PACKAGE / "analysis"
+ANALYSIS_ORDER = ["uncertainty", "pose", "clip", "norms", "", "report"]  # "": the modules at analysis/'s top
+MAX_MODULES_PER_FOLDER = 8  # under analysis/, __init__.py not counted
+MAX_MODULE_LINES = 600  # under analysis/ (formats/readers/result.py, outside it, is longer)
+
+
+def analysis_part(module: str) -> str | None:
+    """The part of analysis/ that `module` belongs to: its folder, "" for a module at analysis/'s top (and for
+    the package itself), None outside analysis/."""
+    parts = module.split(".")
+    if parts[:2] != ["zedo_cli", "analysis"]:
+        return None
+    return parts[2] if len(parts) > 2 and (ANALYSIS / parts[2]).is_dir() else ""
+
+
+def test_every_analysis_folder_has_a_place_in_its_order():
+    folders = {p.name for p in ANALYSIS.iterdir() if (p / "__init__.py").is_file()}
+    assert folders == set(ANALYSIS_ORDER) - {""}, "a new folder of analysis/ needs a place here and in ARCHITECTURE.md"
+    assert analysis_part("zedo_cli.analysis.report.report") == "report"
+    assert analysis_part("zedo_cli.analysis.analyse") == analysis_part("zedo_cli.analysis") == ""
+    assert analysis_part("zedo_cli.formats.readers.result") is None
+
+
+def test_analysis_imports_go_down_its_order():
+    graph = import_graph()
+    assert {analysis_part(m) for m in graph} - {None} == set(ANALYSIS_ORDER)
+    upward = []
+    for module, targets in graph.items():
+        source = analysis_part(module)
+        if source is None:
+            continue
+        for target in targets:
+            dest = analysis_part(target)
+            if dest is not None and ANALYSIS_ORDER.index(dest) > ANALYSIS_ORDER.index(source):
+                upward.append(f"{module} -> {target}")
+    order = " < ".join(part or "(top)" for part in ANALYSIS_ORDER)
+    assert not upward, f"analysis/ imports against its order {order}:\n" + "\n".join(sorted(upward))
+
+
+def test_analysis_folders_hold_few_modules():
+    crowded = {
+        str(folder.relative_to(PACKAGE)): n
+        for folder in [ANALYSIS, *(p.parent for p in ANALYSIS.rglob("__init__.py"))]
+        if (n := len([m for m in folder.glob("*.py") if m.name != "__init__.py"])) > MAX_MODULES_PER_FOLDER
+    }
+    assert not crowded, f"more than {MAX_MODULES_PER_FOLDER} modules in a folder of analysis/: {crowded}"
+
+
+def test_analysis_modules_are_short():
+    long = {
+        str(path.relative_to(PACKAGE)): n
+        for path in sorted(ANALYSIS.rglob("*.py"))
+        if (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES
+    }
+    assert not long, f"modules of analysis/ over {MAX_MODULE_LINES} lines: {long}"
 
 
 def test_no_import_cycles():

@@ -37,7 +37,7 @@ from benchmarks.calibrate.calibrate_measures import (
 )
 from benchmarks.lib.settings import CAMERAS, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, analyse
-from zedo_cli.analysis.calibration import read_calibrations
+from zedo_cli.analysis.uncertainty.calibration import read_calibrations
 
 
 def f1000_clips(truth: np.ndarray, kp: dict, k: int, key: str) -> dict[str, np.ndarray]:

@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository r
 from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
-from zedo_cli.analysis.features_3d import features_3d
+from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")

@@ -28,7 +28,7 @@ from benchmarks.calibrate.calibrate_measures import BINS, SYMMETRY_NAMES, case_a
 from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
-from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG
+from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG
 from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
 from zedo_cli.lifting.temporal import lift_sequence
 

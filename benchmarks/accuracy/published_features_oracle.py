@@ -1,7 +1,7 @@
 """zedo's published 2D clip features against the published code of Chambers et al. 2020, run unchanged.
 
 The reference (../shared/reference/chambers2020, a pandas-1.5 venv made by its make_venv.sh) and
-`zedo_cli.analysis.published_features` compute the features of the same 2D clips; this prints, per
+`zedo_cli.analysis.clip.published_features` compute the features of the same 2D clips; this prints, per
 feature, the worst relative difference over the clips, and the worst overall. Target (issue 35): every
 feature within 0.5 %, the entropies within 1 %.
 
@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from zedo_cli.analysis.published_features import PREREGISTERED, published_features
+from zedo_cli.analysis.clip.published_features import PREREGISTERED, published_features
 from zedo_cli.data.skeleton import get_skeleton
 
 SYRIP = get_skeleton("syrip12")

@@ -113,7 +113,7 @@ def depth_split(errors: Path, variant: str, skeleton: Skeleton) -> list[dict]:
 
 
 def main() -> int:
-    from zedo_cli.analysis.symmetry import symmetry_angles
+    from zedo_cli.analysis.pose.symmetry import symmetry_angles
     from zedo_cli.data.datasets import load_syrip_3d
     from zedo_cli.evaluation.plausibility import symmetry_angle_error_deg
     from zedo_cli.evaluation.syrip_benchmark import load_benchmark_inputs, load_syrip_train_inputs

@@ -35,7 +35,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, CameraRange, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, all_measures
-from zedo_cli.analysis.calibration import (
+from zedo_cli.analysis.pose.joint_angles import CIRCULAR_ANGLES
+from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG
+from zedo_cli.analysis.uncertainty.calibration import (
     LEVELS,
     CameraDomain,
     MeasureCalibration,
@@ -47,8 +49,6 @@ from zedo_cli.analysis.calibration import (
     residuals,
     write_calibrations,
 )
-from zedo_cli.analysis.joint_angles import CIRCULAR_ANGLES
-from zedo_cli.analysis.symmetry import DEFAULT_THRESHOLD_DEG
 from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
@@ -507,7 +507,7 @@ def frame_probabilities(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]],
                         name: str, threshold: float) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
     """Per case `(n,)`, under the held-out model that covers it: P(truth > threshold) and the rank of the truth
     in the case's calibrated distribution (NaN: no calibrated value)."""
-    from zedo_cli.analysis.clip_share import probability_above
+    from zedo_cli.analysis.uncertainty.clip_share import probability_above
 
     raw, truth = cases[f"{name}|raw"], cases[f"{name}|truth"]
     p, rank = np.full(len(raw), np.nan), np.full(len(raw), np.nan)
@@ -522,10 +522,10 @@ def frame_probabilities(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]],
 def share_figures(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: dict[str, np.ndarray],
                   fold: np.ndarray, kind: np.ndarray, group: np.ndarray, threshold: float, fps: float,
                   level: float = 0.9, filled: list | None = None) -> dict[str, float]:  # fmt: skip
-    """Clip-level shares asymmetric (analysis.clip_share) on held-out clips: per (clip, pair) the share's interval
-    against the true share of the same frames; also the frames' probabilities' calibration and how long errors
+    """Clip-level shares asymmetric (analysis.uncertainty.clip_share) on held-out clips: per (clip, pair) the share's
+    interval against the true share of the same frames; also the frames' probabilities' calibration and how long errors
     persist (the integrated autocorrelation time of the truth's ranks, seconds)."""
-    from zedo_cli.analysis.clip_share import block_frames, integrated_autocorrelation, share_interval
+    from zedo_cli.analysis.uncertainty.clip_share import block_frames, integrated_autocorrelation, share_interval
 
     hits, widths, errors, persist, p_all, t_all, blocks = [], [], [], [], [], [], []
     clip = np.char.add(np.char.add(fold.astype(str), kind.astype(str)), group.astype(str))

@@ -30,8 +30,8 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from zedo_cli.analysis.features_3d import features_3d
-from zedo_cli.analysis.published_features import published_features
+from zedo_cli.analysis.clip.features_3d import features_3d
+from zedo_cli.analysis.clip.published_features import published_features
 from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
@@ -166,7 +166,7 @@ def family(name: str) -> str:
 
 def fit_features(raw: np.ndarray, truth: np.ndarray, names: np.ndarray) -> dict[str, Any]:
     """Per feature, a MeasureModel fitted on clips `raw, truth (C, F)` (fewer bins where few clips have it)."""
-    from zedo_cli.analysis.calibration import fit_measure
+    from zedo_cli.analysis.uncertainty.calibration import fit_measure
 
     models = {}
     for i, n in enumerate(names):
@@ -179,7 +179,7 @@ def fit_features(raw: np.ndarray, truth: np.ndarray, names: np.ndarray) -> dict[
 
 def score(models: dict[str, Any], case: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """Held-out clips `case`: per feature the calibrated estimate, the 90 % interval's hits (NaN: no case)."""
-    from zedo_cli.analysis.clip_features import feature_range
+    from zedo_cli.analysis.clip.clip_features import feature_range
 
     est = np.full(case["raw"].shape, np.nan)
     hit = np.full(case["raw"].shape, np.nan)
@@ -297,7 +297,12 @@ def camera_coverage(hit: np.ndarray, depth_m: np.ndarray, focal_px: np.ndarray) 
 def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, coverage: dict[str, float]) -> None:
     """Fit on every fold's clips; add the clip-scope calibration of the shipped prior to `--out` (the others stay)."""
     from benchmarks.lib.settings import CLIP_SETTINGS
-    from zedo_cli.analysis.calibration import MeasureCalibration, bundled_path, read_calibrations, write_calibrations
+    from zedo_cli.analysis.uncertainty.calibration import (
+        MeasureCalibration,
+        bundled_path,
+        read_calibrations,
+        write_calibrations,
+    )
     from zedo_cli.lifting.config import DEFAULT_PRESET, calibration_settings, get_preset
     from zedo_cli.prior.weights import load_prior, resolve_prior_path
 
@@ -319,7 +324,7 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
     cameras, domain = ("pseudo",), None
     if args.cameras:
         from benchmarks.lib.settings import CAMERAS
-        from zedo_cli.analysis.calibration import CameraDomain
+        from zedo_cli.analysis.uncertainty.calibration import CameraDomain
 
         cameras, domain = ("cli", "file"), CameraDomain(CAMERA_DEPTH_M, CAMERAS.focal_px)
         provenance["data"] += (f"; the clips seen by known cameras (focal length {CAMERAS.focal_px[0]:g}-"

@@ -31,7 +31,7 @@ tilt against its definition computed on the noiseless projected points, the clip
 the frame rows. The intervals: per process (random shares, holds, infant and set-up) its truths
 from 2 hours of it (the true share of frames by the yaw, the median of the tilt's definition on
 the noiseless points; also the long-run share of calls, the bootstrap's own estimand), and one
-clip of 1, 3 and 10 minutes of it. The calibration (`analysis.head_calibration`: split conformal
+clip of 1, 3 and 10 minutes of it. The calibration (`analysis.uncertainty.head_calibration`: split conformal
 on the bootstrap interval's arms) is fitted on the calibration processes' clips, and the coverage
 of the bootstrap alone and calibrated is measured on the held-out processes' clips, at 1 px and
 (fewer) at 0.5 and 2 px; also the bootstrap on the yaw process alone (no camera: the true
@@ -54,9 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
-from zedo_cli.analysis.block_bootstrap import share_intervals
-from zedo_cli.analysis.calibration import LEVELS
-from zedo_cli.analysis.head import (
+from zedo_cli.analysis.pose.head import (
     FACE_JOINTS,
     HeadSettings,
     head_clip,
@@ -64,7 +62,9 @@ from zedo_cli.analysis.head import (
     head_frames,
     head_tilt,
 )
-from zedo_cli.analysis.head_calibration import (
+from zedo_cli.analysis.uncertainty.block_bootstrap import share_intervals
+from zedo_cli.analysis.uncertainty.calibration import LEVELS
+from zedo_cli.analysis.uncertainty.head_calibration import (
     BOUNDS,
     MEASURES,
     HeadCalibration,

@@ -158,7 +158,7 @@ def test_bad_settings_and_unlifted_results(tmp_path: Path) -> None:
 
 
 def test_the_report_is_self_contained(kick_calibrated: tuple[Path, list], tmp_path: Path) -> None:
-    from zedo_cli.analysis.report import write_report
+    from zedo_cli.analysis.report.report import write_report
 
     a = analyse(read_result(kick_calibrated[0]), calibrations=kick_calibrated[1])
     out = write_report(a, tmp_path / "r.html")
@@ -179,7 +179,7 @@ def test_the_report_prints_beside_each_call_the_interval_that_decides_it(
 ) -> None:
     from dataclasses import replace
 
-    from zedo_cli.analysis.report import report_html
+    from zedo_cli.analysis.report.report import report_html
 
     cal = kick_calibrated[1][0]  # widths that grow with the level: 3 degrees at 70 %, 9 at 90 %
     widths = {level: (3.0 if level <= 0.7 else 9.0,) for level in cal.measures["symmetry_thigh_deg"].q_low}
@@ -200,7 +200,7 @@ def test_the_report_prints_beside_each_call_the_interval_that_decides_it(
 def test_the_report_opens_with_the_research_notice_and_shows_bands_as_the_papers(
     kick_calibrated: tuple[Path, list],
 ) -> None:
-    from zedo_cli.analysis.report import report_html
+    from zedo_cli.analysis.report.report import report_html
     from zedo_cli.footage.draw import LEFT, RIGHT
     from zedo_cli.formats.colours import LEFT_HEX, LEFT_RGB, RIGHT_HEX, RIGHT_RGB, bgr
 
@@ -216,7 +216,7 @@ def test_the_report_opens_with_the_research_notice_and_shows_bands_as_the_papers
 
 
 def test_no_calibration_is_stated_in_the_report(kick: Path, tmp_path: Path) -> None:
-    from zedo_cli.analysis.report import report_html
+    from zedo_cli.analysis.report.report import report_html
 
     page = report_html(analyse(read_result(kick)))
     assert "No decisive calls." in page and "no measure calibration for this prior" in page

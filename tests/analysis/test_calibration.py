@@ -18,7 +18,8 @@ from zedo_cli.analysis.analyse import (
     analyse,
     measure_ranges,
 )
-from zedo_cli.analysis.calibration import (
+from zedo_cli.analysis.pose.symmetry import CALLS
+from zedo_cli.analysis.uncertainty.calibration import (
     LEVELS,
     MeasureCalibration,
     MeasureModel,
@@ -27,7 +28,6 @@ from zedo_cli.analysis.calibration import (
     read_calibrations,
     write_calibrations,
 )
-from zedo_cli.analysis.symmetry import CALLS
 from zedo_cli.errors import WeightsError
 from zedo_cli.formats.readers.result import read_result
 from zedo_cli.lifting.config import LiftConfig, calibration_settings

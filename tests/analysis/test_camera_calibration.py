@@ -13,7 +13,7 @@ from analysis_results import kicking_poses, result_document, write_document
 from test_calibration import JOINTS, PARAMS, SHA, calibration
 
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, analyse
-from zedo_cli.analysis.calibration import (
+from zedo_cli.analysis.uncertainty.calibration import (
     CameraDomain,
     MeasureCalibration,
     assign_calibrations,
@@ -118,7 +118,7 @@ def test_a_calibration_with_a_camera_range_reads_back_and_one_without_writes_as_
 def test_a_joint_filled_by_the_prior_takes_the_calibrations_wider_model_where_it_has_one(tmp_path: Path) -> None:
     from test_calibration import document
 
-    from zedo_cli.analysis.calibration import LEVELS, MeasureModel
+    from zedo_cli.analysis.uncertainty.calibration import LEVELS, MeasureModel
 
     doc = document(kicking_poses(3))
     doc["params"].update(CLI)
@@ -158,7 +158,7 @@ def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_2_m(
     """Each mode's calibrations of known cameras meet end to end over 0.4-2 m and 600-2500 px, each range fitted
     on its own held-out cases with a model for every symmetry pair, observed and with a filled joint; the pseudo
     camera's have no range (issue 35: every symmetry value of a clip at f = 1000 px about 1 m away)."""
-    from zedo_cli.analysis.calibration import bundled_calibrations, describe_domains
+    from zedo_cli.analysis.uncertainty.calibration import bundled_calibrations, describe_domains
 
     frames = [c for c in bundled_calibrations() if c.scope == "frames"]
     assert all(c.domain is None for c in frames if c.cameras == ("pseudo",))
@@ -194,7 +194,7 @@ def test_a_filled_joint_outside_the_calibrated_range_gives_the_cameras_reason(tm
     column names the camera, not the filled joint (the calibration has a model of filled joints inside)."""
     from test_calibration import document
 
-    from zedo_cli.analysis.calibration import LEVELS, MeasureModel
+    from zedo_cli.analysis.uncertainty.calibration import LEVELS, MeasureModel
 
     doc = document(kicking_poses(2) + np.array([0.0, 0.0, -0.7]))  # 0.3 m from the camera
     doc["params"].update(CLI)
@@ -211,7 +211,7 @@ def test_a_filled_joint_outside_the_calibrated_range_gives_the_cameras_reason(tm
 
 
 def test_the_report_keeps_every_calibration_warning(tmp_path: Path) -> None:
-    from zedo_cli.analysis.report import report_html
+    from zedo_cli.analysis.report.report import report_html
 
     # frames 0-14 at 1.0 m, 15-29 at 2.5 m: half the poses lie outside the calibrated depths
     poses = kicking_poses(30)

@@ -13,7 +13,8 @@ from analysis_results import kicking_poses, write_document
 from test_calibration import JOINTS, PARAMS, SHA, calibration, document
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-from zedo_cli.analysis.calibration import (
+from zedo_cli.analysis.clip.clip_features import feature_range
+from zedo_cli.analysis.uncertainty.calibration import (
     LEVELS,
     CameraDomain,
     MeasureCalibration,
@@ -24,7 +25,6 @@ from zedo_cli.analysis.calibration import (
     read_calibrations,
     write_calibrations,
 )
-from zedo_cli.analysis.clip_features import feature_range
 from zedo_cli.formats.readers.result import read_result
 from zedo_cli.lifting.config import LiftConfig, calibration_settings
 
@@ -136,8 +136,8 @@ def test_the_bundled_clip_calibrations_cover_both_modes_and_both_kinds_of_camera
     """A clip lifted frame by frame (zedo lift's default) or with --temporal smooth, by the pseudo camera or a
     known one, finds a clip calibration with every 3d_ feature's model, fitted on held-out clips whose
     cross-fitted coverage is stated (docs/movement.md)."""
-    from zedo_cli.analysis.calibration import bundled_calibrations
-    from zedo_cli.analysis.features_3d import features_3d
+    from zedo_cli.analysis.clip.features_3d import features_3d
+    from zedo_cli.analysis.uncertainty.calibration import bundled_calibrations
     from zedo_cli.data.skeleton import get_skeleton
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
 

@@ -12,9 +12,9 @@ from analysis_results import kicking_poses, result_document, write_document
 from typer.testing import CliRunner
 
 from zedo_cli.analysis.analyse import analyse
-from zedo_cli.analysis.features_3d import PREFIX
-from zedo_cli.analysis.plain_words import describe, has_words
-from zedo_cli.analysis.published_features import PREREGISTERED
+from zedo_cli.analysis.clip.features_3d import PREFIX
+from zedo_cli.analysis.clip.published_features import PREREGISTERED
+from zedo_cli.analysis.report.plain_words import describe, has_words
 from zedo_cli.cli import app
 from zedo_cli.formats.readers.result import read_result
 
@@ -38,7 +38,7 @@ def _video(path: Path, frames: int, size: tuple[int, int] = (640, 480)) -> Path:
 
 
 def test_the_clip_report_leads_with_the_summary(clip: tuple[Path, list]) -> None:
-    from zedo_cli.analysis.report import report_html
+    from zedo_cli.analysis.report.report import report_html
 
     a = analyse(read_result(clip[0]), calibrations=clip[1])
     page = report_html(a)
@@ -58,7 +58,7 @@ def test_the_clip_report_leads_with_the_summary(clip: tuple[Path, list]) -> None
 
 
 def test_review_picks_are_spread_and_most_undecided_first(clip: tuple[Path, list]) -> None:
-    from zedo_cli.analysis.clip_report import review_picks, uncertain
+    from zedo_cli.analysis.report.clip_report import review_picks, uncertain
 
     a = analyse(read_result(clip[0]), calibrations=clip[1])
     picks = review_picks(a, count=4)
@@ -85,8 +85,8 @@ def test_plain_words_cover_every_published_and_3d_feature(clip: tuple[Path, list
 
 
 def test_thumbnails_cut_from_a_video_and_a_mismatched_video_refused(clip: tuple[Path, list], tmp_path: Path) -> None:
-    from zedo_cli.analysis.clip_report import review_picks
-    from zedo_cli.analysis.report import Footage, report_html
+    from zedo_cli.analysis.report.clip_report import review_picks
+    from zedo_cli.analysis.report.report import Footage, report_html
     from zedo_cli.footage.thumbnails import THUMB_WIDTH, cut_thumbnails
     from zedo_cli.footage.video_check import VideoMismatchError
 

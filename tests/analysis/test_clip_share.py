@@ -13,14 +13,14 @@ from analysis_results import kicking_poses, result_document, write_document
 from test_calibration import PARAMS, calibration
 
 from zedo_cli.analysis.analyse import INTERVAL_SHARE, SYMMETRY_NAMES, AnalysisSettings, analyse, probability_name
-from zedo_cli.analysis.calibration import LEVELS, MeasureModel
-from zedo_cli.analysis.clip_share import (
+from zedo_cli.analysis.pose.symmetry import CALLS
+from zedo_cli.analysis.uncertainty.calibration import LEVELS, MeasureModel
+from zedo_cli.analysis.uncertainty.clip_share import (
     block_frames,
     integrated_autocorrelation,
     probability_above,
     share_interval,
 )
-from zedo_cli.analysis.symmetry import CALLS
 from zedo_cli.formats.readers.result import read_result
 
 

@@ -13,14 +13,14 @@ from analysis_results import kicking_poses, result_document, write_document
 from helpers import K_TEST
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse, summary
-from zedo_cli.analysis.block_bootstrap import (
+from zedo_cli.analysis.pose.head import FLAG_EYES_REVERSED, HeadSettings, head_tilt, head_turn
+from zedo_cli.analysis.uncertainty.block_bootstrap import (
     BootstrapSettings,
     block_length,
     median_interval,
     share_intervals,
     taper_correction,
 )
-from zedo_cli.analysis.head import FLAG_EYES_REVERSED, HeadSettings, head_tilt, head_turn
 from zedo_cli.data.keypoints import OtherKeypoints
 from zedo_cli.formats.readers.result import read_result
 

@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from zedo_cli.analysis.block_bootstrap import BootstrapSettings
-from zedo_cli.analysis.calibration import LEVELS
-from zedo_cli.analysis.head import TURN_CALLS, HeadFrames, HeadSettings, head_clip, head_clip_bootstrap
-from zedo_cli.analysis.head_calibration import (
+from zedo_cli.analysis.pose.head import TURN_CALLS, HeadFrames, HeadSettings, head_clip, head_clip_bootstrap
+from zedo_cli.analysis.uncertainty.block_bootstrap import BootstrapSettings
+from zedo_cli.analysis.uncertainty.calibration import LEVELS
+from zedo_cli.analysis.uncertainty.head_calibration import (
     MEASURES,
     HeadCalibration,
     HeadMeasureCalibration,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from analysis_poses import FRONT, LEFT, SKEL, UP, random_rigid, rotation, set_limb, standing, to_array
 
-from zedo_cli.analysis.joint_angles import ANGLE_NAMES, joint_angles, trunk_frame
+from zedo_cli.analysis.pose.joint_angles import ANGLE_NAMES, joint_angles, trunk_frame
 
 
 def angles(pts: dict[str, np.ndarray] | np.ndarray) -> dict[str, float]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from zedo_cli.analysis.movement import angular_velocity, left_right_correlation, series_features
+from zedo_cli.analysis.clip.movement import angular_velocity, left_right_correlation, series_features
 
 
 def test_sine_series_features_match_the_analytic_values() -> None:

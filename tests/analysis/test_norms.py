@@ -1,4 +1,4 @@
-"""The comparison with typical infants (analysis.norms, analysis.norms_file)."""
+"""The comparison with typical infants (analysis.norms.norms, analysis.norms.norms_file)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from zedo_cli.analysis.norms import (
+from zedo_cli.analysis.clip.published_features import PREREGISTERED as PUBLISHED_PART_FEATURES
+from zedo_cli.analysis.norms.norms import (
     ALL_AGES,
     BRACKET_OLD,
     BRACKET_YOUNG,
@@ -21,8 +22,7 @@ from zedo_cli.analysis.norms import (
     build_norms,
     compare,
 )
-from zedo_cli.analysis.norms_file import read_norms, write_norms
-from zedo_cli.analysis.published_features import PREREGISTERED as PUBLISHED_PART_FEATURES
+from zedo_cli.analysis.norms.norms_file import read_norms, write_norms
 from zedo_cli.errors import ConfigError, InputFormatError
 
 VERSION = "9.9.9"
@@ -221,7 +221,7 @@ def test_published_z_matches_the_published_code(tmp_path: Path) -> None:
 def test_an_age_outside_0_to_200_weeks_is_refused_by_both_commands(tmp_path: Path) -> None:
     from typer.testing import CliRunner
 
-    from zedo_cli.analysis.norms import check_age_weeks
+    from zedo_cli.analysis.norms.norms import check_age_weeks
     from zedo_cli.cli import app
 
     check_age_weeks(None)

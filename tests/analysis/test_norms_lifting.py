@@ -14,10 +14,10 @@ from test_clip_calibration import KNEE, clip_calibration
 from test_norms import VERSION, _reference
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-from zedo_cli.analysis.clip_report import comparison_block
 from zedo_cli.analysis.compare import add_comparison, features_by_person, lifting_mismatch, lifting_of
-from zedo_cli.analysis.norms import build_norms
-from zedo_cli.analysis.norms_file import read_norms, write_norms
+from zedo_cli.analysis.norms.norms import build_norms
+from zedo_cli.analysis.norms.norms_file import read_norms, write_norms
+from zedo_cli.analysis.report.clip_report import comparison_block
 from zedo_cli.formats.readers.result import read_result
 from zedo_cli.lifting.config import LiftConfig
 

@@ -12,15 +12,15 @@ from analysis_poses import SKEL, rotation, set_limb, standing, to_array
 from analysis_results import kicking_poses, result_document, write_document
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-from zedo_cli.analysis.features_3d import features_3d
-from zedo_cli.analysis.outputs import csv_text
-from zedo_cli.analysis.published_features import (
+from zedo_cli.analysis.clip.features_3d import features_3d
+from zedo_cli.analysis.clip.published_features import (
     ANGLE_POINTS,
     POINTS,
     PREREGISTERED,
     body_frame,
     published_features,
 )
+from zedo_cli.analysis.outputs import csv_text
 from zedo_cli.formats.readers.result import read_result
 
 # A still infant on its back seen from above, its head up in the image and its left on the image's right:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from analysis_poses import SKEL, set_limb, standing, to_array
 
-from zedo_cli.analysis.report import _mirrored_segments, _view_half_width
+from zedo_cli.analysis.report.report import _mirrored_segments, _view_half_width
 
 
 def test_the_mirrored_right_limbs_of_a_symmetric_pose_are_the_left_limbs() -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from zedo_cli.analysis.series import (
+from zedo_cli.analysis.clip.series import (
     circular_mean_deg,
     circular_variance,
     entropy_of_rounded,

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from analysis_poses import SKEL, UP, rotation, set_limb, standing, to_array
 
-from zedo_cli.analysis.geometry import require_joints
-from zedo_cli.analysis.symmetry import measure_name, symmetry_angles, symmetry_band, symmetry_call
+from zedo_cli.analysis.pose.geometry import require_joints
+from zedo_cli.analysis.pose.symmetry import measure_name, symmetry_angles, symmetry_band, symmetry_call
 from zedo_cli.data.skeleton import Skeleton
 from zedo_cli.errors import InputFormatError
 

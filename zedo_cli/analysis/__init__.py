@@ -1,8 +1,11 @@
-"""Clinical measures of lifted poses (`zedo analyze`): postural symmetry (Huang et al. 2022),
-joint angles in a trunk frame, movement features of sequences, measure-level estimates with
-calibrated intervals (`analysis.calibration`), a clip's share of frames asymmetric with its
-interval (`analysis.clip_share`), the tidy CSV / JSON outputs and the HTML report
-(`analysis.report`, not imported here so that matplotlib loads only when a report is asked for).
+"""Clinical measures of lifted poses (`zedo analyze`), by measure family: the statistics of the
+intervals (`uncertainty`: measure-level calibration, a clip's share of frames asymmetric, the block
+bootstrap), measures of a pose or frame (`pose`: postural symmetry after Huang et al. 2022, joint
+angles in a trunk frame, the head), features of a clip (`clip`: movement, the published 2D and the
+`3d_` features), the reference of typical infants (`norms`), then the orchestration at this level
+(`analyse`, `outputs`: the tidy CSV / JSON, `compare`: a clip against a reference) and the HTML
+report (`report`, not imported here so that matplotlib loads only when a report is asked for).
+Each imports only from its own folder and the ones listed before it (docs/ARCHITECTURE.md).
 
 Builds on `formats` (reading zedo results), `data` (joint sets by name) and `files`.
 """
@@ -16,9 +19,9 @@ __getattr__, __dir__, __all__ = lazy_exports(
     globals(),
     {
         ".analyse": ["Analysis", "AnalysisSettings", "COLUMNS", "Row", "all_measures", "analyse", "summary"],
-        ".joint_angles": ["ANGLE_NAMES", "joint_angles", "trunk_frame"],
+        ".pose.joint_angles": ["ANGLE_NAMES", "joint_angles", "trunk_frame"],
         ".outputs": ["analysis_document", "write_csv", "write_json"],
-        ".symmetry": [
+        ".pose.symmetry": [
             "DEFAULT_THRESHOLD_DEG",
             "PAIRS",
             "measure_name",
@@ -26,7 +29,7 @@ __getattr__, __dir__, __all__ = lazy_exports(
             "symmetry_band",
             "symmetry_call",
         ],
-        ".calibration": [
+        ".uncertainty.calibration": [
             "CameraDomain",
             "MeasureCalibration",
             "MeasureModel",
@@ -34,6 +37,6 @@ __getattr__, __dir__, __all__ = lazy_exports(
             "bundled_calibrations",
             "find_calibration",
         ],
-        ".clip_share": ["Share", "probability_above", "share_interval"],
+        ".uncertainty.clip_share": ["Share", "probability_above", "share_interval"],
     },
 )

@@ -26,7 +26,40 @@ from ..data.skeleton import Skeleton, root_point
 from ..errors import ConfigError, InputFormatError, plural
 from ..formats.readers.result import ResultPoses
 from ..stats import TOO_FEW_CASES
-from .calibration import (
+from .clip.clip_features import clip_features
+from .clip.movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
+from .pose.geometry import require_joints
+from .pose.head import (
+    TILT,
+    TURN,
+    TURN_CALLS,
+    HeadFrames,
+    HeadSettings,
+    face_points,
+    head_clip,
+    head_frames,
+    shoulder_points,
+)
+from .pose.joint_angles import (
+    ANGLE_BASES,
+    ANGLE_NAMES,
+    CIRCULAR_ANGLES,
+    FLEXION_RANGE_DEG,
+    SIDES,
+    angle_name,
+    joint_angles,
+)
+from .pose.symmetry import (
+    CALLS,
+    DEFAULT_THRESHOLD_DEG,
+    PAIRS,
+    SYMMETRY_JOINTS,
+    measure_name,
+    symmetry_angles,
+    symmetry_band,
+    symmetry_call,
+)
+from .uncertainty.calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,
     LEVELS,
@@ -37,22 +70,7 @@ from .calibration import (
     find_calibration,
     measure_joints,
 )
-from .clip_features import clip_features
-from .clip_share import block_frames, probability_above, share_interval
-from .geometry import require_joints
-from .head import TILT, TURN, TURN_CALLS, HeadFrames, HeadSettings, face_points, head_clip, head_frames, shoulder_points
-from .joint_angles import ANGLE_BASES, ANGLE_NAMES, CIRCULAR_ANGLES, FLEXION_RANGE_DEG, SIDES, angle_name, joint_angles
-from .movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
-from .symmetry import (
-    CALLS,
-    DEFAULT_THRESHOLD_DEG,
-    PAIRS,
-    SYMMETRY_JOINTS,
-    measure_name,
-    symmetry_angles,
-    symmetry_band,
-    symmetry_call,
-)
+from .uncertainty.clip_share import block_frames, probability_above, share_interval
 
 COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
            "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip

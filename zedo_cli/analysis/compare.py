@@ -10,7 +10,7 @@ import numpy as np
 
 from ..lifting.config import PRESETS, calibration_settings, settings_match
 from .analyse import Analysis, Row
-from .norms import ClipValues, Comparison, Norms, compare
+from .norms.norms import ClipValues, Comparison, Norms, compare
 
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"

@@ -30,7 +30,7 @@ from typing import Any
 from ..formats.writers.common import json_pieces, rounded, write_text
 from ..version import __version__
 from .analyse import COLUMNS, Analysis, summary
-from .symmetry import BAND_EDGES_DEG, PAIRS
+from .pose.symmetry import BAND_EDGES_DEG, PAIRS
 
 SCHEMA = "zedo.analysis/1"
 _DECIMALS = 3  # at least: small values keep SIGNIFICANT digits (formats.writers.common.rounded)

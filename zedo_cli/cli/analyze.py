@@ -17,8 +17,8 @@ from ..analysis.analyse import (
     poses_counted,
     summary,
 )
-from ..analysis.joint_angles import ANGLE_NAMES
-from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
+from ..analysis.pose.joint_angles import ANGLE_NAMES
+from ..analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
 from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
 from ..formats.readers.openpose import is_openpose_folder

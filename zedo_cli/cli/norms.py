@@ -9,8 +9,8 @@ import typer
 
 from ..analysis.analyse import AnalysisSettings, analyse
 from ..analysis.compare import features_by_person
-from ..analysis.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_norms, check_age_weeks
-from ..analysis.norms_file import write_norms
+from ..analysis.norms.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_norms, check_age_weeks
+from ..analysis.norms.norms_file import write_norms
 from ..errors import ConfigError, plural
 from ..files import check_writable
 from ..formats.readers.result import read_result

@@ -4,7 +4,7 @@
   of a left/right upper arm, forearm, thigh or shank; reported as the fractions of poses above
   1.3 and 1.6 (SyRIP's weak ground truth, Test100: 11 % and 1 %).
 - Symmetry-angle error: the mean absolute difference, over poses and the four pairs, between
-  the symmetry angles (`analysis.symmetry`, Huang et al. 2022) of the lifted poses and of the
+  the symmetry angles (`analysis.pose.symmetry`, Huang et al. 2022) of the lifted poses and of the
   ground truth.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.symmetry import symmetry_angles
+from ..analysis.pose.symmetry import symmetry_angles
 from ..data.skeleton import Skeleton, twin_limb_ratio
 
 TWIN_RATIO_THRESHOLDS = (1.3, 1.6)

@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from ..analysis.analyse import all_measures, calibrated_measures
-from ..analysis.calibration import DEFAULT_LEVEL, LEVELS, bundled_calibrations, find_calibration
-from ..analysis.joint_angles import ANGLE_NAMES
-from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
+from ..analysis.pose.joint_angles import ANGLE_NAMES
+from ..analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, PAIRS, measure_name
+from ..analysis.uncertainty.calibration import DEFAULT_LEVEL, LEVELS, bundled_calibrations, find_calibration
 from ..data.datasets import SYRIP_POSES, syrip_rows_by_name
 from ..data.skeleton import Skeleton, center_on_root, convert_points, get_skeleton
 from ..errors import DataError

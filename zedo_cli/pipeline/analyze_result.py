@@ -21,8 +21,8 @@ from ..settings.analyze import AnalyzeOptions
 from .lift import LiftedInput, check_setting_names
 
 if TYPE_CHECKING:
-    from ..analysis.norms import Norms
-    from ..analysis.report import Footage
+    from ..analysis.norms.norms import Norms
+    from ..analysis.report.report import Footage
 
 STDIN = "-"
 
@@ -41,8 +41,8 @@ def read_reference(norms: Path | None, age_weeks: float | None) -> Reference | N
         if age_weeks is not None:
             raise ConfigError("--age-weeks picks the age bracket of a reference: give it with --norms")
         return None
-    from ..analysis.norms import age_bracket, check_age_weeks
-    from ..analysis.norms_file import read_norms
+    from ..analysis.norms.norms import age_bracket, check_age_weeks
+    from ..analysis.norms.norms_file import read_norms
     from ..version import __version__
 
     check_age_weeks(age_weeks)
@@ -75,7 +75,7 @@ def write_analysis(a: Analysis, plan: dict[str, str | None], options: AnalyzeOpt
     if plan.get("json"):
         write_json(a, plan["json"], overwrite=options.overwrite)
     if plan.get("report"):
-        from ..analysis.report import write_report  # matplotlib loads only when a report is asked for
+        from ..analysis.report.report import write_report  # matplotlib loads only when a report is asked for
 
         write_report(a, plan["report"], overwrite=options.overwrite,
                      footage=footage(a, options.video, options.images))  # fmt: skip
@@ -85,8 +85,8 @@ def footage(a: Analysis, video: Path | None, images: Path | None) -> Footage | N
     """For a clip's report: the frames to review, with thumbnails when the footage is given."""
     if not a.is_sequence:
         return None
-    from ..analysis.clip_report import review_picks
-    from ..analysis.report import Footage
+    from ..analysis.report.clip_report import review_picks
+    from ..analysis.report.report import Footage
 
     picks = review_picks(a)
     if video is None and images is None:

@@ -8,9 +8,9 @@ from typing import Annotated, ClassVar, Optional
 from pydantic import Field, ValidationInfo, field_validator
 
 from ..analysis.analyse import DEFAULT_MAX_VELOCITY_DEG_S, AnalysisSettings
-from ..analysis.calibration import DEFAULT_CALL_LEVEL, DEFAULT_LEVEL, LEVELS
-from ..analysis.norms import MAX_AGE_WEEKS, check_age_weeks
-from ..analysis.symmetry import DEFAULT_THRESHOLD_DEG
+from ..analysis.norms.norms import MAX_AGE_WEEKS, check_age_weeks
+from ..analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG
+from ..analysis.uncertainty.calibration import DEFAULT_CALL_LEVEL, DEFAULT_LEVEL, LEVELS
 from ..errors import ConfigError
 from .limits import MAX_FPS
 from .model import Options, option_name

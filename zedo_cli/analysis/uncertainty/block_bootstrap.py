@@ -30,7 +30,7 @@ from statistics import NormalDist
 
 import numpy as np
 
-from ..errors import ConfigError
+from ...errors import ConfigError
 
 
 @dataclass(frozen=True)

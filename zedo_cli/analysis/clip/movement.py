@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..stats import pearson
+from ...stats import pearson
 
 MIN_FRAMES = 3
 

@@ -16,7 +16,6 @@ matplotlib is imported inside the functions: `zedo analyze` without `--report` n
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -24,20 +23,21 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..files import write_text_atomic
-from ..formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
-from ..version import __version__
-from .analyse import SYMMETRY_NAMES, Analysis, no_calibration_note, poses_counted, summary
+from ...files import write_text_atomic
+from ...formats.colours import CENTRE_HEX, LEFT_HEX, RIGHT_HEX, side_hex
+from ...version import __version__
+from ..analyse import SYMMETRY_NAMES, Analysis, no_calibration_note, poses_counted, summary
+from ..pose.geometry import joint, reflect, unit
+from ..pose.joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
+from ..pose.symmetry import BAND_EDGES_DEG, PAIRS
 from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
-from .figures import _figure, _svg
-from .geometry import joint, reflect, unit
-from .joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
-from .symmetry import BAND_EDGES_DEG, PAIRS
+from .figures import figure, svg
+from .markup import escape
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-    from ..data.skeleton import Skeleton
+    from ...data.skeleton import Skeleton
 
 MAX_TABLE_ROWS = 300  # per table; the CSV has every row
 MAX_SKELETONS = 6
@@ -61,10 +61,6 @@ table.wide{font-size:11.5px} .scroll{overflow-x:auto}
 figure.thumb img{width:270px;border:1px solid #ccc} figure.thumb small{white-space:normal}
 ul.far{font-size:14px;margin-top:2px}
 """
-
-
-def _esc(value: Any) -> str:
-    return html.escape("" if value is None else str(value))
 
 
 def _fmt(value: float, digits: int = 1) -> str:
@@ -126,14 +122,14 @@ def skeleton_views(a: Analysis) -> list[str]:
         i = a.index[k]
         pose = res.poses[i] - np.nanmean(res.poses[i, res.skeleton.root_indices], axis=0)
         half = _view_half_width(pose, res.skeleton)
-        fig = _figure(5.0, 3.0)
+        fig = figure(5.0, 3.0)
         axes = fig.subplots(1, 2)
         label = f"frame {res.frame_index[i]}" + (f" · {res.file_names[i]}" if res.file_names[i] else "")
         angles = "  ".join(f"{_short(n)} {_fmt(a.values[n][k], 0)}°" for n in SYMMETRY_NAMES)
         fig.suptitle(f"{label}, person {res.person[i]}\n{angles}", fontsize=10)
         _draw_pose(axes[0], pose, a, 0, 1, "camera view", half)
         _draw_pose(axes[1], pose, a, 2, 1, "side view (depth → right)", half)
-        out.append(_svg(fig))
+        out.append(svg(fig))
     return out
 
 
@@ -147,7 +143,7 @@ def time_series(a: Analysis) -> str:
     """Inline SVG: the symmetry angles over time (threshold dashed), then each joint angle,
     left and right, per person track."""
     res = a.result
-    fig = _figure(11.5, 9.0)
+    fig = figure(11.5, 9.0)
     axes = fig.subplots(4, 2).ravel()
     step = max(1, -(-len(a.index) // MAX_POINTS))  # a long clip drawn decimated: the figure stays small
     t_of = res.frame_index[a.index] / float(a.fps or 1.0)
@@ -173,7 +169,7 @@ def time_series(a: Analysis) -> str:
         ax.legend(fontsize=8, loc="upper right")
         ax.grid(True, lw=0.4, alpha=0.5)
         ax.set_xlabel("time (s)", fontsize=9)
-    return _svg(fig)
+    return svg(fig)
 
 
 def _pair_label(name: str) -> str:
@@ -203,9 +199,9 @@ def _title(a: Analysis) -> str:
     res = a.result
     fps = f"{a.fps:g} fps ({a.fps_source})" if a.fps else "none: frames analysed as separate images"
     counted = poses_counted(res.frame_index[a.index], res.person[a.index])
-    return (f"<h1>Postural symmetry and joint angles: {_esc(Path(res.source).name)}</h1>"
-            f"<p class=meta>{_esc(res.source)} · {res.format} · skeleton {res.skeleton.name} · {counted} analysed · "
-            f"frame rate: {_esc(fps)} · symmetric at ≤ {a.settings.threshold_deg:g}° · zedo {__version__} · "
+    return (f"<h1>Postural symmetry and joint angles: {escape(Path(res.source).name)}</h1>"
+            f"<p class=meta>{escape(res.source)} · {res.format} · skeleton {res.skeleton.name} · {counted} analysed · "
+            f"frame rate: {escape(fps)} · symmetric at ≤ {a.settings.threshold_deg:g}° · zedo {__version__} · "
             f"{datetime.now(UTC):%Y-%m-%d %H:%M} UTC</p>")  # fmt: skip
 
 
@@ -247,11 +243,11 @@ def _case_list(a: Analysis) -> str:
         items = []
         for n in SYMMETRY_NAMES:
             r = by_case[(f, p, n)]
-            what = _interval(r.call_low, r.call_high, a.settings.call_level) or _esc(_no_interval(r.interval))
+            what = _interval(r.call_low, r.call_high, a.settings.call_level) or escape(_no_interval(r.interval))
             items.append(f"<li class={_CALL_CLASS.get(r.call, '')}><b>{_pair_label(n)}: {r.call}</b> "
                          f"{_fmt(r.value)}° <small>({what})</small></li>")  # fmt: skip
         items.sort(key=lambda t: "uncertain" in t)  # the decisive calls first
-        listed.append(f"<p class=meta>{_esc(image)}, person {p}</p><ul>{''.join(items)}</ul>")
+        listed.append(f"<p class=meta>{escape(image)}, person {p}</p><ul>{''.join(items)}</ul>")
     return "".join(listed)
 
 
@@ -259,7 +255,7 @@ def _decisions(a: Analysis) -> str:
     """The calls first: what can be acted on, the rule they follow, and what "uncertain" means here."""
     if not a.uncertainty_available:
         return ("<h2>Decisions</h2><div class='note warn'><b>No decisive calls.</b> No measure calibration holds "
-                f"for this result ({_esc(a.calibration_note)}), so no interval backs a call: every symmetry call is "
+                f"for this result ({escape(a.calibration_note)}), so no interval backs a call: every symmetry call is "
                 "<b>uncertain</b>. The values below are the measures of the lifted pose, without "
                 "intervals.</div>")  # fmt: skip
     summ = summary(a)
@@ -278,7 +274,7 @@ def _decisions(a: Analysis) -> str:
 
 def _notes(a: Analysis) -> str:
     shown = set() if a.uncertainty_available else {no_calibration_note(a.calibration_note)}  # in the decisions
-    notes = "".join(f"<li>{_esc(n)}</li>" for n in a.notes if n not in shown)
+    notes = "".join(f"<li>{escape(n)}</li>" for n in a.notes if n not in shown)
     return f"<ul class=meta>{notes}</ul>" if notes else ""
 
 
@@ -360,7 +356,7 @@ def _frame_rows(a: Analysis, names: tuple[str, ...], cell: Any) -> tuple[str, st
     for k, i in enumerate(a.index[:MAX_TABLE_ROWS]):
         f, p = int(res.frame_index[i]), int(res.person[i])
         image = res.file_names[i] or res.image_ids[i]
-        rows.append(f"<tr><td>{f}</td><td class=l>{_esc(image)}</td><td>{p}</td>"
+        rows.append(f"<tr><td>{f}</td><td class=l>{escape(image)}</td><td>{p}</td>"
                     + "".join(cell(n, k, f, p) for n in names) + "</tr>")  # fmt: skip
     more = ""
     if len(a.index) > MAX_TABLE_ROWS:
@@ -394,7 +390,7 @@ def _angle_frames_section(a: Analysis) -> str:
         return _cell(a.values[name][k], *(x[k] for x in a.intervals[name]))
 
     level = _level(a.settings.level)
-    head = f"<tr>{_LEAD}" + "".join(f"<th>{_esc(n.removesuffix('_deg').replace('_', ' '))}</th>" for n in ANGLE_NAMES)
+    head = f"<tr>{_LEAD}" + "".join(f"<th>{escape(n.removesuffix('_deg').replace('_', ' '))}</th>" for n in ANGLE_NAMES)
     rows, more = _frame_rows(a, ANGLE_NAMES, cell)
     interval = f", the {level} interval in brackets" if a.uncertainty_available else ""
     return (f"<h2>Joint angles per frame</h2><p class=meta>degrees{interval}. Knee / elbow flexion: 0 = straight. "
@@ -429,7 +425,7 @@ def report_sections(a: Analysis, footage: Footage | None = None) -> list[str]:
 def report_html(a: Analysis, footage: Footage | None = None) -> str:
     """The whole report as one HTML string."""
     head = (f"<!DOCTYPE html><html lang=en><head><meta charset=utf-8><title>zedo analyze: "
-            f"{_esc(Path(a.result.source).name)}</title><style>{_CSS}</style></head><body>")  # fmt: skip
+            f"{escape(Path(a.result.source).name)}</title><style>{_CSS}</style></head><body>")  # fmt: skip
     foot = (
         "<p class=meta>Self-contained page (no network): figures inline SVG, thumbnails inline PNG.</p></body></html>"
     )

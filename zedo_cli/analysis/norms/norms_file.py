@@ -11,9 +11,9 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ..errors import InputFormatError
-from ..files import write_text_atomic
-from ..formats.readers.source import load_json
+from ...errors import InputFormatError
+from ...files import write_text_atomic
+from ...formats.readers.source import load_json
 from .norms import AGE_THRESHOLD_WEEKS, FEATURE_SET_VERSION, NORMS_SCHEMA, ClipValues, FeatureFit, Norms
 
 

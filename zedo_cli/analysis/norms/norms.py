@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ConfigError, InputFormatError
-from .features_3d import PREFIX as PREFIX_3D
-from .published_features import PREREGISTERED
+from ...errors import ConfigError, InputFormatError
+from ..clip.features_3d import PREFIX as PREFIX_3D
+from ..clip.published_features import PREREGISTERED
 
 # Per-side features whose values are positive (speeds, spreads): log(left / right) is an asymmetry index.
 ASYMMETRY_BASES: dict[str, tuple[str, ...]] = {

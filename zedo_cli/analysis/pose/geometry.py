@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
-from ..errors import InputFormatError
+from ...data.skeleton import Skeleton
+from ...errors import InputFormatError
 
 
 def joint(poses: np.ndarray, skeleton: Skeleton, name: str) -> np.ndarray:

@@ -20,9 +20,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..formats.readers.result import ResultPoses
-from ..stats import TOO_FEW_CASES
-from .calibration import DEFAULT_LEVEL, MeasureCalibration, clip_camera_mismatch
+from ...formats.readers.result import ResultPoses
+from ...stats import TOO_FEW_CASES
+from ..uncertainty.calibration import DEFAULT_LEVEL, MeasureCalibration, clip_camera_mismatch
 from .features_3d import PREFIX, features_3d
 from .published_features import ClipFeatures, published_features
 

@@ -9,14 +9,16 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def _svg(fig: Figure) -> str:
+def svg(fig: Figure) -> str:
+    """`fig` drawn as an inline <svg> element (no XML prolog or doctype)."""
     buf = io.StringIO()
     fig.savefig(buf, format="svg")
     text = buf.getvalue()
     return text[text.index("<svg") :]  # drop the XML prolog and doctype: inline SVG
 
 
-def _figure(width: float, height: float) -> Figure:
+def figure(width: float, height: float) -> Figure:
+    """A new figure of `width` x `height` inches on the SVG canvas, its text kept as text."""
     import matplotlib
 
     matplotlib.rcParams["svg.fonttype"] = "none"  # text as text: smaller files, crisp labels

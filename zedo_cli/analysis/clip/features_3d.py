@@ -32,10 +32,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
-from ..stats import pearson
-from .geometry import angle_between_deg, joint
-from .joint_angles import angle_name, joint_angles, trunk_frame
+from ...data.skeleton import Skeleton
+from ...stats import pearson
+from ..pose.geometry import angle_between_deg, joint
+from ..pose.joint_angles import angle_name, joint_angles, trunk_frame
 from .published_features import ANGLE_STATS, ClipFeatures, Windows, all_empty, angle_statistics, smooth_positions
 
 PREFIX = "3d_"

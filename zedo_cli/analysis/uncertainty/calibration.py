@@ -50,10 +50,10 @@ from typing import Any
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
-from ..lifting.config import calibration_settings, settings_match
-from ..stats import conformal_quantile
-from ..versioned_json import read_models, write_items
+from ...data.skeleton import Skeleton
+from ...lifting.config import calibration_settings, settings_match
+from ...stats import conformal_quantile
+from ...versioned_json import read_models, write_items
 
 FORMAT = "zedo.measures"
 FORMAT_VERSION = 1

@@ -37,10 +37,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ConfigError
-from ..formats.readers.result import ResultPoses
-from .block_bootstrap import BootstrapSettings, ClipInterval, median_interval, share_intervals
-from .head_calibration import (
+from ...errors import ConfigError
+from ...formats.readers.result import ResultPoses
+from ..uncertainty.block_bootstrap import BootstrapSettings, ClipInterval, median_interval, share_intervals
+from ..uncertainty.head_calibration import (
     HeadCalibration,
     bundled_head_calibrations,
     find_head_calibration,

@@ -5,33 +5,29 @@ time series with their bands and flagged frames shaded, then the frames a person
 spread over the clip, most undecided first; the CLI cuts their thumbnails from the footage
 (`footage.thumbnails`) and hands them to `report.write_report` as PNG bytes by frame number.
 Everything per frame is vectorised: an 18,000-frame clip's plots draw at most MAX_POINTS points
-per series. matplotlib is imported inside the functions (through `report._figure`).
+per series. matplotlib is imported inside the functions (through `figures.figure`).
 """
 
 from __future__ import annotations
 
 import base64
-import html
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..formats.colours import LEFT_HEX, RIGHT_HEX
-from .analyse import SYMMETRY_NAMES, Analysis, Row
-from .compare import furthest_from_typical
-from .figures import _figure, _svg
-from .head import TURN_CALLS
-from .joint_angles import ANGLE_BASES, SIDES, angle_name
+from ...formats.colours import LEFT_HEX, RIGHT_HEX
+from ..analyse import SYMMETRY_NAMES, Analysis, Row
+from ..compare import furthest_from_typical
+from ..pose.head import TURN_CALLS
+from ..pose.joint_angles import ANGLE_BASES, SIDES, angle_name
+from .figures import figure, svg
+from .markup import escape
 from .plain_words import describe, has_words
 
 MAX_POINTS = 600  # per plotted series: the clip decimated to at most this many time steps (a panel is ~500 px wide)
 MAX_REVIEW = 8
 FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
 _TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
-
-
-def _esc(value: object) -> str:
-    return html.escape(str(value))
 
 
 def _pct(value: float) -> str:
@@ -45,7 +41,7 @@ def _clip_rows(a: Analysis) -> dict[tuple[int, str], Row]:
 def _share_cell(r: Row | None, level: str) -> str:
     if r is None or not np.isfinite(r.value):
         why = r.interval.removeprefix("none: ") if r is not None and r.interval else "not measured"
-        return f"<td>– <small>({_esc(why)})</small></td>"
+        return f"<td>– <small>({escape(why)})</small></td>"
     if np.isfinite(r.low_90) and np.isfinite(r.high_90):
         return f"<td><b>{_pct(r.value)}</b> <small>{level} interval {_pct(r.low_90)} – {_pct(r.high_90)}</small></td>"
     return f"<td><b>{_pct(r.value)}</b> <small>(no interval)</small></td>"
@@ -80,7 +76,7 @@ def summary_section(a: Analysis) -> str:
         shares = [rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")) for n in SYMMETRY_NAMES]
         if all(r is None or not np.isfinite(r.value) for r in shares):
             why = next((r.interval.removeprefix("none: ") for r in shares if r is not None), "not measured")
-            out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: not estimated ({_esc(why)}; "
+            out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: not estimated ({escape(why)}; "
                        "the shares need the calibrated intervals of the frames).</p>")  # fmt: skip
         head = "".join(f"<th>{_pair(n)}</th>" for n in SYMMETRY_NAMES)
         cells = "".join(_share_cell(rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")), level)
@@ -97,7 +93,7 @@ def summary_section(a: Analysis) -> str:
         turn_rows = [rows.get((p, f"head_turn_fraction_{c}")) for c in TURN_CALLS]
         if all(r is None or not np.isfinite(r.value) for r in [*turn_rows, tilt]):
             why = next((r.interval.removeprefix("none: ") for r in [tilt, *turn_rows] if r is not None), "")
-            out.append(f"<p class=meta><b>Head{who}</b>: not measured ({_esc(why or 'no head rows')}).</p>")
+            out.append(f"<p class=meta><b>Head{who}</b>: not measured ({escape(why or 'no head rows')}).</p>")
             continue
         if tilt is not None and np.isfinite(tilt.value):
             band = (f" <small>{level} interval {tilt.low_90:.1f}° – {tilt.high_90:.1f}°</small>"
@@ -105,7 +101,7 @@ def summary_section(a: Analysis) -> str:
             tilt_cell = f"<td><b>{tilt.value:.1f}°</b>{band}</td>"
         else:
             why = tilt.interval.removeprefix("none: ") if tilt is not None else "not measured"
-            tilt_cell = f"<td>– <small>({_esc(why)})</small></td>"
+            tilt_cell = f"<td>– <small>({escape(why)})</small></td>"
         out.append(f"<p class=meta><b>Head{who}</b>: the share of the frames with a turn call, and the median "
                    "tilt (from the input's 2D face points and shoulders).</p>"
                    f"<table><tr>{turn}<th>median head tilt</th></tr>"
@@ -120,7 +116,7 @@ def comparison_block(a: Analysis) -> str:
         return ("<p class=meta>No comparison with typical infants: give a reference from <code>zedo norms</code> "
                 "with <code>--norms</code>.</p>")  # fmt: skip
     mismatches = sorted({pc.lifting_mismatch for pc in a.comparisons if pc.lifting_mismatch is not None})
-    out = [f"<div class='note warn'>{_esc(n[0].upper() + n[1:])}.</div>" for n in mismatches]
+    out = [f"<div class='note warn'>{escape(n[0].upper() + n[1:])}.</div>" for n in mismatches]
     for pc in a.comparisons:
         c = pc.comparison
         who = f" (person {pc.person})" if len(a.comparisons) > 1 else ""
@@ -129,7 +125,7 @@ def comparison_block(a: Analysis) -> str:
                          f"<td>{s.p:.3g}</td></tr>" for kind, s in kinds)  # fmt: skip
         far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
                for n, z in furthest_from_typical(c)]  # fmt: skip
-        items = "".join(f"<li>{_esc(t)}</li>" for t in far)
+        items = "".join(f"<li>{escape(t)}</li>" for t in far)
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
                    "reference: z compares the clip's summed log-likelihood under the reference with the typical "
                    "clips' own sums (negative: less typical), p is its two-sided normal p-value. A large |z| says "
@@ -181,7 +177,7 @@ def time_series_figure(a: Analysis, person: int) -> str:
     """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
     turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red."""
     d = decimate(a, person)
-    fig = _figure(11.5, 11.5)
+    fig = figure(11.5, 11.5)
     grid = fig.add_gridspec(5, 2, height_ratios=[1, 1, 1, 0.8, 0.45])
     axes = [fig.add_subplot(grid[r, c]) for r in range(4) for c in range(2)]
     axes.append(fig.add_subplot(grid[4, :]))
@@ -221,7 +217,7 @@ def time_series_figure(a: Analysis, person: int) -> str:
         ax.set_xlim(d.t[0], d.t[-1]) if len(d.t) > 1 else None
     for ax in axes[6:]:
         ax.set_xlabel("time (s)", fontsize=9)
-    return _svg(fig)
+    return svg(fig)
 
 
 def time_series_section(a: Analysis) -> str:
@@ -305,10 +301,10 @@ def review_section(a: Analysis, picks: list[Review], thumbnails: dict[int, bytes
             img = (f"<img alt='frame {r.frame_index}' src='data:image/png;base64,{base64.b64encode(png).decode()}'>"
                    if png else "<div class=meta>(not in the footage)</div>")  # fmt: skip
             cards.append(f"<figure class=thumb>{img}<figcaption>frame {r.frame_index} · {r.time_s:.2f} s · "
-                         f"person {r.person}<br><small>{_esc(_why(r))}</small></figcaption></figure>")  # fmt: skip
+                         f"person {r.person}<br><small>{escape(_why(r))}</small></figcaption></figure>")  # fmt: skip
         return f"{intro}</p><div class=thumbs>{''.join(cards)}</div>"
     rows = "".join(f"<tr><td>{r.frame_index}</td><td>{r.time_s:.2f}</td><td>{r.person}</td>"
-                   f"<td class=l>{_esc(_why(r))}</td></tr>" for r in picks)  # fmt: skip
+                   f"<td class=l>{escape(_why(r))}</td></tr>" for r in picks)  # fmt: skip
     hint = (
         footage_note or "Give the footage with <code>--video FILE</code> or <code>--images DIR</code> for thumbnails."
     )

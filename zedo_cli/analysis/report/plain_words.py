@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 
-from .features_3d import PREFIX
+from ..clip.features_3d import PREFIX
 
 _SIDE = {"L": "left ", "R": "right "}
 _PART = {

@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from ..stats import conformal_quantile
-from ..versioned_json import read_models, write_items
+from ...stats import conformal_quantile
+from ...versioned_json import read_models, write_items
 from .block_bootstrap import BootstrapSettings, ClipInterval
 
 FORMAT = "zedo.head_intervals"

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
+from ...data.skeleton import Skeleton
 from .geometry import angle_between_deg, joint, reflect, unit
 
 DEFAULT_THRESHOLD_DEG = 28.0

@@ -37,8 +37,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..data.skeleton import Skeleton
-from ..stats import pearson
+from ...data.skeleton import Skeleton
+from ...stats import pearson
 from .series import (
     circular_mean_deg,
     circular_variance,
