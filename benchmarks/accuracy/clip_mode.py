@@ -125,6 +125,7 @@ def main() -> None:
     ap.add_argument("--modes", nargs="+", default=list(MODES))
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--fit-ratio", action="store_true", help="print the skeleton shares' conformal quantile")
+    ap.add_argument("--save-ratios", type=Path, help="save |log(estimated / true share)| of every bone (.npy)")
     args = ap.parse_args()
     prior = load_prior(resolve_prior_path(None))
     cfg = get_preset("fast")
@@ -161,6 +162,8 @@ def main() -> None:
         print(f"clip: bone shares within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
               f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true share "
               f"{100 * np.mean(extra['cover']):.0f} % ({len(extra['cover'])} bones)")  # fmt: skip
+        if args.save_ratios:
+            np.save(args.save_ratios, np.array(extra["log_ratio"]))
         if args.fit_ratio:
             q = conformal_quantile(np.array(extra["log_ratio"]), 0.9)
             print(f"clip: the 90 % conformal quantile of |log(estimated / true share)| here: {q:.4f}")
