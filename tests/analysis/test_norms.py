@@ -117,25 +117,25 @@ def test_asymmetry_index_is_the_log_ratio() -> None:
 
 
 def test_age_brackets_split_at_ten_weeks() -> None:
-    ages = [6.0] * 12 + [14.0] * 12
-    norms = build_norms(_reference(24, ages), VERSION)
+    ages = [6.0] * 20 + [14.0] * 20
+    norms = build_norms(_reference(40, ages), VERSION)
     assert norms.brackets == [BRACKET_YOUNG, BRACKET_OLD]
     assert compare(_reference(1)[0].values, norms, 10.0).bracket == BRACKET_YOUNG  # 10 weeks: the younger side
     assert compare(_reference(1)[0].values, norms, 10.5).bracket == BRACKET_OLD
     with pytest.raises(ConfigError, match="--age-weeks"):
         compare(_reference(1)[0].values, norms, None)
-    young_only = build_norms(_reference(12, [6.0] * 12), VERSION)
+    young_only = build_norms(_reference(20, [6.0] * 20), VERSION)
     with pytest.raises(InputFormatError, match="outside its age brackets"):
         compare(_reference(1)[0].values, young_only, 20.0)
 
 
 def test_refusals() -> None:
-    with pytest.raises(ConfigError, match="at least 10 clips"):
-        build_norms(_reference(9), VERSION)
+    with pytest.raises(ConfigError, match="at least 20 clips per age bracket; bracket all has 19"):
+        build_norms(_reference(19), VERSION)
     with pytest.raises(ConfigError, match="bracket >10w has 4"):
-        build_norms(_reference(16, [6.0] * 12 + [14.0] * 4), VERSION)
+        build_norms(_reference(24, [6.0] * 20 + [14.0] * 4), VERSION)
     with pytest.raises(ConfigError, match="some clips but not"):
-        build_norms(_reference(12, [6.0] * 11 + [None]), VERSION)  # type: ignore[list-item]
+        build_norms(_reference(20, [6.0] * 19 + [None]), VERSION)  # type: ignore[list-item]
     clips = _reference()
     for c in clips[:11]:
         c.values["Wrist_meanent"] = math.nan
@@ -196,8 +196,8 @@ def test_published_z_matches_the_published_code(tmp_path: Path) -> None:
     code = Path(__file__).resolve().parents[3] / "shared" / "reference" / "chambers2020"
     if not python or not Path(python).exists() or not code.exists():
         pytest.skip("set ZEDO_CHAMBERS_PYTHON to the reference venv's python (shared/reference/chambers2020)")
-    ages = [6.0] * 12 + [14.0] * 12
-    clips = _reference(24, ages)
+    ages = [6.0] * 20 + [14.0] * 20
+    clips = _reference(40, ages)
     rng = np.random.default_rng(42)
     new = [_clip(rng, 100 + i, age, shift=0.5 * i) for i, age in enumerate((5.0, 9.0, 12.0, 30.0))]
     rows = []
@@ -236,3 +236,18 @@ def test_an_age_outside_0_to_200_weeks_is_refused_by_both_commands(tmp_path: Pat
     ):
         result = runner.invoke(app, args)
         assert result.exit_code == 2 and "--age-weeks must be between 0 and 200 weeks" in result.output, result.output
+
+
+def test_counts_of_the_lifts_flagged_frames_are_never_compared() -> None:
+    clips = _reference()
+    for i, c in enumerate(clips):
+        c.values["Knee_flexion_frames_too_fast"] = float(i % 3)
+    norms = build_norms(clips, VERSION)
+    assert all("too_fast" not in n for fits in norms.fits.values() for n in fits)
+    odd = {**_reference(1, seed=5)[0].values, "Knee_flexion_frames_too_fast": 400.0}
+    c = compare(odd, norms, None)
+    assert "Knee_flexion_frames_too_fast" not in c.z
+    assert c.extended.z == compare(_reference(1, seed=5)[0].values, norms, None).extended.z
+    older = build_norms(clips, VERSION)  # a reference written before: its fits hold such a count
+    older.fits[ALL_AGES]["Knee_flexion_frames_too_fast"] = norms.fits[ALL_AGES]["Knee_mean_angle"]
+    assert "Knee_flexion_frames_too_fast" not in compare(odd, older, None).z

@@ -89,9 +89,9 @@ def test_zedo_norms_says_when_its_clips_were_lifted_in_several_ways(tmp_path: Pa
 
     rng = np.random.default_rng(4)
     paths = []
-    for i in range(10):
+    for i in range(20):
         doc = document(kicking_poses(90) + rng.normal(0.0, 0.004, (90, 12, 3)), fps=30.0, temporal="smooth")
-        doc["params"]["camera_sources"] = ["pseudo"] if i < 6 else ["cli"]
+        doc["params"]["camera_sources"] = ["pseudo"] if i < 12 else ["cli"]
         paths.append(str(write_document(tmp_path / f"c{i}.zedo.json", doc)))
     result = CliRunner().invoke(app, ["norms", *paths, "-o", str(tmp_path / "norms.json")])
     assert result.exit_code == 0, result.output
@@ -100,4 +100,4 @@ def test_zedo_norms_says_when_its_clips_were_lifted_in_several_ways(tmp_path: Pa
         in (" ".join(result.output.split()))
     )
     norms = read_norms(tmp_path / "norms.json", __version__)
-    assert [c.lifting.endswith("pseudo camera") for c in norms.clips] == [True] * 6 + [False] * 4
+    assert [c.lifting.endswith("pseudo camera") for c in norms.clips] == [True] * 12 + [False] * 8

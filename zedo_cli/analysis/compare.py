@@ -10,7 +10,7 @@ import numpy as np
 
 from ..lifting.config import PRESETS, calibration_settings, settings_match
 from .analyse import Analysis, Row
-from .norms.norms import ClipValues, Comparison, Norms, compare
+from .norms.norms import ClipValues, Comparison, Norms, compare, is_lift_artifact
 
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
@@ -42,10 +42,11 @@ def lifting_of(params: dict) -> str:
 def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[ClipValues]:
     """Per person track of a clip: its clip-level features (the rows without a frame), NaN where empty. The
     measured value (`raw_value`) where a calibration gave an estimate: a reference and a clip are compared on
-    what was measured, whichever calibration (or none) held for each."""
+    what was measured, whichever calibration (or none) held for each. Counts of the lift's flagged frames are left
+    out: they measure the lift, not the infant."""
     out: dict[int, dict[str, float]] = {}
     for r in a.rows:
-        if r.frame_index is None and not r.measure.endswith(Z_SUFFIX):
+        if r.frame_index is None and not r.measure.endswith(Z_SUFFIX) and not is_lift_artifact(r.measure):
             measured = r.raw_value if np.isfinite(r.raw_value) else r.value
             out.setdefault(r.person, {})[r.measure] = float(measured)
     lifting = lifting_of(a.result.params)

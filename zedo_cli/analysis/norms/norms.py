@@ -45,6 +45,16 @@ _PER_SIDE = re.compile(r"^[A-Za-z_]+_[LR](Ankle|Wrist|Knee|Elbow|Hip|Shoulder)$"
 _SYMMETRY_MEDIAN = re.compile(r"^symmetry_[a-z_]+_median_deg$")
 
 
+def is_lift_artifact(name: str) -> bool:
+    """A clip feature that counts the lift's own flagged frames (`<angle>_frames_too_fast`), not movement."""
+    return bool(_LIFT_ARTIFACT.search(name))
+
+
+def infant_features(values: Mapping[str, float]) -> dict[str, float]:
+    """`values` without the features that measure the lift (`is_lift_artifact`)."""
+    return {k: v for k, v in values.items() if not is_lift_artifact(k)}
+
+
 def is_extended_feature(name: str) -> bool:
     """A feature of the extended comparison: a published per-side feature (`medianx_LAnkle`), a left-right
     correlation (`lrCorr_angle_Knee`), one of zedo's 3D features (`3d_...`), or a clip's median 3D symmetry
@@ -58,7 +68,12 @@ NORMS_SCHEMA = "zedo.norms/1"
 # version measures other things and is refused.
 FEATURE_SET_VERSION = "zedo-clip-features/1"
 AGE_THRESHOLD_WEEKS = 10.0  # the published brackets: age <= 10 weeks, age > 10 weeks
-MIN_REFERENCE_CLIPS = 10
+# Clips per age bracket a reference needs: every false-alarm figure of the comparison is measured with 20
+# (docs/movement.md, "Comparison with typical infants")
+MIN_REFERENCE_CLIPS = 20
+# Counts of frames the analysis flagged as the lift's artifacts (a joint angle turning faster than an infant
+# can): they measure the lift, not the infant, so no fit, z or comparison uses them
+_LIFT_ARTIFACT = re.compile(r"_frames_too_fast$")
 ALL_AGES = "all"
 BRACKET_YOUNG = "<=10w"
 BRACKET_OLD = ">10w"
@@ -154,7 +169,8 @@ def _fit(column: np.ndarray) -> FeatureFit | None:
 
 def build_norms(clips: Sequence[ClipValues], zedo_version: str) -> Norms:
     """Fit the reference. Every clip has an age (split at 10 weeks) or none has (one bracket).
-    Refused: fewer than 10 clips in a bracket, or a published feature that cannot be fitted."""
+    Refused: fewer than MIN_REFERENCE_CLIPS clips in a bracket, or a published feature that cannot be fitted.
+    Counts of the lift's flagged frames are left out (`is_lift_artifact`)."""
     if not clips:
         raise ConfigError("no clips to build a reference from")
     aged = [c.age_weeks is not None for c in clips]
@@ -162,7 +178,8 @@ def build_norms(clips: Sequence[ClipValues], zedo_version: str) -> Norms:
         missing = sum(not a for a in aged)
         raise ConfigError(f"--age-weeks given for some clips but not {missing} others: give every clip's age or none")
     with_ages = all(aged)
-    clips = [ClipValues(c.source, c.person, with_asymmetry(c.values), c.age_weeks, c.lifting) for c in clips]
+    clips = [ClipValues(c.source, c.person, with_asymmetry(infant_features(c.values)), c.age_weeks, c.lifting)
+             for c in clips]  # fmt: skip
     of_clip = [age_bracket(c.age_weeks, with_ages) for c in clips]
     brackets = [b for b in (BRACKET_YOUNG, BRACKET_OLD, ALL_AGES) if b in of_clip]
     names = sorted(set().union(*(c.values for c in clips)))
@@ -226,7 +243,7 @@ class Comparison:
 
 def _fitted(norms: Norms, bracket: str, names: Sequence[str]) -> tuple[list[str], np.ndarray, np.ndarray]:
     fits = norms.fits[bracket]
-    kept = [n for n in names if n in fits]
+    kept = [n for n in names if n in fits and not is_lift_artifact(n)]
     return kept, np.array([fits[n].mean for n in kept]), np.array([fits[n].sd for n in kept])
 
 
@@ -236,8 +253,8 @@ def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) 
     if bracket not in norms.fits:
         raise InputFormatError(f"no reference clips in the age bracket {bracket} (the reference has "
                                f"{', '.join(norms.brackets)}): this clip is outside its age brackets")  # fmt: skip
-    values = with_asymmetry(values)
-    fits = norms.fits[bracket]
+    values = with_asymmetry(infant_features(values))
+    fits = {n: f for n, f in norms.fits[bracket].items() if not is_lift_artifact(n)}  # an older reference has them
     z = {n: (values[n] - f.mean) / f.sd for n, f in fits.items() if math.isfinite(values.get(n, math.nan))}
     published = _published(values, norms, bracket)
     extended = _extended(values, norms, bracket)
