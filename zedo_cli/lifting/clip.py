@@ -8,7 +8,7 @@ points along the camera axis its depth side picked anew in every frame. Clip mod
    distance from its child's ray, and as long where it lies in the image plane; each of the eight limb
    bones' length is the 90th percentile of that distance over the track's frames where both its joints
    are observed (the parent where the two-pass lift put it). Each bone's share of the eight bones' sum
-   has a 90 % interval of the width that held on clips of another source (`RATIO_LOG_ERROR_90`); the
+   has a 90 % interval, its width split-conformal on synthetic clips (`RATIO_LOG_ERROR_90`); the
    lengths themselves are in the lift's scale, which a pseudo camera does not fix. The torso's shape
    (both hips and both shoulders) is the median of the track's torso poses, rigidly aligned.
 2. **The torso** of each frame is that shape, placed by OpenCV's PnP on the torso's smoothed 2D
@@ -17,12 +17,15 @@ points along the camera axis its depth side picked anew in every frame. Clip mod
 3. **The limbs**, each bone from its parent outward: the child joint on its ray at the bone's exact
    length has two solutions, one towards the camera and one away (they meet where the bone lies in
    the image plane). The side is chosen over the whole track at once (`choose_sides`, a Viterbi pass):
-   each frame prefers the side nearer the two-pass pose, and changing side costs `SIDE_CHANGE_COST`
-   times how far apart the two solutions are, so the side changes only where the limb passes near the
-   image plane. A joint not observed keeps its two-pass direction from its parent at the bone's length.
+   each frame prefers the side nearer the two-pass pose and a knee or elbow within its hinge's range
+   (`HINGES`), and changing side costs `SIDE_CHANGE_COST` times how far apart the two solutions are, so
+   the side changes only where the limb passes near the image plane. A joint not observed keeps its
+   two-pass direction from its parent at the bone's length.
 4. **Ambiguity said, not hidden**: between two passages near the image plane a limb keeps one side;
-   where the two-pass pose hardly prefers it over that stretch (mean margin under `AMBIGUOUS_MARGIN`
-   bone lengths), its child joint is flagged depth-ambiguous in every frame of the stretch.
+   where the two-pass pose hardly prefers it over that stretch (mean margin under `AMBIGUOUS_MARGIN` of
+   the two solutions' distance), its child joint is flagged depth-ambiguous in every frame of the stretch.
+5. **Over time**: the torso joints' paths and each limb bone's direction are smoothed by the temporal
+   filter, and the limbs rebuilt at their lengths.
 
 The 2D is the detections smoothed as in `two-pass` (rays through raw pixels bring their noise back).
 A track too short for a skeleton (under `MIN_TRACK_FRAMES` frames with the limbs seen) keeps its
@@ -68,9 +71,9 @@ HINGE_COST = 3.0
 NEAR_PLANE = 0.5  # a bone whose two solutions lie under this many bone lengths apart is near the image plane
 LEVEL = 0.9
 # The 90 % split-conformal quantile of |log(estimated / true share)| of a bone's share of the eight limb bones'
-# sum, on clips of SyRIP training poses (benchmarks/accuracy/clip_mode.py --source syrip --fit-ratio; checked on
-# the adult motion, another source: docs/lifting.md, "Clip mode").
-RATIO_LOG_ERROR_90 = 0.085
+# sum, pooled over both clip sources and both cameras (benchmarks/accuracy/clip_mode.py --save-ratios; each
+# source left out in turn: docs/lifting.md, "Clip mode").
+RATIO_LOG_ERROR_90 = 0.090
 
 
 @dataclass(frozen=True)
@@ -99,7 +102,7 @@ class TrackSkeleton:
         out["method"] = (f"length: the {REACH_QUANTILE:.0%} quantile, over the track's frames with both joints seen, "
                          "of the parent joint's distance from the child's ray (the lift's scale); share: the bone "
                          "over the eight limb bones' sum, its interval split-conformal on synthetic clips of SyRIP "
-                         "training poses")  # fmt: skip
+                         "poses and of adult motion made infant-like")  # fmt: skip
         return out
 
 
