@@ -58,6 +58,7 @@ BONE_NAMES = {
 }  # fmt: skip
 MIN_TRACK_FRAMES = 15  # frames with both joints of every limb bone seen: fewer give no skeleton
 REACH_QUANTILE = 0.9  # of a bone's frames whose child ray its length reaches
+PNP_MAX_SHIFT = 0.25  # of the torso's distance: how far PnP may move the torso from its rigid fit to the two-pass one
 TORSO_FLEX = 0.1  # of the trunk length: how far a torso joint may leave the track's torso shape
 SIDE_CHANGE_COST = 4.0  # per bone length of distance between the two solutions where the side changes
 AMBIGUOUS_MARGIN = 0.5  # of the solutions' distance: a stretch whose side the two-pass pose prefers by less is flagged
@@ -251,7 +252,8 @@ def place_torso(track: ClipTrack, shape: np.ndarray, skeleton: Skeleton, trunk: 
             rvec, _ = cv2.Rodrigues(rot)
             ok, rvec, tvec = cv2.solvePnP(shape, track.xy[t, idx].astype(np.float64), track.intrinsics[t], None,
                                           rvec, shift.reshape(3, 1).copy(), True, cv2.SOLVEPNP_ITERATIVE)  # fmt: skip
-            if ok and tvec[2, 0] > 0:
+            # a PnP that moved the torso far from its rigid fit has found another minimum: kept out
+            if ok and np.linalg.norm(tvec[:, 0] - shift) < PNP_MAX_SHIFT * np.linalg.norm(shift):
                 rot, shift = cv2.Rodrigues(rvec)[0], tvec[:, 0]
         placed = shape @ rot.T + shift
         on_ray = (rays[t] * placed).sum(-1, keepdims=True) * rays[t]
