@@ -125,6 +125,7 @@ def main() -> None:
     ap.add_argument("--modes", nargs="+", default=list(MODES))
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--fit-ratio", action="store_true", help="print the skeleton shares' conformal quantile")
+    ap.add_argument("--habits", action="store_true", help="adult source: add swaps, hand jumps and lost frames")
     ap.add_argument("--save-ratios", type=Path, help="save |log(estimated / true share)| of every bone (.npy)")
     args = ap.parse_args()
     prior = load_prior(resolve_prior_path(None))
@@ -145,6 +146,8 @@ def main() -> None:
             rows[mode].append(score(truth, res.poses_camera, res.reprojection_error_px))
             if mode == "clip":
                 clip_figures(extra, truth, res)
+                if "swapped" in data:
+                    habit_figures(extra, data, idx, res)
     print(f"source {args.source} ({args.split}), camera {args.camera}, {args.clips} clips of {args.seconds:g} s")
     print("| mode | bone-length CV % | MPJPE mm | elbow/knee MAE deg | MPJVE mm/s | reprojection px | s/clip |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
@@ -162,11 +165,28 @@ def main() -> None:
         print(f"clip: bone shares within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
               f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true share "
               f"{100 * np.mean(extra['cover']):.0f} % ({len(extra['cover'])} bones)")  # fmt: skip
+        if "habits" in extra:
+            h = extra["habits"]
+            print(
+                f"clip: swapped frames found {h[0]} of {h[1]} ({100 * h[0] / max(h[1], 1):.0f} %), false "
+                f"{100 * h[2] / max(h[3], 1):.2f} % of the others; hand-jump joint-frames found {h[4]} of {h[5]} "
+                f"({100 * h[4] / max(h[5], 1):.0f} %), false {100 * h[6] / max(h[7], 1):.2f} % of the others"
+            )
         if args.save_ratios:
             np.save(args.save_ratios, np.array(extra["log_ratio"]))
         if args.fit_ratio:
             q = conformal_quantile(np.array(extra["log_ratio"]), 0.9)
             print(f"clip: the 90 % conformal quantile of |log(estimated / true share)| here: {q:.4f}")
+
+
+def habit_figures(extra: dict, data: dict, idx: np.ndarray, res) -> None:  # noqa: ANN001
+    """Injected swaps and hand jumps against what clip mode found (frames, joint-frames)."""
+    found = extra.setdefault("habits", np.zeros(8, int))
+    swapped, jump = data["swapped"][idx], data["hand_jump"][idx]
+    found += [int((swapped & res.detection_swapped).sum()), int(swapped.sum()),
+              int((~swapped & res.detection_swapped).sum()), int((~swapped).sum()),
+              int((jump & res.detection_outliers).sum()), int(jump.sum()),
+              int((~jump & res.detection_outliers).sum()), int((~jump).sum())]  # fmt: skip
 
 
 def clip_figures(extra: dict, truth: np.ndarray, res) -> None:  # noqa: ANN001
@@ -202,12 +222,16 @@ def adult_clips(args: argparse.Namespace) -> dict[str, np.ndarray]:
 
     camera = PSEUDO_CAMERA if args.camera == "pseudo" else CameraSetup("f1000", 1000.0, 1280, 720, (0.9, 1.1))
     habits = DetectorHabits(jitter_px=3.0, dropout=0.03, swaps_per_min=0, hand_jumps_per_min=0, losses_per_min=0)
+    if args.habits:  # left/right swaps, a wrist on an adult's hand, lost frames, at the source's default rates
+        habits = DetectorHabits(jitter_px=3.0, dropout=0.03)
     settings = ClipSettings(fps=FPS, cameras=(camera,), habits=habits)
     library = load_adult_library(Path(args.syrip_dir).parent / "adult")
     clips = list(adult_infant_clips(library, infant_bodies_from_syrip(args.syrip_dir), args.seconds, args.clips,
                                     args.seed, settings))  # fmt: skip
     k = [np.repeat(c.intrinsics.matrix()[None], len(c.xy), 0) for c in clips]
-    return {"cam": np.concatenate([c.poses3d for c in clips]), "xy": np.concatenate([c.xy for c in clips]),
+    masks = {"swapped": np.concatenate([c.masks.swapped for c in clips]),
+             "hand_jump": np.concatenate([c.masks.hand_jump for c in clips])}  # fmt: skip
+    return {**masks, "cam": np.concatenate([c.poses3d for c in clips]), "xy": np.concatenate([c.xy for c in clips]),
             "conf": np.concatenate([c.confidence for c in clips]), "k": np.concatenate(k),
             "tracks": np.concatenate([np.full(len(c.xy), i) for i, c in enumerate(clips)])}  # fmt: skip
 

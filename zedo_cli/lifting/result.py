@@ -68,6 +68,10 @@ class LiftResult:
     depth_ambiguous: np.ndarray | None = None
     # `--temporal clip`: each track's skeleton as the result's params record it (`clip.TrackSkeleton.to_dict`).
     track_skeletons: list[dict] | None = None
+    # `--temporal clip`: instances `(N,)` whose 2D left and right were exchanged (corrected before lifting), and
+    # joints `(N, J)` far off their own path in 2D (not used); None: not looked for (`detections.py`).
+    detection_swapped: np.ndarray | None = None
+    detection_outliers: np.ndarray | None = None
 
     def unstable(self) -> np.ndarray | None:
         """`(N,)` lifted poses whose hypotheses spread over UNSTABLE_SPREAD_M; None when K = 1."""

@@ -49,10 +49,11 @@ from ..prior.weights import Prior
 from .chunks import lift_workers, plan_chunks
 from .clip import ClipTrack, lift_clip_track, needs_joints, root_relative
 from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
+from .detections import fix_detections
 from .sequence import check_sequence
 from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, poor_fit, reprojection_error_px
 
-DEFAULT_CLIP_FPS = 30.0  # the frame rate the skeleton's bootstrap blocks assume where the input states none
+DEFAULT_CLIP_FPS = 30.0  # the frame rate clip mode's detection checks assume where the input states none
 
 
 def gaussian_kernel(sigma: float, truncate: float = 3.0) -> np.ndarray:
@@ -222,6 +223,10 @@ def lift_sequence(
     start = time.perf_counter()
     n = len(xy)
     _track_slices(tracks, n)  # validates the labels early
+    fixes = None
+    if mode == "clip":  # a detector's habits found and corrected before the track is lifted as one infant
+        xy, confidence, fixes = fix_detections(xy, confidence, prior.skeleton.flip_permutation, fps or DEFAULT_CLIP_FPS,
+                                               _track_slices(tracks, n))  # fmt: skip
     observed = observed_mask(xy, confidence, min_confidence)
     if mode != "none":
         check_sequence(xy, observed, mode, tracks=tracks, frames=frames, image_sizes=image_sizes,
@@ -255,6 +260,7 @@ def lift_sequence(
     refined = replace(second, status=status, hypotheses=None, hypothesis_spread_m=None)
     if mode == "clip":
         refined = lift_tracks_as_infants(refined, xy_smooth, intrinsics, prior.skeleton, tracks, frames, sigma, fps)
+        refined = replace(refined, detection_swapped=fixes.swapped, detection_outliers=fixes.outliers)
     return replace(_refit(refined, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
 
 

@@ -77,6 +77,12 @@ def _person(
     unstable = res.unstable()
     if unstable is not None and unstable[i]:  # K > 1: hypotheses far apart (lifting.result.UNSTABLE_SPREAD_M)
         flags.append("unstable_solution")
+    if res.detection_swapped is not None and res.detection_swapped[i]:  # --temporal clip: corrected before lifting
+        flags.append("left_right_swapped_in_2d")
+    if res.detection_outliers is not None and res.detection_outliers[i].any():
+        flags.append(
+            "detection_outlier: " + ", ".join(kp.skeleton.joints[j] for j in np.flatnonzero(res.detection_outliers[i]))
+        )
     if res.depth_ambiguous is not None and res.lifted[i] and res.depth_ambiguous[i].any():  # --temporal clip
         flags.append(
             "depth_ambiguous: " + ", ".join(kp.skeleton.joints[j] for j in np.flatnonzero(res.depth_ambiguous[i]))

@@ -1,0 +1,106 @@
+"""A 2D detector's habits found in a track before it is lifted as one infant (`--temporal clip`).
+
+- **Left and right exchanged** for a few frames: over the track, each frame is read as labelled or with its
+  left and right joints exchanged, whichever keeps the pose closest to its neighbours (a Viterbi pass over the
+  frames; reading a frame exchanged costs `SWAP_PRIOR` of the pose's size, so a frame the 2D cannot settle, a
+  near-symmetric pose, stays as labelled). Frames read exchanged are corrected and flagged.
+- **A joint jumping away** (to an adult's hand, say) for a few frames: a joint further than `OUTLIER_SIZE` times
+  the pose's 2D size from its own running median over `OUTLIER_WINDOW_S` is not used as a constraint (the prior
+  fills it) and is flagged.
+
+Missing joints and frames without the person stay as they are: the lift treats them as gaps.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
+
+SWAP_PRIOR = 0.05  # of the pose's 2D size, per frame read exchanged
+OUTLIER_SIZE = 0.35  # of the pose's 2D size: a joint further than this from its running median is an outlier
+OUTLIER_WINDOW_S = 1.0  # seconds of the running median (longer than the jumps it must see through)
+
+
+@dataclass(frozen=True)
+class DetectionFixes:
+    """What was found in a track's 2D: frames whose left and right were exchanged `(T,)` (corrected) and joints
+    far off their own path `(T, J)` (not used)."""
+
+    swapped: np.ndarray
+    outliers: np.ndarray
+
+
+def pose_size(xy: np.ndarray) -> np.ndarray:
+    """Per frame the RMS distance `(T,)` of the known joints `(T, J, 2)` from their mean (px); NaN without any."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a frame without the person: NaN
+        centre = np.nanmean(xy, axis=1, keepdims=True)
+        return np.sqrt(np.nanmean(((xy - centre) ** 2).sum(-1), axis=1))
+
+
+def find_swaps(xy: np.ndarray, flip: list[int]) -> np.ndarray:
+    """Frames `(T,)` of one track (in time order) read best with left and right exchanged (`flip`, the joint
+    permutation that exchanges them)."""
+    t = len(xy)
+    if t < 2:
+        return np.zeros(t, bool)
+    size = np.nanmedian(pose_size(xy))
+    views = (xy, xy[:, flip])
+    # pair[a, b][i]: mean joint distance between frame i read a and frame i + 1 read b, in pose sizes
+    pair = np.zeros((2, 2, t - 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a pair of frames without a joint in common: no step
+        for a in (0, 1):
+            for b in (0, 1):
+                step = np.linalg.norm(views[b][1:] - views[a][:-1], axis=-1)
+                pair[a, b] = np.nan_to_num(np.nanmean(step, axis=1) / size, nan=0.0)
+    total = np.array([0.0, SWAP_PRIOR])
+    back = np.zeros((t, 2), np.int8)
+    for i in range(1, t):
+        options = total[:, None] + pair[:, :, i - 1]  # (from, to)
+        back[i] = np.argmin(options, axis=0)
+        total = options.min(axis=0) + np.array([0.0, SWAP_PRIOR])
+    state = np.empty(t, np.int8)
+    state[-1] = int(np.argmin(total))
+    for i in range(t - 1, 0, -1):
+        state[i - 1] = back[i, state[i]]
+    return state.astype(bool)
+
+
+def find_outliers(xy: np.ndarray, fps: float) -> np.ndarray:
+    """Joints `(T, J)` of one track further than OUTLIER_SIZE x the pose's size from their running median."""
+    t = len(xy)
+    half = max(1, int(round(OUTLIER_WINDOW_S * fps / 2)))
+    if t < 2 * half + 1:
+        return np.zeros(xy.shape[:2], bool)
+    padded = np.pad(xy, ((half, half), (0, 0), (0, 0)), constant_values=np.nan)
+    windows = sliding_window_view(padded, 2 * half + 1, axis=0)  # (T, J, 2, w)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN window: no median, no outlier
+        median = np.nanmedian(windows, axis=-1)
+        size = np.nanmedian(pose_size(xy))
+    far = np.linalg.norm(xy - median, axis=-1) > OUTLIER_SIZE * size
+    return np.nan_to_num(far, nan=0.0).astype(bool)
+
+
+def fix_detections(xy: np.ndarray, confidence: np.ndarray, flip: list[int], fps: float,
+                   tracks: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, DetectionFixes]:  # fmt: skip
+    """The 2D `(N, J, 2)` and confidences `(N, J)` with exchanged frames corrected and outliers dropped (NaN,
+    confidence 0), per track (`tracks`: each track's instance indices in time order), and what was found."""
+    xy, confidence = xy.astype(np.float64, copy=True), confidence.astype(np.float64, copy=True)
+    swapped = np.zeros(len(xy), bool)
+    outliers = np.zeros(xy.shape[:2], bool)
+    for idx in tracks:
+        seen = np.where((confidence[idx] > 0)[..., None], xy[idx], np.nan)
+        swaps = find_swaps(seen, flip)
+        xy[idx[swaps]] = xy[idx[swaps]][:, flip]
+        confidence[idx[swaps]] = confidence[idx[swaps]][:, flip]
+        swapped[idx] = swaps
+        seen = np.where((confidence[idx] > 0)[..., None], xy[idx], np.nan)
+        outliers[idx] = find_outliers(seen, fps)
+    confidence[outliers] = 0.0
+    xy[outliers] = np.nan
+    return xy, confidence, DetectionFixes(swapped, outliers)
