@@ -27,6 +27,7 @@ from .plain_words import describe, has_words
 MAX_POINTS = 600  # per plotted series: the clip decimated to at most this many time steps (a panel is ~500 px wide)
 MAX_REVIEW = 8
 FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
+AMBIGUOUS_SHADE = "#b9c8f0"  # frames with a limb whose depth side the 2D cannot tell (`--temporal clip`)
 _TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
 
 
@@ -63,6 +64,14 @@ def too_fast(a: Analysis) -> np.ndarray:
     """`(M,)` whether any joint angle of the pose was flagged too fast."""
     m = len(a.index)
     return np.any(np.stack([np.asarray(v, bool) for v in a.too_fast.values()] or [np.zeros(m, bool)]), axis=0)
+
+
+def depth_ambiguous(a: Analysis) -> np.ndarray:
+    """`(M,)` whether the lift flagged a limb of the pose depth-ambiguous (`--temporal clip`'s flag)."""
+    flags = a.result.flags
+    if flags is None:
+        return np.zeros(len(a.index), bool)
+    return np.array([any(f.startswith("depth_ambiguous") for f in flags[i]) for i in a.index], dtype=bool)
 
 
 def summary_section(a: Analysis) -> str:
@@ -146,6 +155,7 @@ class Decimated:
     take: np.ndarray  # (T',) positions in a.index
     t: np.ndarray  # (T',) seconds
     flagged: np.ndarray  # (T',) bool: any too-fast frame in the step
+    ambiguous: np.ndarray  # (T',) bool: any frame in the step with a limb's depth side flagged ambiguous
 
 
 def decimate(a: Analysis, person: int, max_points: int = MAX_POINTS) -> Decimated:
@@ -160,12 +170,14 @@ def decimate(a: Analysis, person: int, max_points: int = MAX_POINTS) -> Decimate
 
     take = pos[::step]
     t = res.frame_index[a.index][take] / float(a.fps or 1.0)
-    return Decimated(take, t, any_in_step(too_fast(a)))
+    return Decimated(take, t, any_in_step(too_fast(a)), any_in_step(depth_ambiguous(a)))
 
 
 def _shade(ax, d: Decimated) -> None:  # noqa: ANN001 (matplotlib Axes, imported lazily)
-    ax.fill_between(d.t, 0, 1, where=d.flagged, step="mid", color=FLAG_SHADE, alpha=0.6, lw=0,
-                    transform=ax.get_xaxis_transform())  # fmt: skip
+    for where, colour in ((d.ambiguous, AMBIGUOUS_SHADE), (d.flagged, FLAG_SHADE)):
+        if where.any():
+            ax.fill_between(d.t, 0, 1, where=where, step="mid", color=colour, alpha=0.6, lw=0,
+                            transform=ax.get_xaxis_transform())  # fmt: skip
 
 
 def _empty(ax, text: str) -> None:  # noqa: ANN001
@@ -230,10 +242,17 @@ def time_series_section(a: Analysis) -> str:
     thin = f" Every {step}th frame is drawn (shading covers every frame)." if step > 1 else ""
     return ("<h2>Over time</h2><p class=meta>Joint angles left (blue) and right (orange), each with its interval "
             f"as a band; shaded: frames <b style='background:{FLAG_SHADE}'>flagged too fast</b> (a joint angle "
-            f"changing faster than {a.settings.max_velocity_deg_s:g} deg/s, likely a detection error). The bottom "
-            "strip counts the frame's uncertain symmetry calls: where it is high, the 2D view leaves the "
-            f"posture open (the frames to review, below).{which}{thin}</p>"
+            f"changing faster than {a.settings.max_velocity_deg_s:g} deg/s, likely a detection error)"
+            f"{_ambiguous_words(a)}. The bottom strip counts the frame's uncertain symmetry calls: where it is high, "
+            f"the 2D view leaves the posture open (the frames to review, below).{which}{thin}</p>"
             f"<div class=figs>{time_series_figure(a, person)}</div>")  # fmt: skip
+
+
+def _ambiguous_words(a: Analysis) -> str:
+    if not depth_ambiguous(a).any():
+        return ""
+    return (f" and <b style='background:{AMBIGUOUS_SHADE}'>a limb's depth side ambiguous</b> (the 2D cannot tell "
+            "whether it points towards or away from the camera; the lift kept one side)")  # fmt: skip
 
 
 # --- frames to review -------------------------------------------------------------------------------------
