@@ -146,3 +146,20 @@ def test_a_thumbnail_keeps_the_head_in_view_without_face_points(clip: tuple[Path
     frame[int(round(crown[1])), int(round(crown[0]))] = 255
     assert _around(frame, [kept]).max() == 255
     assert _around(frame, [px]).max() == 0  # the joints alone crop the crown away
+
+
+def test_depth_ambiguous_frames_are_shaded_and_said(tmp_path: Path) -> None:
+    from zedo_cli.analysis.report.clip_report import AMBIGUOUS_SHADE, decimate, depth_ambiguous, time_series_section
+
+    doc = result_document(kicking_poses(60), fps=30.0)
+    for frame in doc["frames"][20:30]:
+        frame["persons"][0]["flags"] = ["depth_ambiguous: left_ankle"]
+    a = analyse(read_result(write_document(tmp_path / "amb.zedo.json", doc)))
+    flagged = depth_ambiguous(a)
+    assert flagged.sum() == 10 and flagged[20:30].all()
+    assert decimate(a, 0).ambiguous.sum() == 10
+    assert f"background:{AMBIGUOUS_SHADE}'>a limb's depth side ambiguous" in time_series_section(a)
+    plain = analyse(
+        read_result(write_document(tmp_path / "plain.zedo.json", result_document(kicking_poses(60), fps=30.0)))
+    )
+    assert not depth_ambiguous(plain).any() and "depth side ambiguous" not in time_series_section(plain)
