@@ -122,3 +122,30 @@ def test_the_link_checker_sees_broken_links(tmp_path: Path) -> None:
         "other.md#nope (no heading #nope in other.md)",
         "nope.png (no such file)",
     ]
+
+
+_MACHINE_PATH = re.compile(r"(?<![\w.])/(work|root|home)/|this session", re.IGNORECASE)
+_ISSUE_NUMBER = re.compile(r"\bissues? #?\d+", re.IGNORECASE)
+
+
+def _lines(path: Path) -> list[tuple[int, str]]:
+    return list(enumerate(path.read_text(encoding="utf-8").splitlines(), 1))
+
+
+def test_docs_name_no_machine_path_and_no_session() -> None:
+    pages = [*ROOT.glob("docs/**/*.md"), *ROOT.glob("*.md"), *ROOT.glob("*/README.md")]
+    found = [f"{p.relative_to(ROOT)}:{n}" for p in pages if p.name != "CHANGELOG.md" for n, line in _lines(p)
+             if _MACHINE_PATH.search(line)]  # fmt: skip
+    assert not found, found
+
+
+def test_the_package_cites_no_issue_number() -> None:
+    found = [f"{p.relative_to(ROOT)}:{n}" for p in (ROOT / "zedo_cli").rglob("*.py") for n, line in _lines(p)
+             if _ISSUE_NUMBER.search(line)]  # fmt: skip
+    assert not found, found
+
+
+def test_the_checks_see_what_they_look_for() -> None:
+    assert _MACHINE_PATH.search("run it in /work/main first") and _MACHINE_PATH.search("measured this session")
+    assert not _MACHINE_PATH.search("see docs/work/x.md")
+    assert _ISSUE_NUMBER.search("(issue 38)") and not _ISSUE_NUMBER.search("the issue of scale")
