@@ -69,6 +69,9 @@ HINGES = {("left_knee", "left_ankle"): "knee", ("right_knee", "right_ankle"): "k
           ("left_elbow", "left_wrist"): "elbow", ("right_elbow", "right_wrist"): "elbow"}  # fmt: skip
 HINGE_SLACK = {"knee": 0.2, "elbow": 0.4}
 HINGE_COST = 3.0
+# An observed joint whose ray passes further than this many bone lengths from its parent cannot be where the
+# detector put it (a wrist on an adult's hand): it is not used and is flagged
+UNREACHABLE = 1.35
 NEAR_PLANE = 0.5  # a bone whose two solutions lie under this many bone lengths apart is near the image plane
 LEVEL = 0.9
 # The 90 % split-conformal quantile of |log(estimated / true share)| of a bone's share of the eight limb bones'
@@ -283,13 +286,15 @@ def hyperextension(poses: np.ndarray, child: np.ndarray, middle: str, end: str, 
 
 
 def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
-                skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+                skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
     """The track's poses `(T, J, 3)` with the torso `(T, 4, 3)` and every limb bone at its length, the sides
-    chosen over the track (`choose_sides`), and `(T, J)` the joints flagged depth-ambiguous."""
+    chosen over the track (`choose_sides`), `(T, J)` the joints flagged depth-ambiguous, and `(T, J)` the
+    observed joints whose ray passes too far from their parent for the bone (`UNREACHABLE`: not used)."""
     at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
     out = track.cam.copy()
     out[:, [at[n] for n in TORSO]] = torso
     ambiguous = np.zeros(track.observed.shape, bool)
+    outliers = np.zeros(track.observed.shape, bool)
     rays = unit_rays(track.xy, track.intrinsics)
     ok = np.isfinite(torso).all((1, 2))
     for parent, child in LIMB_BONES:
@@ -298,7 +303,12 @@ def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
         direction = c_old - p_old
         with np.errstate(invalid="ignore", divide="ignore"):
             kept = p_new + length * direction / np.linalg.norm(direction, axis=-1, keepdims=True)
-        seen = track.observed[:, at[child]] & ok
+        ray = np.where(track.observed[:, at[child], None], rays[:, at[child]], 0.0)
+        gap = np.linalg.norm(p_new - (ray * p_new).sum(-1, keepdims=True) * ray, axis=-1)
+        with np.errstate(invalid="ignore"):
+            unreachable = track.observed[:, at[child]] & ok & (gap > UNREACHABLE * length)
+        outliers[:, at[child]] = unreachable
+        seen = track.observed[:, at[child]] & ok & ~unreachable
         near, far, reach = ray_solutions(p_new, np.where(seen[:, None], rays[:, at[child]], 0.0), length)
         cost = np.stack([np.linalg.norm(near - kept, axis=-1), np.linalg.norm(far - kept, axis=-1)], 1) / length
         if (parent, child) in HINGES:
@@ -318,7 +328,7 @@ def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
                 gain / separation
             )  # 1: the two-pass pose on the chosen solution, 0: half-way, < 0: nearer the other
         ambiguous[:, at[child]] = ambiguous_stretches(margin, separation) & seen & reach
-    return out, ambiguous
+    return out, ambiguous, outliers
 
 
 def smooth_chains(poses: np.ndarray, skel: TrackSkeleton, skeleton: Skeleton, smooth: Smoother) -> np.ndarray:
@@ -336,21 +346,31 @@ def smooth_chains(poses: np.ndarray, skel: TrackSkeleton, skeleton: Skeleton, sm
     return out
 
 
-def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str,
-                    smooth: Smoother) -> tuple[np.ndarray, np.ndarray, TrackSkeleton]:  # fmt: skip
-    """One track lifted as one infant: its poses `(T, J, 3)` in the camera frame, the depth-ambiguous joints
-    `(T, J)` and its skeleton (the two-pass poses where it has a fallback). `smooth` filters a track's series
-    `(T, ...)` over time (NaN-aware), as the temporal modes do."""
+@dataclass(frozen=True)
+class TrackLift:
+    """One track lifted as one infant: poses `(T, J, 3)` in the camera frame, the joints flagged depth-ambiguous
+    `(T, J)`, the observed joints not used as unreachable `(T, J)`, and the track's skeleton."""
+
+    poses: np.ndarray
+    ambiguous: np.ndarray
+    unreachable: np.ndarray
+    skeleton: TrackSkeleton
+
+
+def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str, smooth: Smoother) -> TrackLift:
+    """One track lifted as one infant (the two-pass poses where its skeleton has a fallback). `smooth` filters a
+    track's series `(T, ...)` over time (NaN-aware), as the temporal modes do."""
     skel = estimate_skeleton(track, skeleton, label)
+    none = np.zeros(track.observed.shape, bool)
     if skel.fallback is not None:
-        return track.cam.copy(), np.zeros(track.observed.shape, bool), skel
+        return TrackLift(track.cam.copy(), none, none, skel)
     lifted = np.isfinite(track.cam).all((1, 2))
     shape = torso_shape(track.cam[lifted][:, [skeleton.index(n) for n in TORSO]])
     torso = place_torso(track, shape, skeleton, skel.torso_m["trunk_length"])
-    poses, ambiguous = solve_limbs(track, skel, torso, skeleton)
+    poses, ambiguous, outliers = solve_limbs(track, skel, torso, skeleton)
     poses[~lifted] = np.nan
     poses = smooth_chains(poses, skel, skeleton, smooth)
-    return poses, ambiguous & lifted[:, None], skel
+    return TrackLift(poses, ambiguous & lifted[:, None], outliers & lifted[:, None], skel)
 
 
 def root_relative(poses: np.ndarray, skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray]:

@@ -260,7 +260,8 @@ def lift_sequence(
     refined = replace(second, status=status, hypotheses=None, hypothesis_spread_m=None)
     if mode == "clip":
         refined = lift_tracks_as_infants(refined, xy_smooth, intrinsics, prior.skeleton, tracks, frames, sigma, fps)
-        refined = replace(refined, detection_swapped=fixes.swapped, detection_outliers=fixes.outliers)
+        refined = replace(refined, detection_swapped=fixes.swapped,
+                          detection_outliers=fixes.outliers | refined.detection_outliers)  # fmt: skip
     return replace(_refit(refined, xy, intrinsics, cameras), seconds=time.perf_counter() - start)
 
 
@@ -274,6 +275,7 @@ def lift_tracks_as_infants(res: LiftResult, xy_smooth: np.ndarray, intrinsics: n
                           f"{', '.join(missing)}")  # fmt: skip
     poses = np.full_like(res.poses_camera, np.nan)
     ambiguous = np.zeros(res.observed.shape, bool)
+    unreachable = np.zeros(res.observed.shape, bool)
     skeletons = []
     labels = np.zeros(len(xy_smooth), np.int64) if tracks is None else np.asarray(tracks)
     for idx in _track_slices(tracks, len(xy_smooth)):
@@ -282,11 +284,13 @@ def lift_tracks_as_infants(res: LiftResult, xy_smooth: np.ndarray, intrinsics: n
         label = labels[idx[0]].item() if hasattr(labels[idx[0]], "item") else labels[idx[0]]
         at = None if frames is None else np.asarray(frames)[idx]
         smooth = functools.partial(smooth_on_frames, frames=at, sigma=sigma)
-        poses[idx], ambiguous[idx], skel = lift_clip_track(track, skeleton, label, smooth)
-        skeletons.append(skel.to_dict())
+        lifted = lift_clip_track(track, skeleton, label, smooth)
+        poses[idx], ambiguous[idx], unreachable[idx] = lifted.poses, lifted.ambiguous, lifted.unreachable
+        skeletons.append(lifted.skeleton.to_dict())
     rel, root = root_relative(poses, skeleton)
     return replace(res, poses_camera=poses, poses_root_relative=rel, root_translation=root,
-                   depth_ambiguous=ambiguous, track_skeletons=skeletons)  # fmt: skip
+                   observed=res.observed & ~unreachable, depth_ambiguous=ambiguous, track_skeletons=skeletons,
+                   detection_outliers=unreachable)  # fmt: skip
 
 
 def _refit(
