@@ -1,17 +1,26 @@
 """Small versioned JSON files that ship with the package (calibrations): `{"format": ..., "format_version":
-..., <key>: [items]}`, read with one error naming the file and written whole."""
+..., <key>: [items]}`, each item a pydantic model, read with one error naming the file and field and written whole."""
 
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, TypeVar
+
+from pydantic import BaseModel, ConfigDict, TypeAdapter, ValidationError
 
 from .errors import WeightsError
 from .strict_json import loads
 
-T = TypeVar("T")
+M = TypeVar("M", bound=BaseModel)
+
+
+class FileModel(BaseModel):
+    """An item of a shipped file, or a part of one: strict types (an int is a float, nothing else converts),
+    no field the file format does not name."""
+
+    model_config = ConfigDict(strict=True, extra="forbid", frozen=True)
 
 
 def read_items(path: str | Path, fmt: str, version: int, key: str, what: str) -> list[dict[str, Any]]:
@@ -29,18 +38,20 @@ def read_items(path: str | Path, fmt: str, version: int, key: str, what: str) ->
         raise WeightsError(f"{path}: unreadable {what} ({exc})") from None
 
 
-def read_models(
-    path: str | Path, fmt: str, version: int, key: str, what: str, parse: Callable[[dict[str, Any]], T]
-) -> list[T]:
-    """The items of `read_items`, each made into a model by `parse`; a malformed item is the same
-    one-line WeightsError naming `what`."""
+def read_models(path: str | Path, fmt: str, version: int, key: str, what: str, model: type[M]) -> list[M]:
+    """The items of `read_items`, each validated as `model`; a malformed item is the same one-line
+    WeightsError naming `what` and the first bad field (`calibrations[0].measures.x.center: ...`)."""
     items = read_items(path, fmt, version, key, what)
     try:
-        return [parse(d) for d in items]
-    except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise WeightsError(f"{path}: unreadable {what} ({exc})") from None
+        return TypeAdapter(list[model]).validate_python(items)  # type: ignore[valid-type]
+    except ValidationError as exc:
+        e = exc.errors()[0]
+        where = key + "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in e["loc"])
+        msg = e["msg"].removeprefix("Value error, ")
+        raise WeightsError(f"{path}: unreadable {what} ({where}: {msg})") from None
 
 
-def write_items(path: str | Path, fmt: str, version: int, key: str, items: list[dict[str, Any]]) -> None:
-    doc = {"format": fmt, "format_version": version, key: items}
+def write_models(path: str | Path, fmt: str, version: int, key: str, models: Sequence[BaseModel]) -> None:
+    """The file of `models` under `key` (JSON, one space indent; a NaN is written as NaN, as json writes it)."""
+    doc = {"format": fmt, "format_version": version, key: [m.model_dump() for m in models]}
     Path(path).write_text(json.dumps(doc, indent=1) + "\n")

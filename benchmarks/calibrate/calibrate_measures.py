@@ -42,6 +42,7 @@ from zedo_cli.analysis.uncertainty.calibration import (
     CameraDomain,
     MeasureCalibration,
     MeasureModel,
+    MeasureModelEntry,
     bundled_path,
     fit_measure,
     measure_joints,
@@ -794,8 +795,9 @@ def main() -> int:
         write_calibrations(out, merged)
         print(f"\nwrote {out}: {len(merged)} calibrations")
     else:
-        print(json.dumps({c.temporal_mode: {n: m.to_dict() for n, m in list(c.measures.items())[:2]}
-                          for c in calibrations}, indent=1))  # fmt: skip
+        first = {c.temporal_mode: list(c.measures.items())[:2] for c in calibrations}
+        print(json.dumps({mode: {n: MeasureModelEntry.of(m).model_dump() for n, m in models}
+                          for mode, models in first.items()}, indent=1))  # fmt: skip
     return 0
 
 

@@ -16,6 +16,7 @@ from zedo_cli.analysis.analyse import SYMMETRY_NAMES, analyse
 from zedo_cli.analysis.uncertainty.calibration import (
     CameraDomain,
     MeasureCalibration,
+    MeasureCalibrationEntry,
     assign_calibrations,
     read_calibrations,
     write_calibrations,
@@ -107,8 +108,11 @@ def test_pseudo_camera_results_are_analysed_as_before(tmp_path: Path) -> None:
 
 def test_a_calibration_with_a_camera_range_reads_back_and_one_without_writes_as_before(tmp_path: Path) -> None:
     pseudo, cam = calibration(), camera_calibration((0.6, 2.0))
-    assert "domain" not in pseudo.to_dict()
-    assert cam.to_dict()["domain"] == {"root_depth_m": [0.6, 2.0], "focal_px": [600.0, 2500.0]}
+    assert "domain" not in MeasureCalibrationEntry.of(pseudo).model_dump()
+    assert MeasureCalibrationEntry.of(cam).model_dump()["domain"] == {
+        "root_depth_m": [0.6, 2.0],
+        "focal_px": [600.0, 2500.0],
+    }
     path = tmp_path / "m.json"
     write_calibrations(path, [pseudo, cam])
     assert read_calibrations(path) == [pseudo, cam]

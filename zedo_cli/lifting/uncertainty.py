@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..stats import require_quantile
-from ..versioned_json import read_models, write_items
+from ..versioned_json import FileModel, read_models, write_models
 from .config import LiftConfig, calibration_settings, settings_match
 from .result import joint_spread
 from .solver import LiftResult
@@ -48,16 +48,29 @@ class UncertaintyModel:
     scale: np.ndarray  # (J,)
     provenance: dict[str, Any]  # data, folds, and the measured held-out coverage
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"prior_sha256": self.prior_sha256, "settings": self.settings, "coverage": self.coverage,
-                "joints": list(self.joints), "floor_m": [round(float(v), 6) for v in self.floor_m],
-                "scale": [round(float(v), 6) for v in self.scale], "provenance": self.provenance}  # fmt: skip
+
+class UncertaintyEntry(FileModel):
+    """An `UncertaintyModel` in the file (floors and scales to 6 decimals): what `read_calibrations` validates and
+    `write_calibrations` writes."""
+
+    prior_sha256: str
+    settings: dict[str, Any]
+    coverage: float
+    joints: list[str]
+    floor_m: list[float]
+    scale: list[float]
+    provenance: dict[str, Any] = {}
 
     @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> UncertaintyModel:
-        return cls(d["prior_sha256"], d["settings"], float(d["coverage"]), tuple(d["joints"]),
-                   np.asarray(d["floor_m"], dtype=np.float64), np.asarray(d["scale"], dtype=np.float64),
-                   d.get("provenance", {}))  # fmt: skip
+    def of(cls, m: UncertaintyModel) -> UncertaintyEntry:
+        return cls(prior_sha256=m.prior_sha256, settings=m.settings, coverage=m.coverage, joints=list(m.joints),
+                   floor_m=[round(float(v), 6) for v in m.floor_m], scale=[round(float(v), 6) for v in m.scale],
+                   provenance=m.provenance)  # fmt: skip
+
+    def value(self) -> UncertaintyModel:
+        return UncertaintyModel(self.prior_sha256, dict(self.settings), self.coverage, tuple(self.joints),
+                                np.asarray(self.floor_m, dtype=np.float64), np.asarray(self.scale, dtype=np.float64),
+                                dict(self.provenance))  # fmt: skip
 
 
 def radius_m(model: UncertaintyModel, spread: np.ndarray) -> np.ndarray:
@@ -98,11 +111,12 @@ def bundled_calibrations() -> tuple[UncertaintyModel, ...]:
 
 def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
     """The models of a calibration file (format `zedo.uncertainty`, version 1)."""
-    return read_models(path, FORMAT, FORMAT_VERSION, "models", "uncertainty calibration", UncertaintyModel.from_dict)
+    entries = read_models(path, FORMAT, FORMAT_VERSION, "models", "uncertainty calibration", UncertaintyEntry)
+    return [e.value() for e in entries]
 
 
 def write_calibrations(path: str | Path, models: list[UncertaintyModel]) -> None:
-    write_items(path, FORMAT, FORMAT_VERSION, "models", [m.to_dict() for m in models])
+    write_models(path, FORMAT, FORMAT_VERSION, "models", [UncertaintyEntry.of(m) for m in models])
 
 
 def find_model(

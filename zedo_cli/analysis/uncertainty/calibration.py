@@ -46,14 +46,15 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal
 
 import numpy as np
+from pydantic import Field, SerializerFunctionWrapHandler, field_validator, model_serializer
 
 from ...data.skeleton import Skeleton
 from ...lifting.config import calibration_settings, settings_match
 from ...stats import conformal_quantile
-from ...versioned_json import read_models, write_items
+from ...versioned_json import FileModel, read_models, write_models
 
 FORMAT = "zedo.measures"
 FORMAT_VERSION = 1
@@ -108,22 +109,6 @@ class MeasureModel:
         b = self.bins(value)
         return est - np.asarray(self.q_low[level])[b], est + np.asarray(self.q_high[level])[b]
 
-    def to_dict(self) -> dict[str, Any]:
-        def per_level(q: dict[float, tuple[float, ...]]) -> dict[str, list[float | None]]:
-            return {str(k): [round(x, 4) if np.isfinite(x) else None for x in v] for k, v in q.items()}
-
-        return {"center": round(self.center, 4), "weight": round(self.weight, 4), "circular": self.circular,
-                "edges": [round(e, 4) for e in self.edges], "q_low": per_level(self.q_low),
-                "q_high": per_level(self.q_high)}  # fmt: skip
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> MeasureModel:
-        def per_level(q: dict[str, list[float | None]]) -> dict[float, tuple[float, ...]]:
-            return {float(k): tuple(np.nan if x is None else float(x) for x in v) for k, v in q.items()}
-
-        return cls(float(d["center"]), float(d["weight"]), tuple(float(e) for e in d["edges"]),
-                   per_level(d["q_low"]), per_level(d["q_high"]), bool(d["circular"]))  # fmt: skip
-
 
 def fit_measure(value: np.ndarray, truth: np.ndarray, *, circular: bool, bins: int) -> MeasureModel:
     """Fit one measure on held-out cases `(n,)` (NaN cases are left out): the weight of WEIGHT_GRID
@@ -164,16 +149,6 @@ class CameraDomain:
         (d0, d1), (f0, f1) = self.root_depth_m, self.focal_px
         with np.errstate(invalid="ignore"):
             return (depth_m >= d0) & (depth_m <= d1) & (focal_px >= f0) & (focal_px <= f1)
-
-    def to_dict(self) -> dict[str, list[float]]:
-        return {"root_depth_m": [round(x, 4) for x in self.root_depth_m],
-                "focal_px": [round(x, 2) for x in self.focal_px]}  # fmt: skip
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> CameraDomain:
-        d0, d1 = (float(x) for x in d["root_depth_m"])
-        f0, f1 = (float(x) for x in d["focal_px"])
-        return cls((d0, d1), (f0, f1))
 
 
 def describe_domains(domains: Sequence[CameraDomain]) -> str:
@@ -223,26 +198,6 @@ class MeasureCalibration:
         if not isinstance(cams, list) or not cams or not set(cams) <= set(self.cameras):
             return f"no measure calibration for this camera (calibrated: {', '.join(self.cameras)})"
         return None
-
-    def to_dict(self) -> dict[str, Any]:
-        out = {"prior_sha256": self.prior_sha256, "settings": self.settings, "temporal_mode": self.temporal_mode,
-               "cameras": list(self.cameras), "joints": list(self.joints), "provenance": self.provenance,
-               "measures": {k: v.to_dict() for k, v in self.measures.items()}}  # fmt: skip
-        if self.domain is not None:  # absent for the pseudo camera's: those entries read and write as before
-            out["domain"] = self.domain.to_dict()
-        if self.filled:
-            out["filled"] = {k: v.to_dict() for k, v in self.filled.items()}
-        if self.scope != "frames":  # absent for frame measures: those entries read and write as before
-            out["scope"] = self.scope
-        return out
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> MeasureCalibration:
-        domain = CameraDomain.from_dict(d["domain"]) if d.get("domain") is not None else None
-        filled = {k: MeasureModel.from_dict(v) for k, v in d.get("filled", {}).items()}
-        return cls(str(d["prior_sha256"]), dict(d["settings"]), str(d["temporal_mode"]), tuple(d["cameras"]),
-                   tuple(d["joints"]), {k: MeasureModel.from_dict(v) for k, v in d["measures"].items()},
-                   dict(d.get("provenance", {})), domain, filled, str(d.get("scope", "frames")))  # fmt: skip
 
 
 def find_calibration(
@@ -339,6 +294,108 @@ def clip_camera_mismatch(calibration: MeasureCalibration, depth_m: np.ndarray, f
             f"{focal:.0f} px; calibrated: {domain.describe()})")  # fmt: skip
 
 
+# The file's entries (pydantic): what `read_calibrations` validates and `write_calibrations` writes; `of` makes one
+# of the dataclass the code computes with (the written precision: 4 decimals, focal lengths 2), `value` the dataclass.
+
+Quantiles = dict[str, list[float | None]]  # level ("0.9") -> per bin; null: too few calibration cases (NaN)
+
+
+def _rounded(q: dict[float, tuple[float, ...]]) -> Quantiles:
+    return {str(k): [round(x, 4) if np.isfinite(x) else None for x in v] for k, v in q.items()}
+
+
+def _read(q: Quantiles) -> dict[float, tuple[float, ...]]:
+    return {float(k): tuple(np.nan if x is None else float(x) for x in v) for k, v in q.items()}
+
+
+class MeasureModelEntry(FileModel):
+    """One measure's `MeasureModel`."""
+
+    center: float
+    weight: float
+    circular: bool
+    edges: list[float]
+    q_low: Quantiles
+    q_high: Quantiles
+
+    @field_validator("q_low", "q_high")
+    @classmethod
+    def _levels_are_numbers(cls, q: Quantiles) -> Quantiles:
+        for k in q:
+            try:
+                float(k)
+            except ValueError:
+                raise ValueError(f"level {k!r} is not a number") from None
+        return q
+
+    @classmethod
+    def of(cls, m: MeasureModel) -> MeasureModelEntry:
+        edges = [round(e, 4) for e in m.edges]
+        return cls(center=round(m.center, 4), weight=round(m.weight, 4), circular=m.circular, edges=edges,
+                   q_low=_rounded(m.q_low), q_high=_rounded(m.q_high))  # fmt: skip
+
+    def value(self) -> MeasureModel:
+        return MeasureModel(self.center, self.weight, tuple(self.edges), _read(self.q_low), _read(self.q_high),
+                            self.circular)  # fmt: skip
+
+
+Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
+
+
+class CameraDomainEntry(FileModel):
+    """A `CameraDomain`: [low, high] of each."""
+
+    root_depth_m: Pair
+    focal_px: Pair
+
+    @classmethod
+    def of(cls, d: CameraDomain) -> CameraDomainEntry:
+        return cls(root_depth_m=[round(x, 4) for x in d.root_depth_m], focal_px=[round(x, 2) for x in d.focal_px])
+
+    def value(self) -> CameraDomain:
+        (d0, d1), (f0, f1) = self.root_depth_m, self.focal_px
+        return CameraDomain((d0, d1), (f0, f1))
+
+
+class MeasureCalibrationEntry(FileModel):
+    """A `MeasureCalibration`; `domain`, `filled` and `scope` are left out of the file where they are their
+    defaults (the pseudo camera's and frame measures' entries read and write as before they existed)."""
+
+    prior_sha256: str
+    settings: dict[str, Any]
+    temporal_mode: str
+    cameras: list[str]
+    joints: list[str]
+    provenance: dict[str, Any] = {}
+    measures: dict[str, MeasureModelEntry]
+    domain: CameraDomainEntry | None = None
+    filled: dict[str, MeasureModelEntry] = {}
+    scope: Literal["frames", "clips"] = "frames"
+
+    @model_serializer(mode="wrap")
+    def _defaults_left_out(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        out = handler(self)
+        for key, default in (("domain", None), ("filled", {}), ("scope", "frames")):
+            if out.get(key) == default:
+                out.pop(key, None)
+        return out
+
+    @classmethod
+    def of(cls, c: MeasureCalibration) -> MeasureCalibrationEntry:
+        return cls(prior_sha256=c.prior_sha256, settings=c.settings, temporal_mode=c.temporal_mode,
+                   cameras=list(c.cameras), joints=list(c.joints), provenance=c.provenance,
+                   measures={k: MeasureModelEntry.of(v) for k, v in c.measures.items()},
+                   domain=None if c.domain is None else CameraDomainEntry.of(c.domain),
+                   filled={k: MeasureModelEntry.of(v) for k, v in c.filled.items()},
+                   scope=c.scope)  # type: ignore[arg-type]  # fmt: skip
+
+    def value(self) -> MeasureCalibration:
+        return MeasureCalibration(self.prior_sha256, dict(self.settings), self.temporal_mode, tuple(self.cameras),
+                                  tuple(self.joints), {k: v.value() for k, v in self.measures.items()},
+                                  dict(self.provenance), None if self.domain is None else self.domain.value(),
+                                  {k: v.value() for k, v in self.filled.items()}, self.scope)  # fmt: skip
+
+
 def bundled_path() -> Path:
     return Path(str(resources.files("zedo_cli") / "weights" / "measures.json"))
 
@@ -351,12 +408,12 @@ def bundled_calibrations() -> tuple[MeasureCalibration, ...]:
 
 def read_calibrations(path: str | Path) -> list[MeasureCalibration]:
     """The calibrations of a measure-calibration file (format `zedo.measures`, version 1)."""
-    return read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "measure calibration",
-                       MeasureCalibration.from_dict)  # fmt: skip
+    entries = read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "measure calibration", MeasureCalibrationEntry)
+    return [e.value() for e in entries]
 
 
 def write_calibrations(path: str | Path, calibrations: Sequence[MeasureCalibration]) -> None:
-    write_items(path, FORMAT, FORMAT_VERSION, "calibrations", [c.to_dict() for c in calibrations])
+    write_models(path, FORMAT, FORMAT_VERSION, "calibrations", [MeasureCalibrationEntry.of(c) for c in calibrations])
 
 
 def measure_joints(skeleton: Skeleton, measures: MeasureFunction, names: Sequence[str]) -> dict[str, np.ndarray]:

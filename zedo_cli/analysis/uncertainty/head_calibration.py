@@ -37,9 +37,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from pydantic import Field, field_validator
 
 from ...stats import conformal_quantile
-from ...versioned_json import read_models, write_items
+from ...versioned_json import FileModel, read_models, write_models
 from .block_bootstrap import BootstrapSettings, ClipInterval
 
 FORMAT = "zedo.head_intervals"
@@ -66,19 +67,6 @@ class MeasureFactor:
     held_out_coverage: float  # of the widened intervals, on clips not used to fit it
     held_out_clips: int
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"factor": round(self.factor, 4), "calibration_clips": self.calibration_clips,
-                "held_out_coverage": round(self.held_out_coverage, 4),
-                "held_out_clips": self.held_out_clips}  # fmt: skip
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> MeasureFactor:
-        out = cls(float(d["factor"]), int(d["calibration_clips"]), float(d["held_out_coverage"]),
-                  int(d["held_out_clips"]))  # fmt: skip
-        if not (math.isfinite(out.factor) and out.factor > 0 and 0.0 <= out.held_out_coverage <= 1.0):
-            raise ValueError(f"factor {out.factor} must be > 0, held_out_coverage {out.held_out_coverage} in [0, 1]")
-        return out
-
 
 @dataclass(frozen=True)
 class HeadMeasureCalibration:
@@ -86,19 +74,6 @@ class HeadMeasureCalibration:
 
     error: float  # the measurement error (the measure's unit), added to each arm in quadrature
     levels: dict[float, MeasureFactor]
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"error": round(self.error, 5), "levels": {str(k): f.to_dict() for k, f in self.levels.items()}}
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> HeadMeasureCalibration:
-        error = float(d["error"])
-        if not (math.isfinite(error) and error >= 0):
-            raise ValueError(f"error {error} must be >= 0")
-        levels = {_level(k): MeasureFactor.from_dict(f) for k, f in d["levels"].items()}
-        if not levels:
-            raise ValueError("levels: none")
-        return cls(error, levels)
 
 
 @dataclass(frozen=True)
@@ -111,34 +86,82 @@ class HeadCalibration:
     measures: dict[str, HeadMeasureCalibration]  # every one of MEASURES
     provenance: str  # how it was made (the command)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"settings": self.settings, "provenance": self.provenance,
-                "measures": {m: c.to_dict() for m, c in self.measures.items()}}  # fmt: skip
+
+# The file's entries (pydantic): what `read_head_calibrations` validates and `write_head_calibrations` writes; `of`
+# makes one of the dataclass the code computes with (the written precision: 4 decimals, the error 5), `value` the
+# dataclass.
+
+
+class MeasureFactorEntry(FileModel):
+    factor: float = Field(gt=0, allow_inf_nan=False)
+    calibration_clips: int
+    held_out_coverage: float = Field(ge=0.0, le=1.0, allow_inf_nan=False)
+    held_out_clips: int
 
     @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> HeadCalibration:
-        measures = {str(m): HeadMeasureCalibration.from_dict(c) for m, c in d["measures"].items()}
+    def of(cls, f: MeasureFactor) -> MeasureFactorEntry:
+        return cls(factor=round(f.factor, 4), calibration_clips=f.calibration_clips,
+                   held_out_coverage=round(f.held_out_coverage, 4), held_out_clips=f.held_out_clips)  # fmt: skip
+
+    def value(self) -> MeasureFactor:
+        return MeasureFactor(self.factor, self.calibration_clips, self.held_out_coverage, self.held_out_clips)
+
+
+class HeadMeasureEntry(FileModel):
+    error: float = Field(ge=0.0, allow_inf_nan=False)
+    levels: dict[str, MeasureFactorEntry] = Field(min_length=1)  # level ("0.9", in (0, 1)) -> its factor
+
+    @field_validator("levels")
+    @classmethod
+    def _levels_in_range(cls, levels: dict[str, MeasureFactorEntry]) -> dict[str, MeasureFactorEntry]:
+        for key in levels:
+            try:
+                level = float(key)
+            except ValueError:
+                level = math.nan
+            if not 0.0 < level < 1.0:
+                raise ValueError(f"level {key} must be in (0, 1)")
+        return levels
+
+    @classmethod
+    def of(cls, c: HeadMeasureCalibration) -> HeadMeasureEntry:
+        return cls(error=round(c.error, 5), levels={str(k): MeasureFactorEntry.of(f) for k, f in c.levels.items()})
+
+    def value(self) -> HeadMeasureCalibration:
+        return HeadMeasureCalibration(self.error, {float(k): f.value() for k, f in self.levels.items()})
+
+
+class HeadCalibrationEntry(FileModel):
+    settings: dict[str, Any]
+    provenance: str
+    measures: dict[str, HeadMeasureEntry]  # every one of MEASURES
+
+    @field_validator("measures")
+    @classmethod
+    def _every_measure(cls, measures: dict[str, HeadMeasureEntry]) -> dict[str, HeadMeasureEntry]:
         missing = [m for m in MEASURES if m not in measures]
         if missing:
-            raise KeyError(f"measures: missing {', '.join(missing)}")
-        return cls(dict(d["settings"]), measures, str(d["provenance"]))
+            raise ValueError(f"missing {', '.join(missing)}")
+        return measures
 
+    @classmethod
+    def of(cls, c: HeadCalibration) -> HeadCalibrationEntry:
+        return cls(settings=c.settings, provenance=c.provenance,
+                   measures={m: HeadMeasureEntry.of(v) for m, v in c.measures.items()})  # fmt: skip
 
-def _level(key: str) -> float:
-    level = float(key)
-    if not 0.0 < level < 1.0:
-        raise ValueError(f"level {key} must be in (0, 1)")
-    return level
+    def value(self) -> HeadCalibration:
+        return HeadCalibration(dict(self.settings), {m: v.value() for m, v in self.measures.items()}, self.provenance)
 
 
 def read_head_calibrations(path: str | Path) -> list[HeadCalibration]:
     """The calibrations of a head-interval calibration file (format `zedo.head_intervals`, version 1)."""
-    return read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "head interval calibration",
-                       HeadCalibration.from_dict)  # fmt: skip
+    entries = read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "head interval calibration",
+                          HeadCalibrationEntry)  # fmt: skip
+    return [e.value() for e in entries]
 
 
 def write_head_calibrations(path: str | Path, calibrations: Sequence[HeadCalibration]) -> None:
-    write_items(path, FORMAT, FORMAT_VERSION, "calibrations", [c.to_dict() for c in calibrations])
+    write_models(path, FORMAT, FORMAT_VERSION, "calibrations", [HeadCalibrationEntry.of(c) for c in calibrations])
 
 
 def bundled_path() -> Path:
