@@ -20,20 +20,19 @@ from ...errors import InputFormatError
 @dataclass(frozen=True)
 class LiftParams:
     """The fields of a result's `params` that zedo reads back, typed. Built from the raw dict with the
-    tolerance older files need: a missing key, or one of another type, reads as None (a bad `fps` is
-    refused: the readers have always refused it)."""
+    tolerance older and hand-edited files need: a missing key, or one of another type, reads as None."""
 
     fps: float | None = None  # `zedo lift --fps`
-    temporal_mode: str | None = None  # `temporal.mode`; None: no temporal block (images)
-    camera_sources: tuple[Any, ...] | None = None  # where each frame's K came from (pseudo, cli, file)
+    temporal_mode: str | None = None  # `temporal.mode`; None: not recorded (images: "none")
+    camera_sources: tuple[Any, ...] | None = None  # where the frames' K came from (pseudo, cli, file)
     prior_sha256: str | None = None  # `prior.sha256`
     config: Mapping[str, Any] | None = None  # the lifting settings
-    min_confidence: float | None = None
+    min_confidence: float | None = None  # `zedo lift --min-confidence`
 
     @classmethod
-    def from_dict(cls, params: Any, name: str = "") -> LiftParams:
-        """The typed view of `params` (anything but a dict: all None); `name` is used in the message
-        of a bad `fps`."""
+    def from_dict(cls, params: Any, name: str | None = None) -> LiftParams:
+        """The typed view of `params` (anything but a dict: all None). With `name` (the file, for the
+        message) a bad `fps` is refused, as the result readers always have; without, it reads as None."""
         if not isinstance(params, dict):
             return cls()
         prior, temporal = params.get("prior"), params.get("temporal")
@@ -46,14 +45,17 @@ class LiftParams:
             camera_sources=tuple(sources) if isinstance(sources, list) else None,
             prior_sha256=sha if isinstance(sha, str) else None,
             config=config if isinstance(config, dict) else None,
-            min_confidence=float(conf) if isinstance(conf, int | float) and not isinstance(conf, bool) else None,
+            min_confidence=float(conf) if isinstance(conf, int | float) else None,
         )
 
 
-def _fps(fps: Any, name: str) -> float | None:
+def _fps(fps: Any, name: str | None) -> float | None:
+    """A positive `fps`, or None (null, or not one without a `name` to refuse it with)."""
     if fps is None:
         return None
     if not isinstance(fps, int | float) or not fps > 0:
+        if name is None:
+            return None
         raise InputFormatError(f"{name}: params.fps: expected a positive number or null, got {fps!r}")
     return float(fps)
 
@@ -126,6 +128,6 @@ class ResultPoses:
 
     @property
     def lift_params(self) -> LiftParams:
-        """`params` typed (`LiftParams`): built from the dict as it is now, so a copy made with
-        `dataclasses.replace(res, params=...)` reads its own."""
-        return LiftParams.from_dict(self.params, self.source)
+        """`params` typed (`LiftParams`, fps already checked by the reader): built from the dict as it
+        is now, so a copy made with `dataclasses.replace(res, params=...)` reads its own."""
+        return LiftParams.from_dict(self.params)
