@@ -365,10 +365,10 @@ def _measure_head(a: Analysis) -> str | None:
     """The head measures of the analysed poses (`a.head`) from the input's face points and shoulders,
     the lift's --min-confidence applying to the face points too; returns why there are none (once, a note)."""
     res = a.result
-    min_conf = res.params.get("min_confidence")
+    min_conf = res.lift_params.min_confidence
     settings = a.settings.head
-    if isinstance(min_conf, int | float) and min_conf > settings.min_confidence:
-        settings = replace(settings, min_confidence=float(min_conf))
+    if min_conf is not None and min_conf > settings.min_confidence:
+        settings = replace(settings, min_confidence=min_conf)
     face, why = face_points(res, a.index, settings.min_confidence)
     if why is None and res.keypoints_2d is None:
         why = "the result does not carry the input's 2D keypoints (the shoulders')"

@@ -4,10 +4,13 @@ analysis (`zedo analyze --norms`)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from ..formats.readers.result_record import LiftParams
 from ..lifting.config import PRESETS, calibration_settings, settings_match
 from .analyse import Analysis, Row
 from .norms.norms import ClipValues, Comparison, Norms, compare, is_lift_artifact
@@ -17,12 +20,12 @@ INTERVAL_COMPARISON = "none: comparison with the reference"
 Z_SUFFIX = "_norm_z"
 
 
-def _preset_of(config: object) -> str:
+def _preset_of(config: Mapping[str, Any] | None) -> str:
     """The preset whose settings a result's recorded `config` has ("other settings" for none, "unknown" when
     the result records none)."""
-    if not isinstance(config, dict):
+    if config is None:
         return "unknown settings"
-    wanted = calibration_settings(config)
+    wanted = calibration_settings(dict(config))
     return next((f"preset {name}" for name, cfg in PRESETS.items()
                  if settings_match(calibration_settings(cfg), wanted)), "other settings")  # fmt: skip
 
@@ -30,13 +33,12 @@ def _preset_of(config: object) -> str:
 def lifting_of(params: dict) -> str:
     """How a result was lifted, as far as its clip features depend on it: the prior, the lifting settings, the
     temporal mode and the kind of camera (`params` of the result; "unknown" for what it does not record)."""
-    prior = params.get("prior") if isinstance(params.get("prior"), dict) else {}
-    temporal = params.get("temporal") if isinstance(params.get("temporal"), dict) else {}
-    sources = params.get("camera_sources") if isinstance(params.get("camera_sources"), list) else []
+    lift = LiftParams.from_dict(params)
+    sources = lift.camera_sources or ()
     camera = "unknown camera" if not sources else "pseudo camera" if set(sources) == {"pseudo"} else "known camera"
-    sha = prior.get("sha256")
-    return (f"prior {sha[:12] if isinstance(sha, str) else 'unknown'}, {_preset_of(params.get('config'))}, "
-            f"temporal {temporal.get('mode', 'none')}, {camera}")  # fmt: skip
+    sha, mode = lift.prior_sha256, "none" if lift.temporal_mode is None else lift.temporal_mode
+    return (f"prior {'unknown' if sha is None else sha[:12]}, {_preset_of(lift.config)}, "
+            f"temporal {mode}, {camera}")  # fmt: skip
 
 
 def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[ClipValues]:

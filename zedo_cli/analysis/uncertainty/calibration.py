@@ -52,6 +52,7 @@ import numpy as np
 from pydantic import Field, SerializerFunctionWrapHandler, field_validator, model_serializer
 
 from ...data.skeleton import Skeleton
+from ...formats.readers.result_record import LiftParams
 from ...lifting.config import calibration_settings, settings_match
 from ...stats import conformal_quantile
 from ...versioned_json import FileModel, read_models, write_models
@@ -185,17 +186,16 @@ class MeasureCalibration:
 
     def mismatch(self, params: dict[str, Any], joints: tuple[str, ...]) -> str | None:
         """Why this calibration does not hold for a result lifted with `params` (None: it holds)."""
-        prior = params.get("prior") if isinstance(params.get("prior"), dict) else {}
-        if prior.get("sha256") != self.prior_sha256 or tuple(joints) != self.joints:
+        lift = LiftParams.from_dict(params)
+        if lift.prior_sha256 != self.prior_sha256 or tuple(joints) != self.joints:
             return "no measure calibration for this prior"
-        temporal = params.get("temporal") if isinstance(params.get("temporal"), dict) else {}
-        if temporal.get("mode", "none") != self.temporal_mode:
-            return f"no measure calibration for temporal mode {temporal.get('mode', 'none')}"
-        config = params.get("config")
-        if not isinstance(config, dict) or not settings_match(self.settings, calibration_settings(config)):
+        mode = "none" if lift.temporal_mode is None else lift.temporal_mode
+        if mode != self.temporal_mode:
+            return f"no measure calibration for temporal mode {mode}"
+        if lift.config is None or not settings_match(self.settings, calibration_settings(dict(lift.config))):
             return "no measure calibration for these lifting settings (calibrated: the default preset)"
-        cams = params.get("camera_sources")
-        if not isinstance(cams, list) or not cams or not set(cams) <= set(self.cameras):
+        cams = lift.camera_sources
+        if not cams or not set(cams) <= set(self.cameras):
             return f"no measure calibration for this camera (calibrated: {', '.join(self.cameras)})"
         return None
 
