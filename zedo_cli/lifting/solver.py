@@ -49,7 +49,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import torch
@@ -399,16 +399,38 @@ def lift(
     singular, flipped = np.zeros((n, count), dtype=bool), np.zeros((n, count), dtype=bool)
     run_chunks(chunks, cold, workers, device, on_steps)
     run_chunks(warm_chunks, warm_start, workers, device, on_steps)
-    hypotheses = aggregate = None
+    raw = _Lifted(cam, singular, flipped, status, seen, obs, intrinsics, cameras)
+    return replace(_assemble(raw, prior, config), seconds=time.perf_counter() - start)
+
+
+@dataclass(frozen=True)
+class _Lifted:
+    """What the chunks gave: poses `(N, K, J, 3)` of every hypothesis, their singular and flipped flags `(N, K)`,
+    the geometry status `(N,)`, and the input's pixels, observed joints, intrinsics and lenses."""
+
+    cam: np.ndarray
+    singular: np.ndarray
+    flipped: np.ndarray
+    status: np.ndarray
+    seen: np.ndarray
+    obs: np.ndarray
+    intrinsics: np.ndarray
+    cameras: Sequence[CameraModel | None] | None
+
+
+def _assemble(raw: _Lifted, prior: Prior, config: LiftConfig) -> LiftResult:
+    """The result of `lift` from its chunks: the hypotheses' aggregate, reprojection errors, statuses, the root."""
+    n, count, joints = raw.cam.shape[:3]
+    cam, hypotheses, aggregate = raw.cam, None, None
     if count > 1:
         bones = bone_ratio(cam.reshape(n * count, joints, 3), prior).reshape(n, count)
-        hypotheses = _usable_hypotheses(cam, singular, flipped, bones)
+        hypotheses = _usable_hypotheses(cam, raw.singular, raw.flipped, bones)
         aggregate = _aggregate(hypotheses, config.aggregate)
-    cam, singular, flipped = cam[:, 0], singular[:, 0], flipped[:, 0]
+    cam, singular, flipped = cam[:, 0], raw.singular[:, 0], raw.flipped[:, 0]
     if aggregate is not None:
         cam = np.where(np.isfinite(aggregate).all(axis=(1, 2))[:, None, None], aggregate, cam)
-    reproj = reprojection_error_px(cam, seen, intrinsics, obs, cameras)
-    status = _result_status(status, cam, singular, flipped, seen, obs, reproj, bone_ratio(cam, prior))
+    reproj = reprojection_error_px(cam, raw.seen, raw.intrinsics, raw.obs, raw.cameras)
+    status = _result_status(raw.status, cam, singular, flipped, raw.seen, raw.obs, reproj, bone_ratio(cam, prior))
     lifted = status == LIFTED
     cam[~lifted], reproj[~lifted] = np.nan, np.nan
     root = cam[:, prior.skeleton.root_indices].mean(axis=1)
@@ -417,8 +439,8 @@ def lift(
         hypotheses[~lifted] = np.nan
         hypotheses = hypotheses - hypotheses[:, :, prior.skeleton.root_indices].mean(axis=2, keepdims=True)
         spread = hypothesis_spread(hypotheses, cam - root[:, None])
-    return LiftResult(cam, cam - root[:, None], root, reproj, obs, lifted, config, time.perf_counter() - start,
-                      status, hypotheses, hypothesis_spread_m=spread)  # fmt: skip
+    return LiftResult(cam, cam - root[:, None], root, reproj, raw.obs, lifted, config, 0.0, status, hypotheses,
+                      hypothesis_spread_m=spread)  # fmt: skip
 
 
 def ray_pull(

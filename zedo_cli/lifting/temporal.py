@@ -181,6 +181,15 @@ class _Progress:
         self.offset += steps
 
 
+def _progress_of(lifted: int, mode: str, config: LiftConfig, device: str,
+                 callback: Callable[[LiftProgress], None] | None) -> tuple[_Progress, int]:  # fmt: skip
+    """The progress over a sequence's lifts of `lifted` instances, and the steps of its first (cold) lift."""
+    workers = lift_workers(device)
+    cold = len(plan_chunks(lifted, config.hypotheses, config.chunk_size, workers)) * (config.init_steps + config.steps)
+    warm = len(plan_chunks(lifted, 1, config.chunk_size, workers)) * config.warm_steps
+    return _Progress(cold + (warm if mode in ("two-pass", "clip") else 0), callback), cold
+
+
 def lift_sequence(
     xy: np.ndarray,
     confidence: np.ndarray,
@@ -231,16 +240,11 @@ def lift_sequence(
     if mode != "none":
         check_sequence(xy, observed, mode, tracks=tracks, frames=frames, image_sizes=image_sizes,
                        file_names=file_names)  # fmt: skip
-    lifted = observed.sum(1) >= config.min_observed
-    cold_cost = config.init_steps + config.steps
-    passes = 2 if mode in ("two-pass", "clip") else 1
-    workers = lift_workers(device)
-    batches = len(plan_chunks(int(lifted.sum()), config.hypotheses, config.chunk_size, workers))
-    warm_batches = len(plan_chunks(int(lifted.sum()), 1, config.chunk_size, workers))
-    progress = _Progress(batches * cold_cost + (passes - 1) * warm_batches * config.warm_steps, callback)
+    progress, cold_cost = _progress_of(int((observed.sum(1) >= config.min_observed).sum()), mode, config, device,
+                                       callback)  # fmt: skip
     first = lift(xy, confidence, intrinsics, prior, config, callback=progress.part(),
                  min_confidence=min_confidence, device=device, seed=seed, cameras=cameras)  # fmt: skip
-    progress.advance(batches * cold_cost)
+    progress.advance(cold_cost)
     if mode == "none":
         return replace(first, seconds=time.perf_counter() - start)
     rel, trans = smooth_tracks(first.poses_root_relative, first.root_translation, sigma, tracks, frames)
