@@ -105,3 +105,36 @@ def test_clip_mode_needs_the_limbs_joints(tiny_prior: Prior) -> None:
     with pytest.raises(ConfigError, match="--temporal clip needs the limbs' joints"):
         lift_tracks_as_infants(replace(res), np.zeros((20, 12, 2)), np.repeat(K_TEST[None], 20, 0),
                                replace(h36m, joints=h36m.joints[:12]), None, None, 2.0, 30.0)  # fmt: skip
+
+
+def _keypoints(path, n: int):  # noqa: ANN001, ANN202
+    import json
+
+    _, xy, _, _ = _video(n)
+    instances = [{"image_id": i, "frame": i, "keypoints": xy[i].tolist()} for i in range(n)]
+    path.write_text(json.dumps({"skeleton": "syrip12", "image_size": [640, 480], "instances": instances}))
+    return path
+
+
+def test_zedo_lift_temporal_clip_records_the_skeleton_and_warns_of_a_fallback(tiny_prior_path, tmp_path) -> None:  # noqa: ANN001
+    import json
+
+    from typer.testing import CliRunner
+
+    from zedo_cli.cli import app
+
+    def run(n: int) -> tuple:
+        src = _keypoints(tmp_path / f"kp{n}.json", n)
+        out = tmp_path / f"kp{n}.zedo.json"
+        args = ["lift", str(src), "--prior", str(tiny_prior_path), "--steps", "20", "--fps", "30", "--temporal", "clip",
+                "--focal", "1000", "-o", str(out)]  # fmt: skip
+        result = CliRunner().invoke(app, args)
+        assert result.exit_code == 0, result.output
+        return json.loads(out.read_text()), result.stderr
+
+    doc, stderr = run(40)
+    (skel,) = doc["params"]["temporal"]["skeletons"]
+    assert doc["params"]["temporal"]["mode"] == "clip" and len(skel["bones"]) == 8 and "warning" not in stderr
+    short, stderr = run(MIN_TRACK_FRAMES - 5)
+    assert short["params"]["temporal"]["skeletons"][0]["fallback"].startswith("too few frames")
+    assert "1 of 1 tracks lifted as two-pass, not as one infant: too few frames" in " ".join(stderr.split())

@@ -25,6 +25,7 @@ from ..formats import INPUT_FORMATS
 from ..formats.writers.outputs import output_format
 from ..pipeline.lift import (
     LiftPlan,
+    clip_fallback_warning,
     lift_prepared,
     load_plan_prior,
     not_lifted_counts,
@@ -150,6 +151,9 @@ def _report_file(outcome: FileOutcome, kp: Keypoints2D, res: LiftResult, quiet: 
     sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
     for line in sanity.warnings():  # flagged in the output too (camera.sanity)
         warn(warnings, f"{source}: {line}")
+    fallback = clip_fallback_warning(res, source)  # recorded in params.temporal.skeletons too
+    if fallback is not None:
+        warn(warnings, fallback)
 
 
 def _summary_table(outcomes: list[FileOutcome]) -> Table:

@@ -337,6 +337,16 @@ def run_lift(
     return attach_uncertainty(res, prior.sha256, prior.skeleton.joints, models)
 
 
+def clip_fallback_warning(res: LiftResult, source: str) -> str | None:
+    """`--temporal clip`: the warning that tracks too short for a skeleton were lifted as two-pass (None: none)."""
+    fallbacks = [s for s in res.track_skeletons or () if "fallback" in s]
+    if not fallbacks:
+        return None
+    first = fallbacks[0]
+    return (f"{source}: {len(fallbacks)} of {len(res.track_skeletons or ())} tracks lifted as two-pass, not as one "
+            f"infant: {first['fallback']} (track {first['track']})")  # fmt: skip
+
+
 def lift_prepared(prep: PreparedInput, prior: Prior, plan: LiftPlan, callback: Progress | None = None,
                   warnings: Sequence[str] = ()) -> LiftedInput:  # fmt: skip
     """Lift a prepared input and record how (the params a result file keeps)."""
@@ -376,6 +386,9 @@ def lift_prepared(prep: PreparedInput, prior: Prior, plan: LiftPlan, callback: P
                   "source_skeleton": kp.source_skeleton, "sha256": input_sha256(source),
                   "zedo_version": __version__,  # frame_numbers: frame_index is the input's (else positions)
                   "frame_numbers": group_frames(kp.image_ids, kp.frame_indices).numbered}  # fmt: skip
+    fallback = clip_fallback_warning(res, source)
+    if fallback is not None and fallback not in warnings:
+        warnings = [*warnings, fallback]
     return LiftedInput(source, kp, res, prep.cameras, params, input_info, list(warnings))
 
 
