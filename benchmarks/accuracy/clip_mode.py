@@ -27,6 +27,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
+from zedo_cli.analysis.pose.joint_angles import joint_angles
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.lifting.camera import Intrinsics
@@ -96,6 +97,15 @@ def depth_side(truth_cam: np.ndarray, est_cam: np.ndarray, flags: np.ndarray | N
     return right, counted, flagged
 
 
+def too_fast_share(poses: np.ndarray) -> float:
+    """% of the 12 joint angles' steps between consecutive lifted frames faster than 500 deg/s (zedo analyze's
+    too-fast bound)."""
+    angles = np.stack(list(joint_angles(poses, SKELETON).values()), 1)  # (T, 12)
+    speed = np.abs(np.diff(angles, axis=0)) * FPS
+    known = np.isfinite(speed)
+    return 100 * float((speed[known] > 500).mean())
+
+
 def score(truth: np.ndarray, lifted: np.ndarray, reproj: np.ndarray) -> dict[str, float]:
     """Figures of one clip's lift against its camera-frame truth, over frames lifted."""
     ok = np.isfinite(lifted).all((1, 2))
@@ -111,6 +121,7 @@ def score(truth: np.ndarray, lifted: np.ndarray, reproj: np.ndarray) -> dict[str
         "angle": float(np.nanmean(ang)),
         "mpjve": 1000 * float(np.linalg.norm(vel[both], axis=-1).mean()),
         "reproj": float(np.nanmean(reproj[ok])),
+        "fast": too_fast_share(lifted),
     }
 
 
@@ -149,12 +160,15 @@ def main() -> None:
                 if "swapped" in data:
                     habit_figures(extra, data, idx, res)
     print(f"source {args.source} ({args.split}), camera {args.camera}, {args.clips} clips of {args.seconds:g} s")
-    print("| mode | bone-length CV % | MPJPE mm | elbow/knee MAE deg | MPJVE mm/s | reprojection px | s/clip |")
-    print("| --- | --- | --- | --- | --- | --- | --- |")
+    print(
+        "| mode | bone-length CV % | MPJPE mm | elbow/knee MAE deg | MPJVE mm/s | reprojection px | angle steps > 500 "
+        "deg/s % | s/clip |"
+    )
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     for mode in args.modes:
         m = {k: np.mean([r[k] for r in rows[mode]]) for k in rows[mode][0]}
         print(f"| {mode} | {m['cv']:.2f} | {m['mpjpe']:.1f} | {m['angle']:.1f} | {m['mpjve']:.0f} | {m['reproj']:.2f} "
-              f"| {seconds[mode] / args.clips:.1f} |")  # fmt: skip
+              f"| {m['fast']:.2f} | {seconds[mode] / args.clips:.1f} |")  # fmt: skip
     if "clip" in args.modes:
         right, counted, flagged = extra["side"]
         print(
@@ -165,7 +179,7 @@ def main() -> None:
         print(f"clip: bone shares within 5 % of the truth: {100 * np.mean(ratio < 0.05):.0f} % of bones "
               f"(median error {100 * np.median(ratio):.1f} %); 90 % intervals hold the true share "
               f"{100 * np.mean(extra['cover']):.0f} % ({len(extra['cover'])} bones)")  # fmt: skip
-        if "habits" in extra:
+        if args.habits and "habits" in extra:
             h = extra["habits"]
             print(
                 f"clip: swapped frames found {h[0]} of {h[1]} ({100 * h[0] / max(h[1], 1):.0f} %), false "
