@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -55,3 +57,31 @@ def write_models(path: str | Path, fmt: str, version: int, key: str, models: Seq
     """The file of `models` under `key` (JSON, one space indent; a NaN is written as NaN, as json writes it)."""
     doc = {"format": fmt, "format_version": version, key: [m.model_dump() for m in models]}
     Path(path).write_text(json.dumps(doc, indent=1) + "\n")
+
+
+@dataclass(frozen=True)
+class ShippedFile:
+    """One kind of shipped file: its name in `zedo_cli/weights`, format, version, the key of its items, what it
+    holds (for errors) and the model of an item, whose `value()` is what the code computes with and whose
+    `of(value)` makes an item of it."""
+
+    name: str
+    fmt: str
+    version: int
+    key: str
+    what: str
+    model: type[Any]
+
+    def bundled_path(self) -> Path:
+        return Path(str(resources.files("zedo_cli") / "weights" / self.name))
+
+    def read(self, path: str | Path) -> list[Any]:
+        return [e.value() for e in read_models(path, self.fmt, self.version, self.key, self.what, self.model)]
+
+    def read_bundled(self) -> tuple[Any, ...]:
+        """The bundled file's values (none when the file is absent)."""
+        path = self.bundled_path()
+        return tuple(self.read(path)) if path.exists() else ()
+
+    def write(self, path: str | Path, values: Sequence[Any]) -> None:
+        write_models(path, self.fmt, self.version, self.key, [self.model.of(v) for v in values])

@@ -21,14 +21,13 @@ from __future__ import annotations
 import functools
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..stats import require_quantile
-from ..versioned_json import FileModel, read_models, write_models
+from ..versioned_json import FileModel, ShippedFile
 from .config import LiftConfig, calibration_settings, settings_match
 from .result import joint_spread
 from .solver import LiftResult
@@ -98,25 +97,26 @@ def fit_model(
     return UncertaintyModel(prior_sha256, calibration_settings(cfg), coverage, joints, floor, scale, provenance)
 
 
+_FILE = ShippedFile("uncertainty.json", FORMAT, FORMAT_VERSION, "models", "uncertainty calibration", UncertaintyEntry)
+
+
 def bundled_calibrations_path() -> Path:
-    return Path(str(resources.files("zedo_cli") / "weights" / "uncertainty.json"))
+    return _FILE.bundled_path()
 
 
 @functools.cache
 def bundled_calibrations() -> tuple[UncertaintyModel, ...]:
     """The calibrations shipped with the package (none when the file is absent), read once a process."""
-    path = bundled_calibrations_path()
-    return tuple(read_calibrations(path)) if path.exists() else ()
+    return _FILE.read_bundled()
 
 
 def read_calibrations(path: str | Path) -> list[UncertaintyModel]:
     """The models of a calibration file (format `zedo.uncertainty`, version 1)."""
-    entries = read_models(path, FORMAT, FORMAT_VERSION, "models", "uncertainty calibration", UncertaintyEntry)
-    return [e.value() for e in entries]
+    return _FILE.read(path)
 
 
 def write_calibrations(path: str | Path, models: list[UncertaintyModel]) -> None:
-    write_models(path, FORMAT, FORMAT_VERSION, "models", [UncertaintyEntry.of(m) for m in models])
+    _FILE.write(path, models)
 
 
 def find_model(

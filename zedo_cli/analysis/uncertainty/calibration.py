@@ -44,7 +44,6 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -55,7 +54,7 @@ from ...data.skeleton import Skeleton
 from ...formats.readers.result_record import LiftParams
 from ...lifting.config import calibration_settings, settings_match
 from ...stats import conformal_quantile
-from ...versioned_json import FileModel, read_models, write_models
+from ...versioned_json import FileModel, ShippedFile
 
 FORMAT = "zedo.measures"
 FORMAT_VERSION = 1
@@ -396,24 +395,26 @@ class MeasureCalibrationEntry(FileModel):
                                   {k: v.value() for k, v in self.filled.items()}, self.scope)  # fmt: skip
 
 
+_FILE = ShippedFile("measures.json", FORMAT, FORMAT_VERSION, "calibrations", "measure calibration",
+                    MeasureCalibrationEntry)  # fmt: skip
+
+
 def bundled_path() -> Path:
-    return Path(str(resources.files("zedo_cli") / "weights" / "measures.json"))
+    return _FILE.bundled_path()
 
 
 @functools.cache
 def bundled_calibrations() -> tuple[MeasureCalibration, ...]:
-    path = bundled_path()
-    return tuple(read_calibrations(path)) if path.exists() else ()
+    return _FILE.read_bundled()
 
 
 def read_calibrations(path: str | Path) -> list[MeasureCalibration]:
     """The calibrations of a measure-calibration file (format `zedo.measures`, version 1)."""
-    entries = read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "measure calibration", MeasureCalibrationEntry)
-    return [e.value() for e in entries]
+    return _FILE.read(path)
 
 
 def write_calibrations(path: str | Path, calibrations: Sequence[MeasureCalibration]) -> None:
-    write_models(path, FORMAT, FORMAT_VERSION, "calibrations", [MeasureCalibrationEntry.of(c) for c in calibrations])
+    _FILE.write(path, calibrations)
 
 
 def measure_joints(skeleton: Skeleton, measures: MeasureFunction, names: Sequence[str]) -> dict[str, np.ndarray]:

@@ -32,7 +32,6 @@ import functools
 import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -40,7 +39,7 @@ import numpy as np
 from pydantic import Field, field_validator
 
 from ...stats import conformal_quantile
-from ...versioned_json import FileModel, read_models, write_models
+from ...versioned_json import FileModel, ShippedFile
 from .block_bootstrap import BootstrapSettings, ClipInterval
 
 FORMAT = "zedo.head_intervals"
@@ -153,25 +152,26 @@ class HeadCalibrationEntry(FileModel):
         return HeadCalibration(dict(self.settings), {m: v.value() for m, v in self.measures.items()}, self.provenance)
 
 
+_FILE = ShippedFile("head.json", FORMAT, FORMAT_VERSION, "calibrations", "head interval calibration",
+                    HeadCalibrationEntry)  # fmt: skip
+
+
 def read_head_calibrations(path: str | Path) -> list[HeadCalibration]:
     """The calibrations of a head-interval calibration file (format `zedo.head_intervals`, version 1)."""
-    entries = read_models(path, FORMAT, FORMAT_VERSION, "calibrations", "head interval calibration",
-                          HeadCalibrationEntry)  # fmt: skip
-    return [e.value() for e in entries]
+    return _FILE.read(path)
 
 
 def write_head_calibrations(path: str | Path, calibrations: Sequence[HeadCalibration]) -> None:
-    write_models(path, FORMAT, FORMAT_VERSION, "calibrations", [HeadCalibrationEntry.of(c) for c in calibrations])
+    _FILE.write(path, calibrations)
 
 
 def bundled_path() -> Path:
-    return Path(str(resources.files("zedo_cli") / "weights" / "head.json"))
+    return _FILE.bundled_path()
 
 
 @functools.cache
 def bundled_head_calibrations() -> tuple[HeadCalibration, ...]:
-    path = bundled_path()
-    return tuple(read_head_calibrations(path)) if path.exists() else ()
+    return _FILE.read_bundled()
 
 
 def find_head_calibration(calibrations: Sequence[HeadCalibration], key: dict[str, Any]) -> HeadCalibration | None:
