@@ -251,3 +251,21 @@ def test_counts_of_the_lifts_flagged_frames_are_never_compared() -> None:
     older = build_norms(clips, VERSION)  # a reference written before: its fits hold such a count
     older.fits[ALL_AGES]["Knee_flexion_frames_too_fast"] = norms.fits[ALL_AGES]["Knee_mean_angle"]
     assert "Knee_flexion_frames_too_fast" not in compare(odd, older, None).z
+
+
+def test_a_clip_much_longer_than_the_references_is_compared_with_a_note(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from zedo_cli.analysis.compare import length_mismatch
+
+    clips = [replace(c, seconds=10.0 + 0.1 * i) for i, c in enumerate(_reference())]
+    norms = build_norms(clips, VERSION)
+    assert length_mismatch(norms, 15.0) is None and length_mismatch(norms, 6.0) is None
+    note = length_mismatch(norms, 60.0)
+    assert note is not None and note.startswith("this clip's track lasts 60 s, the reference's clips a median 11 s")
+    assert length_mismatch(norms, 3.0) is not None and length_mismatch(norms, None) is None
+    write_norms(tmp_path / "n.json", norms)
+    again = read_norms(tmp_path / "n.json", VERSION)
+    assert [c.seconds for c in again.clips] == [c.seconds for c in clips]
+    unknown = build_norms(_reference(), VERSION)  # a reference that does not record lengths: nothing to say
+    assert length_mismatch(unknown, 60.0) is None

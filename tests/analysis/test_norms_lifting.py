@@ -101,3 +101,4 @@ def test_zedo_norms_says_when_its_clips_were_lifted_in_several_ways(tmp_path: Pa
     )
     norms = read_norms(tmp_path / "norms.json", __version__)
     assert [c.lifting.endswith("pseudo camera") for c in norms.clips] == [True] * 12 + [False] * 8
+    assert {c.seconds for c in norms.clips} == {3.0}  # 90 frames at 30 fps

@@ -52,7 +52,31 @@ def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[Clip
             measured = r.raw_value if np.isfinite(r.raw_value) else r.value
             out.setdefault(r.person, {})[r.measure] = float(measured)
     lifting = lifting_of(a.result.params)
-    return [ClipValues(a.result.source, p, values, age_weeks, lifting) for p, values in sorted(out.items())]
+    return [ClipValues(a.result.source, p, values, age_weeks, lifting, track_seconds(a, p))
+            for p, values in sorted(out.items())]  # fmt: skip
+
+
+def track_seconds(a: Analysis, person: int) -> float | None:
+    """How long person `person`'s track lasts in the analysed frames, first to last (None without an fps)."""
+    frames = a.result.frame_index[a.index][a.result.person[a.index] == person]
+    if not a.fps or not len(frames):
+        return None
+    return float((frames.max() - frames.min() + 1) / a.fps)
+
+
+def length_mismatch(norms: Norms, seconds: float | None) -> str | None:
+    """A note where the clip lasts over LENGTH_RATIO times as long (or as short) as the reference's clips' median
+    (None: alike, or either side does not say)."""
+    known = [c.seconds for c in norms.clips if c.seconds is not None]
+    if seconds is None or not known:
+        return None
+    typical = float(np.median(known))
+    ratio = seconds / typical
+    if 1 / LENGTH_RATIO <= ratio <= LENGTH_RATIO:
+        return None
+    return (f"this clip's track lasts {seconds:.0f} s, the reference's clips a median {typical:.0f} s ({ratio:.1f} "
+            "times as long): features that grow with a clip's length (ranges, entropies) are compared across lengths; "
+            "build a reference of clips as long as the clips compared with it")  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -94,7 +118,12 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
                    f"(age brackets: {', '.join(norms.brackets)})")  # fmt: skip
     if mismatch is not None:
         a.notes.append(mismatch)
+    for note in dict.fromkeys(n for clip in clips if (n := length_mismatch(norms, clip.seconds)) is not None):
+        a.notes.append(note)
     return done
+
+
+LENGTH_RATIO = 2.0  # a clip over twice as long or short as the reference's is compared with a note
 
 
 def lifting_mismatch(norms: Norms, lifting: str | None) -> str | None:

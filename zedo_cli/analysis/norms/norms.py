@@ -108,6 +108,7 @@ class ClipValues:
     values: dict[str, float]
     age_weeks: float | None = None
     lifting: str | None = None  # how the result was lifted (compare.lifting_of); None: not recorded
+    seconds: float | None = None  # how long the track lasts (first to last analysed frame); None: not recorded
 
 
 def asymmetry_indices(values: Mapping[str, float]) -> dict[str, float]:
@@ -178,8 +179,8 @@ def build_norms(clips: Sequence[ClipValues], zedo_version: str) -> Norms:
         missing = sum(not a for a in aged)
         raise ConfigError(f"--age-weeks given for some clips but not {missing} others: give every clip's age or none")
     with_ages = all(aged)
-    clips = [ClipValues(c.source, c.person, with_asymmetry(infant_features(c.values)), c.age_weeks, c.lifting)
-             for c in clips]  # fmt: skip
+    clips = [ClipValues(c.source, c.person, with_asymmetry(infant_features(c.values)), c.age_weeks, c.lifting,
+                        c.seconds) for c in clips]  # fmt: skip
     of_clip = [age_bracket(c.age_weeks, with_ages) for c in clips]
     brackets = [b for b in (BRACKET_YOUNG, BRACKET_OLD, ALL_AGES) if b in of_clip]
     names = sorted(set().union(*(c.values for c in clips)))

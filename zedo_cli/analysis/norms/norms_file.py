@@ -34,6 +34,7 @@ class ClipModel(_Closed):
     bracket: str
     values: dict[str, float | None] = Field(description="every clip feature of this reference clip (null: none)")
     lifting: str | None = Field(None, description="how its result was lifted: prior, temporal mode, kind of camera")
+    seconds: float | None = Field(None, description="how long the clip's track lasts (null: not recorded)")
 
 
 class NormsDocument(_Closed):
@@ -64,7 +65,8 @@ def write_norms(path: str | Path, norms: Norms, *, overwrite: bool = False) -> N
         "left_out": norms.left_out,
         "clips": [
             {"source": c.source, "person": c.person, "age_weeks": c.age_weeks, "bracket": b,
-             "values": {k: _finite_or_none(v) for k, v in sorted(c.values.items())}, "lifting": c.lifting}
+             "values": {k: _finite_or_none(v) for k, v in sorted(c.values.items())}, "lifting": c.lifting,
+             "seconds": c.seconds}
             for c, b in zip(norms.clips, norms.brackets_of_clips, strict=True)
         ],
     }  # fmt: skip
@@ -96,7 +98,12 @@ def read_norms(path: str | Path, zedo_version: str) -> Norms:
             raise InputFormatError(f"{name}: fits: no fits for the bracket {b!r}")
     clips = [
         ClipValues(
-            c.source, c.person, {k: math.nan if v is None else v for k, v in c.values.items()}, c.age_weeks, c.lifting
+            c.source,
+            c.person,
+            {k: math.nan if v is None else v for k, v in c.values.items()},
+            c.age_weeks,
+            c.lifting,
+            c.seconds,
         )  # fmt: skip
         for c in doc.clips
     ]
