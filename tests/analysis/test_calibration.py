@@ -205,3 +205,26 @@ def test_every_angle_stays_in_its_stated_range() -> None:
         lo, hi = ranges[name]
         known = v[np.isfinite(v)]
         assert ((known >= lo) & (known <= hi)).all(), name
+
+
+def test_each_interval_names_the_calibration_that_backs_it(tmp_path: Path) -> None:
+    from zedo_cli.analysis.outputs import analysis_document
+    from zedo_cli.analysis.uncertainty.calibration import calibration_id
+
+    cal = calibration(width=5.0)
+    a = analyse(read_result(write_document(tmp_path / "k.zedo.json", document(kicking_poses(30)))),
+                AnalysisSettings(), calibrations=[cal])  # fmt: skip
+    doc = analysis_document(a)
+    (used,) = doc["uncertainty"]["calibrations"]
+    assert used["id"] == calibration_id(cal) and len(used["id"]) == 16
+    assert (used["scope"], used["temporal_mode"], used["cameras"], used["data"]) == (
+        "frames",
+        "none",
+        ["pseudo"],
+        "test",
+    )
+    assert any(n.startswith(f"frames intervals backed by measure calibration {used['id']}") for n in a.notes)
+    assert calibration_id(calibration(width=6.0)) != used["id"]  # another calibration, another id
+    none = analyse(read_result(write_document(tmp_path / "n.zedo.json", document(kicking_poses(30)))),
+                   AnalysisSettings(), calibrations=[])  # fmt: skip
+    assert analysis_document(none)["uncertainty"]["calibrations"] == []

@@ -66,6 +66,7 @@ from .uncertainty.calibration import (
     Assignment,
     MeasureCalibration,
     assign_calibrations,
+    backing_note,
     bundled_calibrations,
     find_calibration,
     measure_joints,
@@ -153,6 +154,7 @@ class Analysis:
     notes: list[str] = field(default_factory=list)
     comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
     assignment: Assignment | None = None  # which measure calibration holds for each analysed pose
+    clip_calibration: MeasureCalibration | None = None  # the clip-scope calibration found for the result
     # symmetry measure -> (M,) the probability that the true angle exceeds the threshold (NaN: no calibration)
     probabilities: dict[str, np.ndarray] = field(default_factory=dict)
     head: HeadFrames | None = None  # the head measures of the analysed poses (from the input's 2D)
@@ -169,7 +171,8 @@ class Analysis:
             import pandas as pd
         except ImportError:
             raise ImportError(
-                "Analysis.to_pandas() needs pandas, an optional extra of zedo: pip install 'zedo[pandas]' "
+                "Analysis.to_pandas() needs pandas, an optional extra of zedo: pip install -e '.[pandas]' in a zedo "
+                "checkout "
                 "(Analysis.columns() gives the same table as plain lists)"
             ) from None
         return pd.DataFrame(self.columns(), columns=list(COLUMNS)).astype({"frame_index": "Int64"})
@@ -316,6 +319,7 @@ def analyse(
             a.notes.append(f"{out} of {len(index)} poses have no calibrated intervals ({note}); their symmetry calls "
                            "are uncertain")  # fmt: skip
         used = np.unique(assignment.index[assignment.index >= 0]).tolist()
+        a.notes.extend(backing_note(assignment.calibrations[i]) for i in used)
         sources = (assignment.calibrations[i].provenance.get("data", "see the calibration file") for i in used)
         data = "; ".join(dict.fromkeys(str(x) for x in sources))
         side = (1 - settings.call_level) / 2
@@ -342,6 +346,9 @@ def analyse(
         a.rows += _clip_rows(a)  # reads the frame rows' calls
         a.rows += _head_clip_rows(a, head_why)
         clip_cal, clip_why = find_calibration(models, result.params, result.skeleton.joints, scope="clips")
+        a.clip_calibration = clip_cal
+        if clip_cal is not None:
+            a.notes.append(backing_note(clip_cal))
         a.rows += [
             Row(
                 None,

@@ -27,10 +27,13 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..formats.writers.common import json_pieces, rounded, write_text
 from ..version import __version__
 from .analyse import COLUMNS, Analysis, summary
 from .pose.symmetry import BAND_EDGES_DEG, PAIRS
+from .uncertainty.calibration import backing
 
 SCHEMA = "zedo.analysis/1"
 _DECIMALS = 3  # at least: small values keep SIGNIFICANT digits (formats.writers.common.rounded)
@@ -121,6 +124,16 @@ def _row_dicts(a: Analysis) -> Iterator[dict[str, Any]]:
     return ({c: _num(v) for c, v in zip(COLUMNS, row.as_list(), strict=True)} for row in a.rows)
 
 
+def used_calibrations(a: Analysis) -> list[dict[str, Any]]:
+    """What backs the analysis's intervals: each measure calibration used (frames, then clips), by id."""
+    used = []
+    if a.assignment is not None:
+        used += [a.assignment.calibrations[i] for i in np.unique(a.assignment.index[a.assignment.index >= 0])]
+    if a.clip_calibration is not None:
+        used.append(a.clip_calibration)
+    return [backing(c) for c in used]
+
+
 def _document_members(a: Analysis) -> Iterator[tuple[str, Any]]:
     """The document's (key, value) pairs in order; "rows" an iterator of the row dicts, so that the
     writer streams them (`json_pieces`) instead of holding half a million dicts and their text."""
@@ -129,6 +142,7 @@ def _document_members(a: Analysis) -> Iterator[tuple[str, Any]]:
         "available": a.uncertainty_available,
         "note": a.calibration_note,
         "level": a.settings.level,
+        "calibrations": used_calibrations(a),
         "method": "per measure: the estimate and its interval from a split-conformal calibration on held-out "
         "lifts, by bins of the measured value (analysis.calibration, docs/clinical.md); the interval column of "
         "each row says how its interval was obtained or why it has none",

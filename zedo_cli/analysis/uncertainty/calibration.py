@@ -42,6 +42,8 @@ the clip's median lifted root depth and focal length lie in its domain (`clip_ca
 from __future__ import annotations
 
 import functools
+import hashlib
+import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -430,3 +432,24 @@ def measure_joints(skeleton: Skeleton, measures: MeasureFunction, names: Sequenc
         for n in names:
             uses[n][j] = not np.isclose(after[n][0], base[n][0], atol=1e-9, equal_nan=True)
     return uses
+
+
+def calibration_id(calibration: MeasureCalibration) -> str:
+    """A short name of a calibration's content: the first 16 hex digits of the sha256 of its file entry."""
+    entry = MeasureCalibrationEntry.of(calibration).model_dump(mode="json")
+    return hashlib.sha256(json.dumps(entry, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def backing(calibration: MeasureCalibration) -> dict[str, Any]:
+    """What backs the intervals a calibration gives: its id, scope, temporal mode, cameras and data."""
+    return {"id": calibration_id(calibration), "scope": calibration.scope, "temporal_mode": calibration.temporal_mode,
+            "cameras": list(calibration.cameras),
+            "camera_range": None if calibration.domain is None else calibration.domain.describe(),
+            "data": calibration.provenance.get("data")}  # fmt: skip
+
+
+def backing_note(calibration: MeasureCalibration) -> str:
+    b = backing(calibration)
+    where = f"; {b['camera_range']}" if b["camera_range"] else ""
+    return (f"{b['scope']} intervals backed by measure calibration {b['id']} (temporal {b['temporal_mode']}, "
+            f"{', '.join(b['cameras'])} camera{where}; {b['data'] or 'data not recorded'})")  # fmt: skip
