@@ -127,7 +127,7 @@ def test_to_pandas_without_pandas_says_how_to_get_it(monkeypatch: pytest.MonkeyP
     from zedo_cli.analysis.analyse import Analysis
 
     monkeypatch.setitem(sys.modules, "pandas", None)  # as if pandas were not installed
-    with pytest.raises(ImportError, match=r"pip install 'zedo\[pandas\]'"):
+    with pytest.raises(ImportError, match=r"pip install -e '\.\[pandas\]' in a zedo checkout"):
         Analysis.to_pandas(Analysis.__new__(Analysis))
 
 
