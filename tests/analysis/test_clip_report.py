@@ -163,3 +163,21 @@ def test_depth_ambiguous_frames_are_shaded_and_said(tmp_path: Path) -> None:
         read_result(write_document(tmp_path / "plain.zedo.json", result_document(kicking_poses(60), fps=30.0)))
     )
     assert not depth_ambiguous(plain).any() and "depth side ambiguous" not in time_series_section(plain)
+
+
+def test_with_a_reference_the_summary_says_what_share_asymmetric_is_typical(clip: tuple[Path, list]) -> None:
+    from zedo_cli.analysis.norms.norms import ClipValues, Norms
+    from zedo_cli.analysis.report.clip_report import summary_section, typical_shares_row
+
+    a = analyse(read_result(clip[0]), calibrations=clip[1])
+    assert typical_shares_row(a) == ""  # no reference: nothing said
+    shares = np.linspace(0.2, 0.6, 20)
+    clips = [ClipValues(f"c{i}", 0, {"symmetry_thigh_share_asymmetric": float(s)}) for i, s in enumerate(shares)]
+    a.reference = Norms(["all"], {"all": {}}, clips, ["all"] * 20)
+    summary = summary_section(a)
+    lo, mid, hi = np.quantile(shares, [0.1, 0.5, 0.9])
+    assert (
+        f"{100 * mid:.0f} % <small>typical: 20 reference clips, middle 80 % {100 * lo:.0f} % – {100 * hi:.0f} %"
+        in summary
+    )
+    assert summary.count("(not in the reference)") == 3  # the other pairs' shares are not in this reference

@@ -153,6 +153,7 @@ class Analysis:
     rows: list[Row] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
+    reference: Any = None  # the reference of typical infants compared with (norms.Norms), with --norms
     assignment: Assignment | None = None  # which measure calibration holds for each analysed pose
     clip_calibration: MeasureCalibration | None = None  # the clip-scope calibration found for the result
     # symmetry measure -> (M,) the probability that the true angle exceeds the threshold (NaN: no calibration)

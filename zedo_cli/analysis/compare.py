@@ -93,6 +93,7 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
     if not a.is_sequence:
         a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
         return []
+    a.reference = norms
     done = []
     clips = features_by_person(a, age_weeks)
     mismatch = lifting_mismatch(norms, clips[0].lifting) if clips else None  # one result: every track alike

@@ -48,6 +48,26 @@ def _share_cell(r: Row | None, level: str) -> str:
     return f"<td><b>{_pct(r.value)}</b> <small>(no interval)</small></td>"
 
 
+def typical_shares_row(a: Analysis) -> str:
+    """With a reference: a row of what is typical for it, per pair the median share asymmetric of its clips and the
+    range of their middle 80 % (a moving infant's limbs are often asymmetric)."""
+    if a.reference is None:
+        return ""
+    cells = []
+    for n in SYMMETRY_NAMES:
+        values = np.array(
+            [c.values.get(n.removesuffix("_deg") + "_share_asymmetric", np.nan) for c in a.reference.clips]
+        )
+        values = values[np.isfinite(values)]
+        if not len(values):
+            cells.append("<td>– <small>(not in the reference)</small></td>")
+            continue
+        lo, mid, hi = np.quantile(values, [0.1, 0.5, 0.9])
+        cells.append(f"<td>{_pct(mid)} <small>typical: {len(values)} reference clips, middle 80 % {_pct(lo)} – "
+                     f"{_pct(hi)}</small></td>")  # fmt: skip
+    return f"<tr>{''.join(cells)}</tr>"
+
+
 def _pair(name: str) -> str:
     return name.removeprefix("symmetry_").removesuffix("_deg").replace("_", " ")
 
@@ -94,7 +114,7 @@ def summary_section(a: Analysis) -> str:
             out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: the estimated share of frames in "
                    f"which the pair's true symmetry angle is above {a.settings.threshold_deg:g}°, with its {level} "
                    "interval (block bootstrap over correlated frames).</p>"
-                   f"<table><tr>{head}</tr><tr>{cells}</tr></table>")  # fmt: skip
+                   f"<table><tr>{head}</tr><tr>{cells}</tr>{typical_shares_row(a)}</table>")  # fmt: skip
         turn = "".join(f"<th>head turned {c}</th>" if c != "midline" else "<th>head at the midline</th>"
                        for c in TURN_CALLS)  # fmt: skip
         turn_cells = "".join(_share_cell(rows.get((p, f"head_turn_fraction_{c}")), level) for c in TURN_CALLS)
