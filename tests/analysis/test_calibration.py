@@ -228,3 +228,20 @@ def test_each_interval_names_the_calibration_that_backs_it(tmp_path: Path) -> No
     none = analyse(read_result(write_document(tmp_path / "n.zedo.json", document(kicking_poses(30)))),
                    AnalysisSettings(), calibrations=[])  # fmt: skip
     assert analysis_document(none)["uncertainty"]["calibrations"] == []
+
+
+def test_a_clip_filmed_upside_down_is_outside_calibration_and_says_so(tmp_path: Path) -> None:
+    poses = kicking_poses(60)
+    upright = analyse(read_result(write_document(tmp_path / "up.zedo.json", document(poses, fps=30.0))),
+                      AnalysisSettings(), calibrations=[calibration()])  # fmt: skip
+    assert {r.interval for r in upright.rows if r.measure == "symmetry_thigh_deg"} == {"calibrated"}
+    turned = poses * np.array([-1.0, -1.0, 1.0])  # the camera turned half a turn about its axis: head down the image
+    doc = document(turned, fps=30.0)
+    a = analyse(read_result(write_document(tmp_path / "down.zedo.json", doc)), AnalysisSettings(),
+                calibrations=[calibration()])  # fmt: skip
+    frames = {r.interval for r in a.rows if r.measure == "symmetry_thigh_deg"}
+    (why,) = frames
+    assert why.startswith("none: outside calibration: the infant's trunk points 1") and "turn the video" in why
+    assert not a.uncertainty_available and all(np.isnan(r.low_90) for r in a.rows if r.measure == "symmetry_thigh_deg")
+    shares = [r for r in a.rows if r.measure.endswith("_share_asymmetric")]
+    assert shares and all(np.isnan(r.low_90) for r in shares)

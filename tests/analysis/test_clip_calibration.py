@@ -151,3 +151,12 @@ def test_the_bundled_clip_calibrations_cover_both_modes_and_both_kinds_of_camera
             assert why == "calibrated" and found is not None and found.temporal_mode == mode
             assert (found.domain is None) == (sources == ["pseudo"]) and set(found.measures) == names
             assert 0.85 <= np.mean(list(found.provenance["cross_fitted_coverage_90"].values())) <= 0.95
+
+
+def test_a_clip_outside_calibration_states_no_3d_interval_and_says_why(tmp_path: Path) -> None:
+    doc = document(kicking_poses(90) * np.array([-1.0, -1.0, 1.0]), fps=30.0, temporal="smooth")  # head down
+    a = analyse(read_result(write_document(tmp_path / "down.zedo.json", doc)), AnalysisSettings(),
+                calibrations=[calibration("smooth"), clip_calibration()])  # fmt: skip
+    knee = next(r for r in a.rows if r.frame_index is None and r.measure == KNEE)
+    assert knee.interval.startswith("none: outside calibration: the infant's trunk points")
+    assert np.isnan(knee.low_90) and knee.value == pytest.approx(180.0, abs=1e-3)  # the measurement, unshrunk

@@ -72,6 +72,7 @@ from .uncertainty.calibration import (
     measure_joints,
 )
 from .uncertainty.clip_share import block_frames, probability_above, share_interval
+from .uncertainty.domain import outside_calibration, without_outside
 
 COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
            "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
@@ -303,6 +304,8 @@ def analyse(
     models = bundled_calibrations() if calibrations is None else calibrations
     cameras = pose_cameras(result, index)
     assignment = assign_calibrations(models, result.params, result.skeleton.joints, *cameras)
+    outside = outside_calibration(result, index)
+    assignment = without_outside(assignment, outside)  # a track unlike the calibration clips: no interval, and why
     note = assignment.note()
     raw, values, (intervals, call_intervals), how = calibrated_measures(
         result.poses[index], result.observed[index], result.skeleton, None, note,
@@ -346,27 +349,22 @@ def analyse(
     if fps is not None:
         a.rows += _clip_rows(a)  # reads the frame rows' calls
         a.rows += _head_clip_rows(a, head_why)
-        clip_cal, clip_why = find_calibration(models, result.params, result.skeleton.joints, scope="clips")
-        a.clip_calibration = clip_cal
-        if clip_cal is not None:
-            a.notes.append(backing_note(clip_cal))
-        a.rows += [
-            Row(
-                None,
-                None,
-                None,
-                f.person,
-                f.measure,
-                f.value,
-                f.unit,
-                f.low,
-                f.high,
-                interval=f.interval,
-                raw_value=f.raw_value,
-            )
-            for f in clip_features(result, index, fps, clip_cal, clip_why, settings.level, cameras)
-        ]  # the published 2D and the 3d_ features
+        a.rows += _clip_feature_rows(a, models, cameras, outside)
     return a
+
+
+def _clip_feature_rows(a: Analysis, models: Sequence[MeasureCalibration], cameras: tuple[np.ndarray, np.ndarray],
+                       outside: np.ndarray) -> list[Row]:  # fmt: skip
+    """The published 2D and the `3d_` features of each track, the latter under the clip-scope calibration that
+    holds (`a.clip_calibration`, named in a note)."""
+    res = a.result
+    clip_cal, clip_why = find_calibration(models, res.params, res.skeleton.joints, scope="clips")
+    a.clip_calibration = clip_cal
+    if clip_cal is not None:
+        a.notes.append(backing_note(clip_cal))
+    features = clip_features(res, a.index, float(a.fps or 0.0), clip_cal, clip_why, a.settings.level, cameras, outside)
+    return [Row(None, None, None, f.person, f.measure, f.value, f.unit, f.low, f.high, interval=f.interval,
+                raw_value=f.raw_value) for f in features]  # fmt: skip
 
 
 def _measure_head(a: Analysis) -> str | None:
