@@ -149,3 +149,10 @@ def test_the_checks_see_what_they_look_for() -> None:
     assert _MACHINE_PATH.search("run it in /work/main first") and _MACHINE_PATH.search("measured this session")
     assert not _MACHINE_PATH.search("see docs/work/x.md")
     assert _ISSUE_NUMBER.search("(issue 38)") and not _ISSUE_NUMBER.search("the issue of scale")
+
+
+def test_docs_prose_cites_no_issue_number() -> None:
+    pages = [*ROOT.glob("docs/**/*.md"), ROOT / "README.md", *ROOT.glob("*/README.md")]
+    found = [f"{p.relative_to(ROOT)}:{n}" for p in pages if p.name != "decisions.md" for n, line in _lines(p)
+             if _ISSUE_NUMBER.search(line)]  # fmt: skip
+    assert not found, found
