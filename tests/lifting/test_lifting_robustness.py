@@ -18,10 +18,10 @@ from hypothesis import strategies as st
 
 from zedo_cli.lifting.camera import solve_root_translation, solve_root_translation_ex
 from zedo_cli.lifting.config import MAX_AUTO_DELTA, LiftConfig, get_preset
+from zedo_cli.lifting.reprojection import MAX_REPROJECTION_RATIO
 from zedo_cli.lifting.solver import (
     LIFTED,
     MAX_BONE_RATIO,
-    MAX_REPROJECTION_RATIO,
     MIN_JOINT_DEPTH_M,
     NOT_LIFTED,
     bone_ratio,

@@ -54,7 +54,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import torch
 
-from ..camera.model import CameraModel, lens_groups, undistort_instances
+from ..camera.model import CameraModel, undistort_instances
 from ..data.skeleton import twin_limbs
 from ..errors import ConfigError
 from ..prior.sampling import diffusion_scale, probability_flow_step
@@ -65,6 +65,7 @@ from .chunks import BlockNoise, Chunk, deterministic_cuda, lift_workers, plan_ch
 from .config import LiftConfig
 from .precision import Network, lift_network
 from .proportions import bone_proportion_step, template_fractions
+from .reprojection import poor_fit, reprojection_error_px
 from .result import LIFTED, LiftResult, hypothesis_spread
 from .twin_limbs import cap_twin_ratios, twin_limb_step
 
@@ -76,11 +77,6 @@ MAX_RAY_SLOPE = 20.0
 MIN_RAY_SPREAD = 1e-4
 # The nearest a lifted joint may be to the camera (metres); nearer, or behind, is a failed fit.
 MIN_JOINT_DEPTH_M = 0.01
-# A lifted pose whose mean reprojection error exceeds this fraction of the RMS radius of its
-# observed 2D joints does not reproduce its detection. SyRIP's 1400 real poses (GT and FiDIP 2D,
-# `fast`) stay below 0.18 (with exact rays, ray_weight 1: 0.04); tiny noisy detections drawn to the
-# camera reach 1 to 5.
-MAX_REPROJECTION_RATIO = 0.5
 
 # A lifted bone longer than this many times the same bone of the prior's template pose is not a
 # body's: a safety net for a loop that diverged (default settings on SyRIP's 1400 real poses:
@@ -369,38 +365,65 @@ def lift(
         if callback is not None:
             callback(LiftProgress(done, total))
 
-    def tensor(a: np.ndarray) -> torch.Tensor:
-        return torch.as_tensor(a, dtype=torch.float32, device=device)
-
-    def rows(a: np.ndarray | None, idx: np.ndarray) -> torch.Tensor | None:
-        return None if a is None else tensor(a[idx])
-
-    def store(idx: np.ndarray, out: _ChunkResult) -> None:
-        hyp, real = out.pose.shape[1], len(idx)  # the rows after `real` are the chunk's padding
-        cam[idx, :hyp] = (out.pose[:real] + out.translation[:real, :, None]).double().cpu().numpy()
-        singular[idx, :hyp], flipped[idx, :hyp] = out.singular[:real].cpu().numpy(), out.flipped[:real].cpu().numpy()
-
-    def cold(chunk: Chunk, tick: Callable[[int], None]) -> None:
-        idx = todo[chunk.positions()]
-        draws = BlockNoise(seed, chunk, count, device) if count > 1 else None
-        store(todo[chunk.start : chunk.stop],
-              _lift_chunk(prior, net, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                          rows(pull, idx), config, tick, draws))  # fmt: skip
-
-    def warm_start(chunk: Chunk, tick: Callable[[int], None]) -> None:
-        assert start_poses is not None and start_translation is not None
-        idx = todo_warm[chunk.positions()]
-        store(todo_warm[chunk.start : chunk.stop],
-              _warm_chunk(prior, net, tensor(np.nan_to_num(xy[idx])), tensor(intrinsics[idx]), tensor(obs[idx]),
-                          rows(pull, idx), tensor(start_poses[idx]), tensor(start_translation[idx]), config,
-                          tick))  # fmt: skip
-
-    cam = np.full((n, count, joints, 3), np.nan)
-    singular, flipped = np.zeros((n, count), dtype=bool), np.zeros((n, count), dtype=bool)
-    run_chunks(chunks, cold, workers, device, on_steps)
-    run_chunks(warm_chunks, warm_start, workers, device, on_steps)
-    raw = _Lifted(cam, singular, flipped, status, seen, obs, intrinsics, cameras)
+    batch = _Batch(prior, net, config, device, seed, xy, intrinsics, obs, pull, todo, todo_warm, start_poses,
+                   start_translation, np.full((n, count, joints, 3), np.nan), np.zeros((n, count), dtype=bool),
+                   np.zeros((n, count), dtype=bool))  # fmt: skip
+    run_chunks(chunks, batch.cold, workers, device, on_steps)
+    run_chunks(warm_chunks, batch.warm, workers, device, on_steps)
+    raw = _Lifted(batch.cam, batch.singular, batch.flipped, status, seen, obs, intrinsics, cameras)
     return replace(_assemble(raw, prior, config), seconds=time.perf_counter() - start)
+
+
+@dataclass
+class _Batch:
+    """One `lift` call's instances, lifted chunk by chunk into `cam (N, K, J, 3)` and its flags `(N, K)`: cold
+    (`todo`) or warm-started (`todo_warm`) from `start_poses` / `start_translation`."""
+
+    prior: Prior
+    net: Network
+    config: LiftConfig
+    device: str
+    seed: int
+    xy: np.ndarray
+    intrinsics: np.ndarray
+    obs: np.ndarray
+    pull: np.ndarray | None
+    todo: np.ndarray
+    todo_warm: np.ndarray
+    start_poses: np.ndarray | None
+    start_translation: np.ndarray | None
+    cam: np.ndarray
+    singular: np.ndarray
+    flipped: np.ndarray
+
+    def tensor(self, a: np.ndarray) -> torch.Tensor:
+        return torch.as_tensor(a, dtype=torch.float32, device=self.device)
+
+    def inputs(self, idx: np.ndarray) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor | None]:
+        """The pixels, intrinsics, observed joints and ray pulls of the instances `idx`, as tensors."""
+        pull = None if self.pull is None else self.tensor(self.pull[idx])
+        return (self.tensor(np.nan_to_num(self.xy[idx])), self.tensor(self.intrinsics[idx]), self.tensor(self.obs[idx]),
+                pull)  # fmt: skip
+
+    def store(self, idx: np.ndarray, out: _ChunkResult) -> None:
+        hyp, real = out.pose.shape[1], len(idx)  # the rows after `real` are the chunk's padding
+        self.cam[idx, :hyp] = (out.pose[:real] + out.translation[:real, :, None]).double().cpu().numpy()
+        self.singular[idx, :hyp] = out.singular[:real].cpu().numpy()
+        self.flipped[idx, :hyp] = out.flipped[:real].cpu().numpy()
+
+    def cold(self, chunk: Chunk, tick: Callable[[int], None]) -> None:
+        idx = self.todo[chunk.positions()]
+        count = self.config.hypotheses
+        draws = BlockNoise(self.seed, chunk, count, self.device) if count > 1 else None
+        self.store(self.todo[chunk.start : chunk.stop],
+                   _lift_chunk(self.prior, self.net, *self.inputs(idx), self.config, tick, draws))  # fmt: skip
+
+    def warm(self, chunk: Chunk, tick: Callable[[int], None]) -> None:
+        assert self.start_poses is not None and self.start_translation is not None
+        idx = self.todo_warm[chunk.positions()]
+        starts = self.tensor(self.start_poses[idx]), self.tensor(self.start_translation[idx])
+        self.store(self.todo_warm[chunk.start : chunk.stop],
+                   _warm_chunk(self.prior, self.net, *self.inputs(idx), *starts, self.config, tick))  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -541,19 +564,6 @@ def _result_status(
     return out
 
 
-def poor_fit(xy: np.ndarray, observed: np.ndarray, reproj: np.ndarray) -> np.ndarray:
-    """Poses `(N,)` whose mean reprojection error `reproj (N, J)` px over their `observed (N, J)`
-    joints exceeds MAX_REPROJECTION_RATIO times the RMS radius of those joints' pixels `xy (N, J, 2)`
-    about their centre: the pose does not reproduce its detection (NaN errors count as poor).
-    Checked after lifting (`status` poor_fit), and again after the temporal mode's smoothing."""
-    with np.errstate(all="ignore"):
-        count = np.maximum(observed.sum(1), 1)
-        centre = np.where(observed[..., None], xy, 0.0).sum(1) / count[:, None]  # (N, 2)
-        radius = np.sqrt(np.where(observed, ((xy - centre[:, None]) ** 2).sum(-1), 0.0).sum(1) / count)
-        mean_error = np.where(observed, reproj, 0.0).sum(1) / count
-        return ~(mean_error <= MAX_REPROJECTION_RATIO * radius)
-
-
 def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joints: int) -> np.ndarray:
     """Instances `(N,)` with a usable (finite) start pose and translation."""
     if poses is None and trans is None:
@@ -564,16 +574,3 @@ def _warm_mask(poses: np.ndarray | None, trans: np.ndarray | None, n: int, joint
         raise ConfigError(f"start poses {poses.shape} / translations {trans.shape} do not match {n} instances "
                           f"of {joints} joints")  # fmt: skip
     return np.isfinite(poses).all(axis=(1, 2)) & np.isfinite(trans).all(axis=1)
-
-
-def reprojection_error_px(
-    cam: np.ndarray, xy: np.ndarray, k: np.ndarray, obs: np.ndarray, cameras: Sequence[CameraModel | None] | None = None
-) -> np.ndarray:
-    """Pixel distances `(N, J)` between the 2D `xy` and the points `cam (N, J, 3)` projected
-    through K `(N, 3, 3)`, or through the lens of an instance's camera with distortion
-    (`cameras`, as in `lift`); NaN where not observed."""
-    uv = project(torch.as_tensor(cam), torch.as_tensor(k, dtype=torch.float64)).numpy()
-    for camera, idx in lens_groups(cameras).items():
-        uv[idx] = camera.project(cam[idx])
-    err = np.linalg.norm(uv - xy, axis=-1)
-    return np.where(obs, err, np.nan)

@@ -50,8 +50,9 @@ from .chunks import lift_workers, plan_chunks
 from .clip import ClipTrack, lift_clip_track, needs_joints, root_relative
 from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
 from .detections import fix_detections
+from .reprojection import poor_fit, reprojection_error_px
 from .sequence import check_sequence
-from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask, poor_fit, reprojection_error_px
+from .solver import LIFTED, LiftProgress, LiftResult, lift, observed_mask
 
 DEFAULT_CLIP_FPS = 30.0  # the frame rate clip mode's detection checks assume where the input states none
 
@@ -223,7 +224,7 @@ def lift_sequence(
     Before smoothing, the frames must be one sequence (`sequence.check_sequence`, with
     `image_sizes (N, 2)` and `file_names (N,)` where known): else a ConfigError, before any
     work. After smoothing, a pose the filter pulled away from its input 2D `xy` (through its
-    lens) is not lifted, status `poor_fit`, by the test `lift` applies (`solver.poor_fit`).
+    lens) is not lifted, status `poor_fit`, by the test `lift` applies (`reprojection.poor_fit`).
     """
     if mode not in TEMPORAL_MODES:
         raise ConfigError(f"unknown temporal mode {mode!r}; modes: {', '.join(TEMPORAL_MODES)}")
