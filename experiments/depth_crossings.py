@@ -29,10 +29,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from benchmarks.accuracy.limb_depth_flips import CLEAR_DEPTH, JOINT, SEGMENTS
-from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
 from experiments.depth_sign_vote import runs, sign_free_depth
+from zedo_cli.evaluation.clips.eased import make_sequences
 
 HALF_WIDTH = 4  # frames either side of the dip's lowest frame (0.13 s at 30 fps)
 SOURCES = ("true |unit z|", "lifted |unit z|", "estimate from the image-plane length")

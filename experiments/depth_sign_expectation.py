@@ -32,12 +32,12 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from benchmarks.calibrate.features_3d_accuracy import CASE_CLIPS
-from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
 from zedo_cli.analysis.clip.published_features import Windows, smooth_positions
 from zedo_cli.analysis.pose.geometry import angle_between_deg
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.clips.eased import make_sequences
 
 SKELETON = get_skeleton("syrip12")
 LIMBS = {"Elbow": ("shoulder", "elbow", "wrist"), "Knee": ("hip", "knee", "ankle")}

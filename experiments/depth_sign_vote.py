@@ -34,12 +34,12 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from benchmarks.accuracy.limb_depth_flips import CLEAR_DEPTH, SEGMENTS, depth_direction, flipped
-from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
 from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.analysis.clip.published_features import published_features
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 
 SKELETON = get_skeleton("syrip12")
 JOINT = {name: i for i, name in enumerate(SKELETON.joints)}

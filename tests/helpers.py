@@ -76,7 +76,7 @@ def write_coco(path: Path, n: int = 3, *, drop_joint: int | None = None) -> Path
 
 
 def benchmark_module(name: str) -> ModuleType:
-    """A module of benchmarks/ (`"lib.clips"`, `"calibrate.calibrate_measures"`, ...), imported as the scripts
+    """A module of benchmarks/ (`"lib.folds"`, `"calibrate.calibrate_measures"`, ...), imported as the scripts
     import the shared code: `benchmarks.<name>` with the repository root on sys.path (benchmarks/README.md).
     The default suite tests benchmarks/ only, never experiments/."""
     if str(REPO) not in sys.path:

@@ -45,7 +45,7 @@ def f1000_clips(truth: np.ndarray, kp: dict, k: int, key: str) -> dict[str, np.n
     (calibrate_measures.lift_camera_cases; nothing it lifts draws from that stream)."""
     import torch
 
-    from benchmarks.lib.clips import make_sequences
+    from zedo_cli.evaluation.clips.eased import make_sequences
 
     errors = relative_errors(kp["gt"].xy, kp["detected"].xy)
     rng = np.random.default_rng(1000 + k)

@@ -23,7 +23,6 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.analysis.uncertainty.domain import MAX_TRUNK_TILT_DEG, trunk_tilt_deg
 from zedo_cli.data.adult import load_adult_poses
 from zedo_cli.data.datasets import load_syrip_3d
@@ -37,6 +36,7 @@ from zedo_cli.evaluation.clips import (
     infant_bodies_from_syrip,
     load_adult_library,
 )
+from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.lifting.clip import LIMB_BONES
 from zedo_cli.lifting.config import get_preset
 from zedo_cli.lifting.temporal import lift_sequence

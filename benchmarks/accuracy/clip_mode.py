@@ -26,10 +26,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.analysis.pose.joint_angles import joint_angles
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.lifting.camera import Intrinsics
 from zedo_cli.lifting.clip import BONE_NAMES, LIMB_BONES
 from zedo_cli.lifting.config import get_preset

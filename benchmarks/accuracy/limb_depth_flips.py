@@ -30,11 +30,11 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_clip_args, fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
 from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.clips.eased import make_sequences
 
 SKELETON = get_skeleton("syrip12")
 JOINT = {name: i for i, name in enumerate(SKELETON.joints)}

@@ -25,10 +25,10 @@ import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.calibrate.calibrate_measures import BINS, SYMMETRY_NAMES, case_arrays, fit_all, load_cases, scored
-from benchmarks.lib.clips import make_sequences
 from benchmarks.lib.folds import fold_priors
 from benchmarks.lib.settings import CLIP_SETTINGS
 from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG
+from zedo_cli.evaluation.clips.eased import make_sequences
 from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
 from zedo_cli.lifting.temporal import lift_sequence
 

@@ -1,6 +1,6 @@
 """Does the comparison with typical infants flag what it should, and only that? (issue 35's "Norms" targets)
 
-Synthetic 30 fps clips of one generator (benchmarks/lib/clips.py's: SyRIP key poses eased 1 s apart, the
+Synthetic 30 fps clips of one generator (zedo_cli/evaluation/clips/eased.py's: SyRIP key poses eased 1 s apart, the
 body turning and drifting, 3 px noise, 3 % dropped joints), made from the held-out poses of a fold
 (benchmarks/lib/folds.py) and lifted by that fold's prior, so that the prior never saw them:
 - `--reference` clips (20) build the reference with `zedo norms`;
@@ -28,10 +28,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from benchmarks.lib.folds import held_out_names
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 
 FPS = 30.0
 LEFT_ARM = ("left_elbow", "left_wrist")

@@ -29,8 +29,8 @@ import numpy as np
 import torch
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.clips import make_sequences
 from zedo_cli.data.datasets import load_syrip_3d
+from zedo_cli.evaluation.clips.eased import make_sequences
 from zedo_cli.evaluation.metrics import mpjpe_mm, pa_mpjpe_mm
 from zedo_cli.lifting.config import LiftConfig, get_preset
 from zedo_cli.lifting.solver import LiftResult

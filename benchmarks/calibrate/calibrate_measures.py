@@ -3,7 +3,7 @@
 1. `--lift`: every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/lib/folds.py)
    lifts its fold's held-out SyRIP training poses with the default preset and the pseudo camera,
    from ground-truth and FiDIP 2D (images), and synthetic clips made from the same held-out poses
-   (benchmarks/lib/clips.py's generator, 30 fps, 3 px noise) in `--temporal smooth` (videos). For
+   (zedo_cli/evaluation/clips/eased.py's generator, 30 fps, 3 px noise) in `--temporal smooth` (videos). For
    every case it saves the raw measures of the lift, their depth sensitivities and the measures
    of the truth (`--cases DIR`, one npz per fold, input and mode).
 2. Then, per mode, it cross-fits (leave one fold out; with one fold, two halves of its poses or
@@ -78,8 +78,8 @@ def case_arrays(lifted: np.ndarray, observed: np.ndarray, ok: np.ndarray, truth:
 def lift_cases(args: argparse.Namespace) -> None:
     import torch
 
-    from benchmarks.lib.clips import make_sequences
     from benchmarks.lib.folds import fold_priors
+    from zedo_cli.evaluation.clips.eased import make_sequences
     from zedo_cli.lifting.camera import resolve_intrinsics
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
@@ -122,7 +122,7 @@ YAW, ROLL = 0.4, 0.2  # rad: the images turn as the clips do (temporal.make_sequ
 
 def relative_errors(gt: np.ndarray, detected: np.ndarray) -> np.ndarray:
     """A detector's error per joint `(N, J, 2)` relative to the 2D size of the ground truth (NaN: missed)."""
-    from benchmarks.lib.clips import scale_2d
+    from zedo_cli.evaluation.clips.eased import scale_2d
 
     return (detected - gt) / scale_2d(gt)[:, None, None]
 
@@ -132,7 +132,7 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
     """Each pose of `rel (P, J, 3)` turned a little and seen by `draws` cameras of `cams`, projected exactly
     (errors None: the ground-truth 2D) or with the pose's own detector error `(P, J, 2)` scaled to its size
     there and its confidences `(P, J)`."""
-    from benchmarks.lib.clips import _rotation, scale_2d
+    from zedo_cli.evaluation.clips.eased import _rotation, scale_2d
 
     idx = np.repeat(np.arange(len(rel)), draws)
     turn = _rotation(rng.uniform(-YAW, YAW, len(idx)), rng.uniform(-ROLL, ROLL, len(idx)))
@@ -152,7 +152,7 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
 def camera_cases(res: Any, data: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """`case_arrays` of a lift of camera cases, with each case's camera: focal length (px), true and lifted root
     depth (m), the body's 2D size (px) and frame width."""
-    from benchmarks.lib.clips import scale_2d
+    from zedo_cli.evaluation.clips.eased import scale_2d
 
     return {**case_arrays(res.poses_root_relative, res.observed, res.lifted, data["rel"]),
             "focal": data["k"][:, 0, 0], "depth": root_depth(data),
@@ -175,8 +175,8 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
 
     import torch
 
-    from benchmarks.lib.clips import make_sequences
     from benchmarks.lib.folds import fold_priors
+    from zedo_cli.evaluation.clips.eased import make_sequences
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
     from zedo_cli.lifting.temporal import lift_sequence
@@ -220,7 +220,7 @@ def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, 
     random stream, so the other camera cases are the same with or without them."""
     import torch
 
-    from benchmarks.lib.clips import make_sequences
+    from zedo_cli.evaluation.clips.eased import make_sequences
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
     from zedo_cli.lifting.temporal import lift_sequence

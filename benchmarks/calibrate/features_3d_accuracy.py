@@ -2,7 +2,7 @@
 (issue 35, part 2): elbow and knee `mean_angle` and `median_vel_angle`.
 
 For every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/lib/folds.py), the fold's 150
-held-out SyRIP training poses make synthetic clips (benchmarks/lib/clips.py's generator with
+held-out SyRIP training poses make synthetic clips (zedo_cli/evaluation/clips/eased.py's generator with
 settings.CLIP_SETTINGS: 16 clips of 5 s at 30 fps, eased between 6 key poses, turning and
 drifting, 1 m from the pseudo camera, 3 px noise, 3 % of joints dropped, a 3-frame gap), whose 2D is
 lifted with the default preset in `--temporal smooth` as calibrate_measures.py lifts them. Per clip:
@@ -77,9 +77,9 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
     (`fold<k>-3d-clips-<motion>.npz`; other cameras and modes in its folders, `case_folder`)."""
     import torch
 
-    from benchmarks.lib.clips import make_sequences
     from benchmarks.lib.folds import fold_priors
     from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, place_camera
+    from zedo_cli.evaluation.clips.eased import make_sequences
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 
@@ -374,9 +374,9 @@ def main() -> int:
 
     import torch
 
-    from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
     from benchmarks.lib.folds import fold_priors
     from benchmarks.lib.settings import CLIP_SETTINGS
+    from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 

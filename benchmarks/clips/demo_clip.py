@@ -1,5 +1,5 @@
 """A synthetic infant clip as a detector would stream it: zedo JSON Lines 2D of one 30 fps clip
-made from SyRIP *training* poses (benchmarks/lib/clips.py's generator: key poses eased 1 s apart,
+made from SyRIP *training* poses (zedo_cli/evaluation/clips/eased.py's generator: key poses eased 1 s apart,
 the body turning and drifting, 3 px noise, 3 % dropped joints), for trying `zedo lift --temporal`
 and `zedo analyze` on a video:
 
@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.clips import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.data.datasets import load_syrip_3d
+from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 
 MARGIN_PX = 20.0
 DRIFT_SCALE = 0.2

@@ -1,14 +1,13 @@
-"""The benchmark clips' two motions between key poses (benchmarks/lib/clips.py, `interpolation`): the
+"""The benchmark clips' two motions between key poses (zedo_cli/evaluation/clips/eased.py, `interpolation`): the
 `segments` motion keeps one infant's bones, which easing the joints' positions does not."""
 
 from __future__ import annotations
 
 import numpy as np
-from helpers import benchmark_module, synthetic_poses
+from helpers import synthetic_poses
 
-clips = benchmark_module("lib.clips")
-SYRIP12_JOINTS, _segment_vectors = clips.SYRIP12_JOINTS, clips._segment_vectors
-make_sequences, segment_interpolation = clips.make_sequences, clips.segment_interpolation
+from zedo_cli.evaluation.clips.eased import SYRIP12_JOINTS, make_sequences, segment_interpolation
+from zedo_cli.evaluation.clips.eased import _segment_vectors as _segment_vectors
 
 
 def _key_poses(count: int, seed: int) -> np.ndarray:

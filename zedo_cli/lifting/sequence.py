@@ -15,7 +15,7 @@ a `ConfigError`: the option does not fit the input, exit code 2):
    the joints seen in both of how far a joint moves, divided by the person's 2D radius (RMS
    distance of its joints from their centre) and by the frame step; the median of that over
    every pair of consecutive frames must be at most `MAX_MEDIAN_JUMP`. Measured
-   (`benchmarks/lib/clips.py`'s generator, SyRIP poses, 4 x 12 key poses, seeds 0 and 1): 0.05
+   (`zedo_cli/evaluation/clips/eased.py`'s generator, SyRIP poses, 4 x 12 key poses, seeds 0 and 1): 0.05
    for 1 s transitions at 30 fps, 0.14 for 0.3 s transitions at 30 fps or 1 s at 10 fps, 0.64
    at 5 fps (a new pose every 2-3 frames, which a filter of 2 frames smears); SyRIP's 700
    photos in id order: 2.0 (5th percentile of the pairs 0.81).

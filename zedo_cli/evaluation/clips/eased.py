@@ -1,6 +1,6 @@
-"""Synthetic infant clips made from real SyRIP poses, shared by the benchmarks and experiments that need video
-with 3D truth (there is no real infant video with 3D truth here): `make_sequences`, the generator. The
-settings most of them make clips with are in `settings` (`CLIP_SETTINGS`, the known cameras).
+"""Synthetic infant clips eased between real SyRIP key poses, for the benchmarks, experiments and tests that need
+video with 3D truth: `make_sequences`, the generator. The settings most of them make clips with are in
+benchmarks/lib/settings.py (`CLIP_SETTINGS`, the known cameras).
 
 A clip eases (cosine) from one random key pose to the next, turns slowly about the vertical and the optical
 axis and drifts in translation about 1 m in front of the pseudo camera (f = 2000 px, principal point at the
@@ -15,8 +15,8 @@ from collections.abc import Callable
 import numpy as np
 import torch
 
-from zedo_cli.data.skeleton import get_skeleton
-from zedo_cli.lifting.camera import Intrinsics, project
+from ...data.skeleton import get_skeleton
+from ...lifting.camera import Intrinsics, project
 
 IMAGE_W, IMAGE_H = 1280, 720
 SYRIP12_JOINTS = get_skeleton("syrip12").joints
