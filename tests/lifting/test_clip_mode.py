@@ -138,3 +138,26 @@ def test_zedo_lift_temporal_clip_records_the_skeleton_and_warns_of_a_fallback(ti
     short, stderr = run(MIN_TRACK_FRAMES - 5)
     assert short["params"]["temporal"]["skeletons"][0]["fallback"].startswith("too few frames")
     assert "1 of 1 tracks lifted as two-pass, not as one infant: too few frames" in " ".join(stderr.split())
+
+
+def test_an_ambiguous_ankle_or_wrist_says_what_the_other_side_would_bend(tiny_prior: Prior) -> None:
+    from dataclasses import replace
+
+    from zedo_cli.formats.writers.result_json import _ambiguous
+    from zedo_cli.lifting.clip import flexion_deg
+
+    straight = flexion_deg(np.array([[0.0, 0.0, 0.0]]), np.array([[0.0, 0.1, 0.0]]), np.array([[0.0, 0.2, 0.0]]))
+    bent = flexion_deg(np.array([[0.0, 0.0, 0.0]]), np.array([[0.0, 0.1, 0.0]]), np.array([[0.1, 0.1, 0.0]]))
+    assert straight[0] == pytest.approx(0.0) and bent[0] == pytest.approx(90.0)
+    _, res = _clip_mode(tiny_prior, 40)
+    assert res.other_flexion_deg is not None and res.other_flexion_deg.shape == (40, 12)
+    distal = [SYRIP12.index(n) for n in ("left_ankle", "right_ankle", "left_wrist", "right_wrist")]
+    known = np.isfinite(res.other_flexion_deg)
+    assert not known[:, [j for j in range(12) if j not in distal]].any()  # only at an ankle or a wrist
+    assert (res.depth_ambiguous[known]).all()  # and only where the side was flagged
+    flagged = np.zeros((40, 12), bool)
+    flagged[3, SYRIP12.index("left_ankle")] = flagged[3, SYRIP12.index("right_knee")] = True
+    other = np.full((40, 12), np.nan)
+    other[3, SYRIP12.index("left_ankle")] = 41.6
+    words = _ambiguous(SYRIP12.joints, replace(res, depth_ambiguous=flagged, other_flexion_deg=other), 3)
+    assert words == ["right_knee", "left_ankle (other side: left_knee flexion 42 deg)"]

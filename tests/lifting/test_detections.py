@@ -7,10 +7,12 @@ import numpy as np
 from helpers import project_poses, synthetic_poses
 
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.lifting.clip import limb_parents
 from zedo_cli.lifting.detections import find_outliers, find_swaps, fix_detections
 
 FLIP = get_skeleton("syrip12").flip_permutation
 WRIST = get_skeleton("syrip12").index("left_wrist")
+PARENTS = limb_parents(get_skeleton("syrip12"))
 
 
 def _track(n: int = 90, seed: int = 0) -> np.ndarray:
@@ -32,23 +34,23 @@ def test_frames_with_left_and_right_exchanged_are_found_and_corrected() -> None:
     swapped[50, 3] = np.nan  # a missing joint does not confuse it
     found = find_swaps(swapped, FLIP)
     assert found[30:36].all() and found[70:72].all() and found.sum() == 8
-    fixed, conf, fixes = fix_detections(swapped, np.ones((90, 12)), FLIP, 30.0, [np.arange(90)])
+    fixed, conf, fixes = fix_detections(swapped, np.ones((90, 12)), FLIP, 30.0, [np.arange(90)], PARENTS)
     assert (fixes.swapped == found).all()
     np.testing.assert_allclose(fixed[30:36], clean[30:36])
 
 
 def test_a_joint_that_jumps_away_is_dropped_and_a_clean_track_keeps_every_joint() -> None:
     clean = _track()
-    assert not find_outliers(clean, 30.0).any()
+    assert not find_outliers(clean, 30.0, PARENTS).any()
     jumped = clean.copy()
     jumped[40:52, WRIST] = clean[40, WRIST] + np.array([90.0, -60.0])  # held at an adult's hand for 12 frames
-    found = find_outliers(jumped, 30.0)
+    found = find_outliers(jumped, 30.0, PARENTS)
     assert found[40:52, WRIST].all() and found.sum() == 12
-    fixed, conf, fixes = fix_detections(jumped, np.ones((90, 12)), FLIP, 30.0, [np.arange(90)])
+    fixed, conf, fixes = fix_detections(jumped, np.ones((90, 12)), FLIP, 30.0, [np.arange(90)], PARENTS)
     assert np.isnan(fixed[40:52, WRIST]).all() and (conf[40:52, WRIST] == 0).all() and fixes.outliers.sum() == 12
 
 
 def test_a_lost_stretch_is_a_gap_not_a_habit() -> None:
     lost = _track()
     lost[20:40] = np.nan
-    assert not find_swaps(lost, FLIP).any() and not find_outliers(lost, 30.0).any()
+    assert not find_swaps(lost, FLIP).any() and not find_outliers(lost, 30.0, PARENTS).any()

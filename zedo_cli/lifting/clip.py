@@ -285,16 +285,35 @@ def hyperextension(poses: np.ndarray, child: np.ndarray, middle: str, end: str, 
     return np.maximum(past - HINGE_SLACK[side], 0.0)
 
 
-def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
-                skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """The track's poses `(T, J, 3)` with the torso `(T, 4, 3)` and every limb bone at its length, the sides
-    chosen over the track (`choose_sides`), `(T, J)` the joints flagged depth-ambiguous, and `(T, J)` the
-    observed joints whose ray passes too far from their parent for the bone (`UNREACHABLE`: not used)."""
+@dataclass(frozen=True)
+class LimbSolution:
+    """A track's limbs: poses `(T, J, 3)`, the joints flagged depth-ambiguous `(T, J)`, the observed joints whose
+    ray passes too far from their parent for the bone `(T, J)` (`UNREACHABLE`: not used), and at an ankle or wrist
+    the knee's or elbow's flexion with the other side's solution `(T, J)` (degrees, 0 = straight; NaN elsewhere)."""
+
+    poses: np.ndarray
+    ambiguous: np.ndarray
+    unreachable: np.ndarray
+    other_flexion_deg: np.ndarray
+
+
+def flexion_deg(proximal: np.ndarray, middle: np.ndarray, distal: np.ndarray) -> np.ndarray:
+    """`(T,)` the flexion at `middle` of the chain proximal-middle-distal `(T, 3)` each: 0 = straight."""
+    u, v = proximal - middle, distal - middle
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = (u * v).sum(-1) / np.linalg.norm(u, axis=-1) / np.linalg.norm(v, axis=-1)
+    return 180.0 - np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray, skeleton: Skeleton) -> LimbSolution:
+    """The track's limbs with the torso `(T, 4, 3)` and every limb bone at its length, the sides chosen over the
+    track (`choose_sides`)."""
     at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
     out = track.cam.copy()
     out[:, [at[n] for n in TORSO]] = torso
     ambiguous = np.zeros(track.observed.shape, bool)
     outliers = np.zeros(track.observed.shape, bool)
+    other_flexion = np.full(track.observed.shape, np.nan)
     rays = unit_rays(track.xy, track.intrinsics)
     ok = np.isfinite(torso).all((1, 2))
     for parent, child in LIMB_BONES:
@@ -328,7 +347,12 @@ def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray,
                 gain / separation
             )  # 1: the two-pass pose on the chosen solution, 0: half-way, < 0: nearer the other
         ambiguous[:, at[child]] = ambiguous_stretches(margin, separation) & seen & reach
-    return out, ambiguous, outliers
+        if (parent, child) in HINGES:  # the knee's or elbow's flexion had the limb taken the other side
+            proximal = parent.replace("knee", "hip").replace("elbow", "shoulder")
+            other = np.where((sides == 0)[:, None], far, near)
+            other_flexion[:, at[child]] = np.where(ambiguous[:, at[child]],
+                                                   flexion_deg(out[:, at[proximal]], p_new, other), np.nan)  # fmt: skip
+    return LimbSolution(out, ambiguous, outliers, other_flexion)
 
 
 def smooth_chains(poses: np.ndarray, skel: TrackSkeleton, skeleton: Skeleton, smooth: Smoother) -> np.ndarray:
@@ -355,6 +379,7 @@ class TrackLift:
     ambiguous: np.ndarray
     unreachable: np.ndarray
     skeleton: TrackSkeleton
+    other_flexion_deg: np.ndarray  # `LimbSolution.other_flexion_deg`
 
 
 def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str, smooth: Smoother) -> TrackLift:
@@ -363,20 +388,30 @@ def lift_clip_track(track: ClipTrack, skeleton: Skeleton, label: int | str, smoo
     skel = estimate_skeleton(track, skeleton, label)
     none = np.zeros(track.observed.shape, bool)
     if skel.fallback is not None:
-        return TrackLift(track.cam.copy(), none, none, skel)
+        return TrackLift(track.cam.copy(), none, none, skel, np.full(track.observed.shape, np.nan))
     lifted = np.isfinite(track.cam).all((1, 2))
     shape = torso_shape(track.cam[lifted][:, [skeleton.index(n) for n in TORSO]])
     torso = place_torso(track, shape, skeleton, skel.torso_m["trunk_length"])
-    poses, ambiguous, outliers = solve_limbs(track, skel, torso, skeleton)
+    limbs = solve_limbs(track, skel, torso, skeleton)
+    poses = limbs.poses.copy()
     poses[~lifted] = np.nan
     poses = smooth_chains(poses, skel, skeleton, smooth)
-    return TrackLift(poses, ambiguous & lifted[:, None], outliers & lifted[:, None], skel)
+    return TrackLift(poses, limbs.ambiguous & lifted[:, None], limbs.unreachable & lifted[:, None], skel,
+                     np.where(lifted[:, None], limbs.other_flexion_deg, np.nan))  # fmt: skip
 
 
 def root_relative(poses: np.ndarray, skeleton: Skeleton) -> tuple[np.ndarray, np.ndarray]:
     """Root-relative poses `(N, J, 3)` and root points `(N, 3)` of camera-frame poses `(N, J, 3)`."""
     root = root_point(poses, skeleton)
     return poses - root[:, None], root
+
+
+def limb_parents(skeleton: Skeleton) -> list[int | None]:
+    """Per joint of `skeleton` the index of its limb parent (`LIMB_BONES`), None for the torso's and others."""
+    parent = {child: p for p, child in LIMB_BONES}
+    return [
+        skeleton.index(parent[j]) if j in parent and parent[j] in skeleton.joints else None for j in skeleton.joints
+    ]
 
 
 def needs_joints(skeleton: Skeleton) -> Sequence[str]:

@@ -66,6 +66,9 @@ class LiftResult:
     # (N, J) joints whose depth side the 2D cannot tell (`--temporal clip`: the limb's stretch between two
     # passages near the image plane); None: not measured (the other modes).
     depth_ambiguous: np.ndarray | None = None
+    # (N, J) at a depth-ambiguous ankle or wrist, the knee's or elbow's flexion (degrees, 0 = straight) had the limb
+    # taken the other side; NaN elsewhere; None: not measured
+    other_flexion_deg: np.ndarray | None = None
     # `--temporal clip`: each track's skeleton as the result's params record it (`clip.TrackSkeleton.to_dict`).
     track_skeletons: list[dict] | None = None
     # `--temporal clip`: instances `(N,)` whose 2D left and right were exchanged (corrected before lifting), and

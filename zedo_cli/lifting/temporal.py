@@ -47,7 +47,7 @@ from ..data.skeleton import Skeleton
 from ..errors import ConfigError
 from ..prior.weights import Prior
 from .chunks import lift_workers, plan_chunks
-from .clip import ClipTrack, lift_clip_track, needs_joints, root_relative
+from .clip import ClipTrack, lift_clip_track, limb_parents, needs_joints, root_relative
 from .config import DEFAULT_SIGMA_FRAMES, DEFAULT_TEMPORAL_MODE, TEMPORAL_MODES, LiftConfig
 from .detections import fix_detections
 from .reprojection import poor_fit, reprojection_error_px
@@ -236,7 +236,7 @@ def lift_sequence(
     fixes = None
     if mode == "clip":  # a detector's habits found and corrected before the track is lifted as one infant
         xy, confidence, fixes = fix_detections(xy, confidence, prior.skeleton.flip_permutation, fps or DEFAULT_CLIP_FPS,
-                                               _track_slices(tracks, n))  # fmt: skip
+                                               _track_slices(tracks, n), limb_parents(prior.skeleton))  # fmt: skip
     observed = observed_mask(xy, confidence, min_confidence)
     if mode != "none":
         check_sequence(xy, observed, mode, tracks=tracks, frames=frames, image_sizes=image_sizes,
@@ -281,6 +281,7 @@ def lift_tracks_as_infants(res: LiftResult, xy_smooth: np.ndarray, intrinsics: n
     poses = np.full_like(res.poses_camera, np.nan)
     ambiguous = np.zeros(res.observed.shape, bool)
     unreachable = np.zeros(res.observed.shape, bool)
+    other = np.full(res.observed.shape, np.nan)
     skeletons = []
     labels = np.zeros(len(xy_smooth), np.int64) if tracks is None else np.asarray(tracks)
     for idx in _track_slices(tracks, len(xy_smooth)):
@@ -291,10 +292,12 @@ def lift_tracks_as_infants(res: LiftResult, xy_smooth: np.ndarray, intrinsics: n
         smooth = functools.partial(smooth_on_frames, frames=at, sigma=sigma)
         lifted = lift_clip_track(track, skeleton, label, smooth)
         poses[idx], ambiguous[idx], unreachable[idx] = lifted.poses, lifted.ambiguous, lifted.unreachable
+        other[idx] = lifted.other_flexion_deg
         skeletons.append(lifted.skeleton.to_dict())
     rel, root = root_relative(poses, skeleton)
     return replace(res, poses_camera=poses, poses_root_relative=rel, root_translation=root,
-                   observed=res.observed & ~unreachable, depth_ambiguous=ambiguous, track_skeletons=skeletons,
+                   observed=res.observed & ~unreachable, depth_ambiguous=ambiguous, other_flexion_deg=other,
+                   track_skeletons=skeletons,
                    detection_outliers=unreachable)  # fmt: skip
 
 

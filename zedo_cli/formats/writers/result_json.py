@@ -66,6 +66,18 @@ def _skeleton_doc(skeleton: Skeleton) -> dict[str, Any]:
             "root": " + ".join(skeleton.root) + (" (midpoint)" if len(skeleton.root) > 1 else "")}  # fmt: skip
 
 
+def _ambiguous(joints: tuple[str, ...], res: LiftResult, i: int) -> list[str]:
+    """Instance `i`'s depth-ambiguous joints, an ankle's or wrist's with the flexion the other side would give."""
+    assert res.depth_ambiguous is not None
+    other = res.other_flexion_deg
+    out = []
+    for j in np.flatnonzero(res.depth_ambiguous[i]):
+        name, angle = joints[j], np.nan if other is None else other[i, j]
+        hinge = name.replace("ankle", "knee").replace("wrist", "elbow")
+        out.append(name if not np.isfinite(angle) else f"{name} (other side: {hinge} flexion {angle:.0f} deg)")
+    return out
+
+
 def _person(
     kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: OutputOptions, sanity: CameraSanity
 ) -> dict[str, Any]:
@@ -84,9 +96,7 @@ def _person(
             "detection_outlier: " + ", ".join(kp.skeleton.joints[j] for j in np.flatnonzero(res.detection_outliers[i]))
         )
     if res.depth_ambiguous is not None and res.lifted[i] and res.depth_ambiguous[i].any():  # --temporal clip
-        flags.append(
-            "depth_ambiguous: " + ", ".join(kp.skeleton.joints[j] for j in np.flatnonzero(res.depth_ambiguous[i]))
-        )
+        flags.append("depth_ambiguous: " + ", ".join(_ambiguous(kp.skeleton.joints, res, i)))
     d = opts.digits
     return {
         "instance_index": i,
