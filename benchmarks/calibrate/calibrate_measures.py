@@ -122,9 +122,9 @@ YAW, ROLL = 0.4, 0.2  # rad: the images turn as the clips do (temporal.make_sequ
 
 def relative_errors(gt: np.ndarray, detected: np.ndarray) -> np.ndarray:
     """A detector's error per joint `(N, J, 2)` relative to the 2D size of the ground truth (NaN: missed)."""
-    from zedo_cli.evaluation.clips.eased import scale_2d
+    from zedo_cli.lifting.detections import pose_size
 
-    return (detected - gt) / scale_2d(gt)[:, None, None]
+    return (detected - gt) / pose_size(gt)[:, None, None]
 
 
 def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.ndarray | None,
@@ -132,7 +132,8 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
     """Each pose of `rel (P, J, 3)` turned a little and seen by `draws` cameras of `cams`, projected exactly
     (errors None: the ground-truth 2D) or with the pose's own detector error `(P, J, 2)` scaled to its size
     there and its confidences `(P, J)`."""
-    from zedo_cli.evaluation.clips.eased import _rotation, scale_2d
+    from zedo_cli.evaluation.clips.eased import _rotation
+    from zedo_cli.lifting.detections import pose_size
 
     idx = np.repeat(np.arange(len(rel)), draws)
     turn = _rotation(rng.uniform(-YAW, YAW, len(idx)), rng.uniform(-ROLL, ROLL, len(idx)))
@@ -143,7 +144,7 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
     xy = np.einsum("nij,nkj->nki", k, cam)
     xy = xy[..., :2] / xy[..., 2:]
     if errors is not None:
-        xy = xy + errors[idx] * scale_2d(xy)[:, None, None]
+        xy = xy + errors[idx] * pose_size(xy)[:, None, None]
     conf = np.ones(xy.shape[:2]) if confidence is None else confidence[idx].copy()
     conf[~np.isfinite(xy).all(-1)] = 0.0
     return {"xy": xy, "conf": conf, "k": k, "rel": poses, "cam": cam, "group": idx}
@@ -152,11 +153,11 @@ def camera_images(rel: np.ndarray, errors: np.ndarray | None, confidence: np.nda
 def camera_cases(res: Any, data: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """`case_arrays` of a lift of camera cases, with each case's camera: focal length (px), true and lifted root
     depth (m), the body's 2D size (px) and frame width."""
-    from zedo_cli.evaluation.clips.eased import scale_2d
+    from zedo_cli.lifting.detections import pose_size
 
     return {**case_arrays(res.poses_root_relative, res.observed, res.lifted, data["rel"]),
             "focal": data["k"][:, 0, 0], "depth": root_depth(data),
-            "lifted_depth": res.root_translation[:, 2], "size_px": scale_2d(data["xy"]),
+            "lifted_depth": res.root_translation[:, 2], "size_px": pose_size(data["xy"]),
             "width": 2 * data["k"][:, 0, 2]}  # fmt: skip
 
 

@@ -38,8 +38,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+import torch
 
 from ..data.skeleton import Skeleton, root_point
+from ..rotation import best_rotation
+from .camera import pixel_rays
 
 Smoother = Callable[[np.ndarray], np.ndarray]
 
@@ -50,6 +53,7 @@ LIMB_BONES = (
     ("right_shoulder", "right_elbow"), ("right_elbow", "right_wrist"),
 )  # fmt: skip
 TORSO = ("left_hip", "right_hip", "left_shoulder", "right_shoulder")
+CLIP_JOINTS = tuple(dict.fromkeys((*TORSO, *(j for b in LIMB_BONES for j in b))))  # what clip mode needs
 BONE_NAMES = {
     ("left_hip", "left_knee"): "left_thigh", ("left_knee", "left_ankle"): "left_shank",
     ("right_hip", "right_knee"): "right_thigh", ("right_knee", "right_ankle"): "right_shank",
@@ -114,11 +118,15 @@ def _r(x: float) -> float:
     return float(f"{x:.6g}")
 
 
+def joint_indices(skeleton: Skeleton) -> dict[str, int]:
+    """The index in `skeleton` of each joint clip mode uses (CLIP_JOINTS)."""
+    return {n: skeleton.index(n) for n in CLIP_JOINTS}
+
+
 def unit_rays(xy: np.ndarray, intrinsics: np.ndarray) -> np.ndarray:
     """Unit rays `(T, J, 3)` through pixels `(T, J, 2)` (undistorted) of cameras `(T, 3, 3)`; NaN where missing."""
-    kinv = np.linalg.inv(intrinsics)  # (T, 3, 3)
-    homo = np.concatenate([xy, np.ones(xy.shape[:-1] + (1,))], -1)
-    rays = np.einsum("tij,tkj->tki", kinv, homo)
+    rays = pixel_rays(torch.as_tensor(xy, dtype=torch.float64), torch.as_tensor(intrinsics, dtype=torch.float64))
+    rays = rays.numpy()
     return rays / np.linalg.norm(rays, axis=-1, keepdims=True)
 
 
@@ -140,25 +148,33 @@ def ray_solutions(parent: np.ndarray, ray: np.ndarray, length: float) -> tuple[n
     return near, far, reach
 
 
-def choose_sides(cost: np.ndarray, separation: np.ndarray) -> np.ndarray:
-    """Per frame the side `(T,)` (0 near, 1 far) of least total cost over the track: `cost (T, 2)` of each
-    side in each frame (NaN: no preference), plus SIDE_CHANGE_COST x the solutions' `separation (T,)` (in
-    bone lengths, the smaller of the two frames') at each change of side (Viterbi)."""
-    t = len(cost)
-    cost = np.nan_to_num(cost, nan=0.0)
-    sep = np.nan_to_num(separation, nan=0.0)
-    total = cost[0].copy()
+def best_path(unary: np.ndarray, pairwise: np.ndarray) -> np.ndarray:
+    """The states `(T,)` (0 or 1) of least total cost over a chain (Viterbi): `unary (T, 2)` the cost of each state
+    in each frame, `pairwise (T - 1, 2, 2)` of each step [from, to]; a tie keeps the state, and ends in state 0."""
+    t = len(unary)
+    total = unary[0].copy()
     back = np.zeros((t, 2), dtype=np.int8)
     for i in range(1, t):
-        change = SIDE_CHANGE_COST * min(sep[i - 1], sep[i])
-        stay, switch = total, total[::-1] + change
+        options = total[:, None] + pairwise[i - 1]  # (from, to)
+        stay, switch = np.diagonal(options), np.array([options[1, 0], options[0, 1]])
         back[i] = np.where(stay <= switch, [0, 1], [1, 0])
-        total = np.minimum(stay, switch) + cost[i]
-    sides = np.empty(t, dtype=np.int8)
-    sides[-1] = int(np.argmin(total))
+        total = np.minimum(stay, switch) + unary[i]
+    states = np.empty(t, dtype=np.int8)
+    states[-1] = int(np.argmin(total))
     for i in range(t - 1, 0, -1):
-        sides[i - 1] = back[i, sides[i]]
-    return sides
+        states[i - 1] = back[i, states[i]]
+    return states
+
+
+def choose_sides(cost: np.ndarray, separation: np.ndarray) -> np.ndarray:
+    """Per frame the side `(T,)` (0 near, 1 far) of least total cost over the track: `cost (T, 2)` of each side in
+    each frame (NaN: no preference), plus SIDE_CHANGE_COST x the solutions' `separation (T,)` (in bone lengths,
+    the smaller of the two frames') at each change of side (`best_path`)."""
+    sep = np.nan_to_num(separation, nan=0.0)
+    change = SIDE_CHANGE_COST * np.minimum(sep[:-1], sep[1:])  # (T - 1,)
+    pairwise = np.zeros((max(len(sep) - 1, 0), 2, 2))
+    pairwise[:, 0, 1] = pairwise[:, 1, 0] = change
+    return best_path(np.nan_to_num(cost, nan=0.0), pairwise)
 
 
 def ambiguous_stretches(margin: np.ndarray, separation: np.ndarray) -> np.ndarray:
@@ -166,22 +182,20 @@ def ambiguous_stretches(margin: np.ndarray, separation: np.ndarray) -> np.ndarra
     mean preference `margin (T,)` for the chosen side (in the two solutions' distance; NaN: none) is under
     AMBIGUOUS_MARGIN."""
     near = np.nan_to_num(separation, nan=0.0) < NEAR_PLANE
-    flags = np.zeros(len(margin), bool)
     stretch = np.cumsum(near)  # a new stretch after every near-plane frame
-    for s in np.unique(stretch[~near]):
-        idx = np.flatnonzero((stretch == s) & ~near)
-        m = margin[idx]
-        if np.isfinite(m).any() and np.nanmean(m) < AMBIGUOUS_MARGIN:
-            flags[idx] = True
-    return flags
+    known = np.isfinite(margin) & ~near
+    counts = np.bincount(stretch[known], minlength=len(margin) + 1)
+    sums = np.bincount(stretch[known], margin[known], minlength=len(margin) + 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        weak = (counts > 0) & (sums / counts < AMBIGUOUS_MARGIN)  # per stretch
+    return ~near & weak[stretch]
 
 
-def _kabsch(source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rotation `(3, 3)` and translation `(3,)` taking the points `source (P, 3)` closest to `target (P, 3)`."""
+def _rigid_fit(source: np.ndarray, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotation `(3, 3)` (column vectors: rot @ x) and translation `(3,)` taking the points `source (P, 3)` closest
+    to `target (P, 3)`."""
     cs, ct = source.mean(0), target.mean(0)
-    u, _, vt = np.linalg.svd((source - cs).T @ (target - ct))
-    d = np.sign(np.linalg.det(vt.T @ u.T))
-    rot = vt.T @ np.diag([1.0, 1.0, d]) @ u.T
+    rot = best_rotation(source - cs, target - ct).T
     return rot, ct - rot @ cs
 
 
@@ -200,7 +214,7 @@ class ClipTrack:
 def estimate_skeleton(track: ClipTrack, skeleton: Skeleton, label: int | str) -> TrackSkeleton:
     """The track's limb bone lengths (with 90 % intervals) and torso widths; a fallback where too few
     frames show every limb."""
-    at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
+    at = joint_indices(skeleton)
     lifted = np.isfinite(track.cam).all((1, 2))
     rays = unit_rays(track.xy, track.intrinsics)
     bones = {}
@@ -234,7 +248,7 @@ def torso_shape(torso: np.ndarray) -> np.ndarray:
     ref = torso[0] - torso[0].mean(0)
     aligned = []
     for pose in torso:
-        rot, shift = _kabsch(pose, ref)
+        rot, shift = _rigid_fit(pose, ref)
         aligned.append(pose @ rot.T + shift)
     shape = np.median(np.stack(aligned), axis=0)
     return shape - shape.mean(0)
@@ -249,7 +263,7 @@ def place_torso(track: ClipTrack, shape: np.ndarray, skeleton: Skeleton, trunk: 
     out = np.full((len(track.cam), 4, 3), np.nan)
     rays = unit_rays(track.xy[:, idx], track.intrinsics)
     for t in np.flatnonzero(np.isfinite(track.cam[:, idx]).all((1, 2))):
-        rot, shift = _kabsch(shape, track.cam[t, idx])
+        rot, shift = _rigid_fit(shape, track.cam[t, idx])
         seen = track.observed[t, idx]
         if seen.all():
             rvec, _ = cv2.Rodrigues(rot)
@@ -308,7 +322,7 @@ def flexion_deg(proximal: np.ndarray, middle: np.ndarray, distal: np.ndarray) ->
 def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray, skeleton: Skeleton) -> LimbSolution:
     """The track's limbs with the torso `(T, 4, 3)` and every limb bone at its length, the sides chosen over the
     track (`choose_sides`)."""
-    at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
+    at = joint_indices(skeleton)
     out = track.cam.copy()
     out[:, [at[n] for n in TORSO]] = torso
     ambiguous = np.zeros(track.observed.shape, bool)
@@ -358,7 +372,7 @@ def solve_limbs(track: ClipTrack, skel: TrackSkeleton, torso: np.ndarray, skelet
 def smooth_chains(poses: np.ndarray, skel: TrackSkeleton, skeleton: Skeleton, smooth: Smoother) -> np.ndarray:
     """`poses (T, J, 3)` with the torso joints' paths and every limb bone's direction smoothed over time by
     `smooth`, the limbs rebuilt from the torso outward at their lengths (which smoothing positions would break)."""
-    at = {n: skeleton.index(n) for n in {*TORSO, *(j for b in LIMB_BONES for j in b)}}
+    at = joint_indices(skeleton)
     out = poses.copy()
     torso = [at[n] for n in TORSO]
     out[:, torso] = smooth(poses[:, torso])
@@ -416,4 +430,4 @@ def limb_parents(skeleton: Skeleton) -> list[int | None]:
 
 def needs_joints(skeleton: Skeleton) -> Sequence[str]:
     """The joints clip mode needs that `skeleton` lacks (empty: it has them all)."""
-    return [n for n in (*TORSO, *(j for b in LIMB_BONES for j in b)) if n not in skeleton.joints]
+    return [n for n in CLIP_JOINTS if n not in skeleton.joints]

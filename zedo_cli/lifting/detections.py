@@ -20,6 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
+from .clip import best_path
+
 SWAP_PRIOR = 0.05  # of the pose's 2D size, per frame read exchanged
 OUTLIER_SIZE = 0.35  # of the pose's 2D size: a joint further than this from its running median is an outlier
 JUMP_STEP = 0.2  # of the pose's 2D size: a joint entering or leaving an outlying run by a step this long jumped
@@ -37,11 +39,14 @@ class DetectionFixes:
 
 
 def pose_size(xy: np.ndarray) -> np.ndarray:
-    """Per frame the RMS distance `(T,)` of the known joints `(T, J, 2)` from their mean (px); NaN without any."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # a frame without the person: NaN
-        centre = np.nanmean(xy, axis=1, keepdims=True)
-        return np.sqrt(np.nanmean(((xy - centre) ** 2).sum(-1), axis=1))
+    """The size of 2D poses `(..., J, 2)` in pixels `(...,)`: the RMS distance of the known joints from their mean
+    (NaN for a pose without a known joint)."""
+    known = np.isfinite(xy).all(-1)  # (..., J)
+    count = known.sum(-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = np.where(known[..., None], xy, 0.0).sum(-2, keepdims=True) / count[..., None]
+        d2 = np.where(known, ((xy - c) ** 2).sum(-1), 0.0)
+        return np.sqrt(d2.sum(-1) / count[..., 0])
 
 
 def find_swaps(xy: np.ndarray, flip: list[int]) -> np.ndarray:
@@ -52,25 +57,15 @@ def find_swaps(xy: np.ndarray, flip: list[int]) -> np.ndarray:
         return np.zeros(t, bool)
     size = np.nanmedian(pose_size(xy))
     views = (xy, xy[:, flip])
-    # pair[a, b][i]: mean joint distance between frame i read a and frame i + 1 read b, in pose sizes
-    pair = np.zeros((2, 2, t - 1))
+    # pair[i, a, b]: mean joint distance between frame i read a and frame i + 1 read b, in pose sizes
+    pair = np.zeros((t - 1, 2, 2))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a pair of frames without a joint in common: no step
         for a in (0, 1):
             for b in (0, 1):
                 step = np.linalg.norm(views[b][1:] - views[a][:-1], axis=-1)
-                pair[a, b] = np.nan_to_num(np.nanmean(step, axis=1) / size, nan=0.0)
-    total = np.array([0.0, SWAP_PRIOR])
-    back = np.zeros((t, 2), np.int8)
-    for i in range(1, t):
-        options = total[:, None] + pair[:, :, i - 1]  # (from, to)
-        back[i] = np.argmin(options, axis=0)
-        total = options.min(axis=0) + np.array([0.0, SWAP_PRIOR])
-    state = np.empty(t, np.int8)
-    state[-1] = int(np.argmin(total))
-    for i in range(t - 1, 0, -1):
-        state[i - 1] = back[i, state[i]]
-    return state.astype(bool)
+                pair[:, a, b] = np.nan_to_num(np.nanmean(step, axis=1) / size, nan=0.0)
+    return best_path(np.tile([0.0, SWAP_PRIOR], (t, 1)), pair).astype(bool)
 
 
 def find_outliers(xy: np.ndarray, fps: float, parents: list[int | None]) -> np.ndarray:

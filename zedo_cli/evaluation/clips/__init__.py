@@ -12,7 +12,7 @@ __getattr__, __dir__, __all__ = lazy_exports(
     globals(),
     {
         ".cameras": ["CLINIC_CAMERAS", "PSEUDO_CAMERA", "CameraSetup", "Sway"],
-        ".eased": ["make_sequences", "segment_interpolation", "scale_2d"],
+        ".eased": ["make_sequences", "segment_interpolation"],
         ".habits": ["DetectorHabits", "HabitMasks", "apply_habits"],
         ".infants": ["InfantBodies", "infant_bodies_from_poses", "infant_bodies_from_syrip"],
         ".motion": ["SEGMENTS", "AdultClip", "build_poses", "load_adult_clips", "resample", "segment_vectors"],

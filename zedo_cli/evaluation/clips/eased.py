@@ -17,6 +17,7 @@ import torch
 
 from ...data.skeleton import get_skeleton
 from ...lifting.camera import Intrinsics, project
+from ...lifting.detections import pose_size
 
 IMAGE_W, IMAGE_H = 1280, 720
 SYRIP12_JOINTS = get_skeleton("syrip12").joints
@@ -35,16 +36,6 @@ def _rotation(yaw: np.ndarray, roll: np.ndarray) -> np.ndarray:
 # A camera placement for one synthetic clip: (rng, root-relative camera-frame poses (T, J, 3), their
 # root's drift (T, 3) about its mean) -> (K (3, 3), root points (T, 3) in the camera frame).
 Placement = Callable[[np.random.Generator, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
-
-
-def scale_2d(xy: np.ndarray) -> np.ndarray:
-    """The size of 2D poses `(..., J, 2)` in pixels `(...,)`: the RMS distance of the known joints from their mean."""
-    known = np.isfinite(xy).all(-1)  # (..., J)
-    count = known.sum(-1, keepdims=True)  # a pose without a known joint has no size (NaN)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        c = np.where(known[..., None], xy, 0.0).sum(-2, keepdims=True) / count[..., None]
-        d2 = np.where(known, ((xy - c) ** 2).sum(-1), 0.0)
-        return np.sqrt(d2.sum(-1) / count[..., 0])
 
 
 def _eased_error(e0: np.ndarray, e1: np.ndarray, ease: np.ndarray) -> np.ndarray:
@@ -110,7 +101,7 @@ def make_sequences(
 
     By default about 1 m in front of the pseudo camera. `place` puts each clip before another camera
     (its K and root points; the root drifts up to 2 cm/s about its place there). `key_noise (P, J, 2)`:
-    a detector's error of each pose of `poses`, relative to the pose's 2D size (`scale_2d`; NaN: the
+    a detector's error of each pose of `poses`, relative to the pose's 2D size (`lifting.detections.pose_size`; NaN: the
     joint was missed), eased from key pose to key pose like the poses and scaled to each frame's 2D
     size. `noise_rel`: Gaussian pixel noise as a fraction of the frame's 2D size, on top of `noise_px`.
 
@@ -156,7 +147,7 @@ def make_sequences(
         tracks.append(np.full(len(seq), track))
     rel, cam, track, k = np.concatenate(rel_all), np.concatenate(cam_all), np.concatenate(tracks), np.concatenate(k_all)
     xy = project(torch.tensor(cam), torch.tensor(k)).numpy()
-    size = scale_2d(xy)[:, None, None]  # (T, 1, 1) px
+    size = pose_size(xy)[:, None, None]  # (T, 1, 1) px
     if key_noise is not None:
         xy = xy + np.concatenate(err_all) * size  # NaN (a missed joint) stays NaN: confidence 0 below
     xy = xy + rng.normal(0.0, noise_px, cam.shape[:2] + (2,))

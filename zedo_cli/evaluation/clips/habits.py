@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import ConfigError
+from ...lifting.detections import pose_size
 from .motion import SYRIP12
 
 WRISTS = (SYRIP12.index("left_wrist"), SYRIP12.index("right_wrist"))
@@ -79,11 +80,6 @@ def event_mask(rng: np.random.Generator, frames: int, fps: float, per_min: float
     return [slice(int(s), int(min(s + n, frames))) for s, n in zip(starts, lengths, strict=True)]
 
 
-def pose_size_px(xy: np.ndarray) -> np.ndarray:
-    """Per frame the RMS distance `(T,)` of the joints from their mean (px)."""
-    return np.sqrt(((xy - xy.mean(axis=1, keepdims=True)) ** 2).sum(-1).mean(-1))
-
-
 def apply_habits(
     xy: np.ndarray, fps: float, habits: DetectorHabits, rng: np.random.Generator
 ) -> tuple[np.ndarray, np.ndarray, HabitMasks]:
@@ -96,7 +92,7 @@ def apply_habits(
         swapped[span] = True
     out[swapped] = out[swapped][:, SYRIP12.flip_permutation]
     hand = np.zeros((frames, joints), bool)
-    size = pose_size_px(xy)
+    size = pose_size(xy)
     for span in event_mask(rng, frames, fps, habits.hand_jumps_per_min, habits.hand_jump_frames):
         wrist = WRISTS[int(rng.integers(2))]
         angle = rng.uniform(0, 2 * np.pi)
