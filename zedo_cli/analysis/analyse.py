@@ -322,9 +322,9 @@ def analyse(
         if out:
             a.notes.append(f"{out} of {len(index)} poses have no calibrated intervals ({note}); their symmetry calls "
                            "are uncertain")  # fmt: skip
-        used = np.unique(assignment.index[assignment.index >= 0]).tolist()
-        a.notes.extend(backing_note(assignment.calibrations[i]) for i in used)
-        sources = (assignment.calibrations[i].provenance.get("data", "see the calibration file") for i in used)
+        used = assignment.used()
+        a.notes.extend(backing_note(c) for c in used)
+        sources = (c.provenance.get("data", "see the calibration file") for c in used)
         data = "; ".join(dict.fromkeys(str(x) for x in sources))
         side = (1 - settings.call_level) / 2
         a.notes.append(f"{settings.level:.0%} intervals and estimates calibrated at the level of each measure on "

@@ -27,8 +27,6 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..formats.writers.common import json_pieces, rounded, write_text
 from ..version import __version__
 from .analyse import COLUMNS, Analysis, summary
@@ -126,9 +124,7 @@ def _row_dicts(a: Analysis) -> Iterator[dict[str, Any]]:
 
 def used_calibrations(a: Analysis) -> list[dict[str, Any]]:
     """What backs the analysis's intervals: each measure calibration used (frames, then clips), by id."""
-    used = []
-    if a.assignment is not None:
-        used += [a.assignment.calibrations[i] for i in np.unique(a.assignment.index[a.assignment.index >= 0])]
+    used = [] if a.assignment is None else a.assignment.used()
     if a.clip_calibration is not None:
         used.append(a.clip_calibration)
     return [backing(c) for c in used]

@@ -234,6 +234,10 @@ class Assignment:
     def any(self) -> bool:
         return bool((self.index >= 0).any())
 
+    def used(self) -> list[MeasureCalibration]:
+        """The calibrations that hold for at least one pose, in their order."""
+        return [self.calibrations[i] for i in np.unique(self.index[self.index >= 0])]
+
     def note(self) -> str:
         """ "calibrated" where every pose has a calibration, else the most common reason of those without."""
         missing = self.why_not[self.index < 0]
