@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..camera.video import probe_video, read_frames
+from ..camera.video import VideoInfo, probe_video, read_frames
 from ..errors import InputFormatError, plural
 from ..formats.readers.result import ResultPoses
 from .render import Painter, RenderSettings, _check_size, _rows_by_frame, list_images, match_images
@@ -25,9 +25,10 @@ HEAD_REACH = 0.8
 THUMB_WIDTH = 360  # pixels: the report shows them at 270 px, sharp on a high-density screen
 
 
-def check_video_fits(result: ResultPoses, video: str | Path) -> tuple[int, int]:
-    """The video's (width, height) when it can be the footage of `result`; else VideoMismatchError."""
-    info = probe_video(video)
+def check_video_fits(result: ResultPoses, video: str | Path, info: VideoInfo | None = None) -> tuple[int, int]:
+    """The video's (width, height) when it can be the footage of `result`; else VideoMismatchError. `info`: the
+    video already probed (`probe_video`), else it is probed here."""
+    info = probe_video(video) if info is None else info
     last = int(result.frame_index.max()) if len(result.frame_index) else -1
     if last >= info.frame_count:
         raise VideoMismatchError(f"{video}: {plural(info.frame_count, 'frame')}, but the result "

@@ -58,8 +58,9 @@ def analyse_result(res: ResultPoses, options: AnalyzeOptions, comparison: Refere
         from ..camera.video import probe_video, require_frame_rate
         from ..footage.thumbnails import check_video_fits
 
-        require_frame_rate(probe_video(options.video), options.fps)  # a bare stream's rate must be stated
-        check_video_fits(res, options.video)  # refused before anything is written
+        info = probe_video(options.video)
+        require_frame_rate(info, options.fps)  # a bare stream's rate must be stated
+        check_video_fits(res, options.video, info)  # refused before anything is written
     a = analyse(res, options.analysis_settings())
     if comparison is not None:
         from ..analysis.compare import add_comparison
