@@ -26,6 +26,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+from zedo_cli.analysis.pose.geometry import angle_between_deg
 from zedo_cli.analysis.pose.joint_angles import joint_angles
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
@@ -72,8 +73,7 @@ def interior_angles(poses: np.ndarray) -> np.ndarray:
     ):
         u = poses[:, SKELETON.index(a)] - poses[:, SKELETON.index(b)]
         v = poses[:, SKELETON.index(c)] - poses[:, SKELETON.index(b)]
-        cos = (u * v).sum(-1) / np.linalg.norm(u, axis=-1) / np.linalg.norm(v, axis=-1)
-        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+        out.append(angle_between_deg(u, v))
     return np.stack(out, 1)
 
 
