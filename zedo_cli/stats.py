@@ -1,4 +1,5 @@
-"""Statistics every calibration and measure shares: the split-conformal quantile and Pearson's r.
+"""Statistics every calibration and measure shares: the split-conformal quantile, Pearson's r and the
+intraclass correlation of a test and a retest.
 
 One definition each, so that an interval fitted in one place and checked in another cannot disagree.
 numpy only.
@@ -60,3 +61,21 @@ def pearson(a: np.ndarray, b: np.ndarray, *, min_count: int = 2) -> float:
     x, y = a[ok] - a[ok].mean(), b[ok] - b[ok].mean()
     den = np.sqrt((x * x).sum() * (y * y).sum())
     return float((x * y).sum() / den) if den > 0 else np.nan
+
+
+def icc_agreement(measurements: np.ndarray) -> float:
+    """ICC(2,1) of `measurements (n, k)`, n subjects each measured k times: two-way random effects, absolute
+    agreement, one measurement (Shrout & Fleiss 1979; Koo & Li 2016). Rows with a NaN are left out; NaN with
+    fewer than 3 complete rows or no variation at all."""
+    x = np.asarray(measurements, dtype=float)
+    x = x[np.isfinite(x).all(axis=1)]
+    n, k = x.shape
+    if n < 3 or k < 2:
+        return float("nan")
+    grand = x.mean()
+    rows = k * ((x.mean(axis=1) - grand) ** 2).sum() / (n - 1)
+    cols = n * ((x.mean(axis=0) - grand) ** 2).sum() / (k - 1)
+    resid = x - x.mean(axis=1, keepdims=True) - x.mean(axis=0, keepdims=True) + grand
+    error = (resid**2).sum() / ((n - 1) * (k - 1))
+    den = rows + (k - 1) * error + k * (cols - error) / n
+    return float((rows - error) / den) if den > 0 else float("nan")

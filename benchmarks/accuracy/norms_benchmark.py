@@ -32,35 +32,10 @@ from benchmarks.lib.folds import held_out_names
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
+from zedo_cli.evaluation.clips.stillness import hold_still
 
 FPS = 30.0
 LEFT_ARM = ("left_elbow", "left_wrist")
-
-
-def trunk_frames(rel: np.ndarray, joints: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
-    """Per frame an orthonormal trunk frame `(T, 3, 3)` (rows: left, up, front) and its origin `(T, 3)`, the
-    shoulders' midpoint."""
-    j = {n: i for i, n in enumerate(joints)}
-    ls, rs, lh, rh = (rel[:, j[n]] for n in ("left_shoulder", "right_shoulder", "left_hip", "right_hip"))
-    origin = (ls + rs) / 2
-    up = origin - (lh + rh) / 2
-    up /= np.linalg.norm(up, axis=-1, keepdims=True)
-    left = (ls - rs) + (lh - rh)
-    left -= (left * up).sum(-1, keepdims=True) * up
-    left /= np.linalg.norm(left, axis=-1, keepdims=True)
-    front = np.cross(left, up)
-    return np.stack([left, up, front], 1), origin
-
-
-def still_left_arm(rel: np.ndarray, joints: tuple[str, ...]) -> np.ndarray:
-    """The clip `(T, J, 3)` with the left elbow and wrist held at their first frame's trunk coordinates."""
-    axes, origin = trunk_frames(rel, joints)
-    out = rel.copy()
-    for name in LEFT_ARM:
-        i = joints.index(name)
-        local = axes[0] @ (rel[0, i] - origin[0])  # (3,) in the first frame's trunk axes
-        out[:, i] = origin + np.einsum("tij,i->tj", axes, local)
-    return out
 
 
 def write_clip(path: Path, xy: np.ndarray, conf: np.ndarray) -> None:
@@ -86,7 +61,7 @@ def make_clips(poses: np.ndarray, joints: tuple[str, ...], rng: np.random.Genera
                              noise_px=3.0, drop=0.03, gap=0)  # fmt: skip
         xy, conf = seq["xy"], seq["conf"]
         if still:
-            rel = still_left_arm(seq["rel"], joints)
+            rel = hold_still(seq["rel"], joints, LEFT_ARM)
             cam = rel + (seq["cam"] - seq["rel"])  # the same root path
             k = Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()
             uvw = cam @ k.T
