@@ -88,8 +88,8 @@ class PersonComparison:
 
 def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[PersonComparison]:
     """Compare each person track of the clip `a` with `norms`: per feature its z (`<feature>_norm_z`), and
-    `surprise_published_z` / `_p` and `surprise_extended_z` / `_p`, appended to `a.rows`; notes say what
-    was left out. Refused for a result without fps (no clip features)."""
+    `surprise_published_z` / `_p`, `surprise_extended_z` / `_p` and `surprise_asymmetry_score` / `_p`, appended
+    to `a.rows`; notes say what was left out. Refused for a result without fps (no clip features)."""
     if not a.is_sequence:
         a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
         return []
@@ -110,6 +110,9 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
             add(f"surprise_{kind}_z", s.z, "z")
             add(f"surprise_{kind}_p", s.p, "p")
             add(f"surprise_{kind}_features", float(s.features), "features")
+        add("surprise_asymmetry_score", c.asymmetry.score, "mean z^2")
+        add("surprise_asymmetry_p", c.asymmetry.p, "p")
+        add("surprise_asymmetry_features", float(c.asymmetry.features), "features")
         if c.not_compared:
             shown = ", ".join(c.not_compared[:5]) + (", ..." if len(c.not_compared) > 5 else "")
             a.notes.append(f"person {p}: {len(c.not_compared)} reference features have no value in this clip and "

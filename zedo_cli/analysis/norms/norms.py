@@ -30,6 +30,13 @@ import numpy as np
 from ...errors import ConfigError, InputFormatError
 from ..clip.features_3d import PREFIX as PREFIX_3D
 from ..clip.published_features import PREREGISTERED
+from .calibrated import (
+    CalibratedSurprise,
+    ReliabilityEntry,
+    bundled_reliability,
+    compare_calibrated,
+    reliable_features,
+)
 
 # Per-side features whose values are positive (speeds, spreads): log(left / right) is an asymmetry index.
 ASYMMETRY_BASES: dict[str, tuple[str, ...]] = {
@@ -239,6 +246,7 @@ class Comparison:
     z: dict[str, float]  # feature -> z against its bracket's fit
     published: Surprise
     extended: Surprise
+    asymmetry: CalibratedSurprise  # the conformal p over the reliable left-right asymmetry features (calibrated.py)
     not_compared: list[str]  # features the clip has no value for (left out of the sums)
 
 
@@ -248,8 +256,10 @@ def _fitted(norms: Norms, bracket: str, names: Sequence[str]) -> tuple[list[str]
     return kept, np.array([fits[n].mean for n in kept]), np.array([fits[n].sd for n in kept])
 
 
-def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) -> Comparison:
-    """The clip's z per feature and its published and extended surprise."""
+def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None,
+            reliability: Sequence[ReliabilityEntry] | None = None) -> Comparison:  # fmt: skip
+    """The clip's z per feature, its published and extended surprise, and its calibrated p over the left-right
+    asymmetry features that `reliability` (default: the bundled file) finds reliable."""
     bracket = age_bracket(age_weeks, norms.with_ages)  # a reference split by age needs the age
     if bracket not in norms.fits:
         raise InputFormatError(f"no reference clips in the age bracket {bracket} (the reference has "
@@ -260,7 +270,22 @@ def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None) 
     published = _published(values, norms, bracket)
     extended = _extended(values, norms, bracket)
     missing = sorted(n for n in fits if not math.isfinite(values.get(n, math.nan)))
-    return Comparison(bracket, z, published, extended, missing)
+    entries = bundled_reliability() if reliability is None else reliability
+    return Comparison(bracket, z, published, extended, _asymmetry(values, norms, bracket, entries), missing)
+
+
+def is_asymmetry_feature(name: str) -> bool:
+    """A left-right asymmetry feature: a log ratio of the two sides (`asym_logratio_...`) or a clip's median 3D
+    symmetry angle of a segment pair (`symmetry_forearm_median_deg`). Neither grows with a clip's length."""
+    return name.startswith(ASYMMETRY_PREFIX) or bool(_SYMMETRY_MEDIAN.match(name))
+
+
+def _asymmetry(values: Mapping[str, float], norms: Norms, bracket: str,
+               reliability: Sequence[ReliabilityEntry]) -> CalibratedSurprise:  # fmt: skip
+    """The conformal p against the bracket's clips over the reliable left-right asymmetry features."""
+    candidates = sorted(n for n in values if is_asymmetry_feature(n) and math.isfinite(values[n]))
+    names = reliable_features(candidates, reliability)
+    return compare_calibrated(values, norms.clip_matrix(names, bracket), names)
 
 
 def _published(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:

@@ -152,12 +152,19 @@ def comparison_block(a: Analysis) -> str:
         kinds = (("published", c.published), ("extended", c.extended))
         scores = "".join(f"<tr><td class=l>{kind} features ({s.features})</td><td>{s.z:+.2f}</td>"
                          f"<td>{s.p:.3g}</td></tr>" for kind, s in kinds)  # fmt: skip
+        cal = c.asymmetry
+        scores += (f"<tr><td class=l>left-right asymmetry, calibrated ({cal.features})</td><td>–</td>"
+                   f"<td>{cal.p:.3g}</td></tr>")  # fmt: skip
         far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
                for n, z in furthest_from_typical(c)]  # fmt: skip
         items = "".join(f"<li>{escape(t)}</li>" for t in far)
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
                    "reference: z compares the clip's summed log-likelihood under the reference with the typical "
-                   "clips' own sums (negative: less typical), p is its two-sided normal p-value. A large |z| says "
+                   "clips' own sums (negative: less typical), p is its two-sided normal p-value (their false alarms depend on the "
+                   "features' tails and the clips' lengths: docs/movement.md). The calibrated p of the left-right "
+                   "asymmetry ranks the clip's distance from the reference among the reference clips' own (each "
+                   f"from the others): a typical clip gets p &lt; 0.05 at most 1 time in 20 (with {cal.reference_clips} "
+                   f"reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}). A small p says "
                    "the movements differ from the reference, not why.</p>"
                    f"<table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>{scores}</table>"
                    "<p class=meta>Furthest from typical (the largest |z| of single features):</p>"

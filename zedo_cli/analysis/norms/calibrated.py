@@ -1,0 +1,116 @@
+"""A p-value beside the published comparison whose false-alarm rate is what it says (`surprise_asymmetry_p`: over
+the left-right asymmetry features, which do not grow with a clip's length; norms.is_asymmetry_feature).
+
+The clip and the n reference clips are each scored by how far they lie from the other n: per feature a robust z
+(the others' median and scaled median absolute deviation, floored at a quarter of their standard deviation), the
+score the mean of the squared z over the features. The clip's p is its rank among the n + 1 scores: the share of
+them at least as large as its own. If the clip is a typical infant's clip like the reference's (exchangeable with
+them), p <= a happens with probability at most a, whatever the features' distributions (full conformal
+prediction); with n = 20 the smallest p is 1/21, so p < 0.05 calls one typical clip in 21.
+
+Only features that measure the infant reliably take part: those whose test-retest agreement (the same clip lifted
+again with another seed and 1 px more detector noise) is at least `RELIABLE_ICC` in the shipped reliability file,
+on every source it was measured on.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...versioned_json import FileModel, ShippedFile
+
+MAD_TO_SD = 1.4826  # the median absolute deviation of a normal distribution times this is its SD
+SCALE_FLOOR = 0.25  # a feature's robust scale is at least this share of its standard deviation
+RELIABLE_ICC = 0.9  # the test-retest agreement (ICC(2,1)) a feature needs to take part
+
+
+@dataclass(frozen=True)
+class CalibratedSurprise:
+    """The clip's score (mean squared robust z), its conformal p among the reference clips', and what it used."""
+
+    score: float
+    p: float
+    features: int
+    reference_clips: int
+
+
+def _robust_z(row: np.ndarray, others: np.ndarray) -> np.ndarray:
+    """`row`'s robust z per feature against `others (m, F)`; NaN where fewer than two others have the feature or
+    they do not vary."""
+    z = np.full(row.shape, np.nan)
+    usable = np.isfinite(others).sum(axis=0) >= 2
+    kept = others[:, usable]
+    centre = np.nanmedian(kept, axis=0)
+    scale = np.maximum(MAD_TO_SD * np.nanmedian(np.abs(kept - centre), axis=0), SCALE_FLOOR * np.nanstd(kept, 0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z[usable] = np.where(scale > 0, (row[usable] - centre) / scale, np.nan)
+    return z
+
+
+def leave_one_out_scores(matrix: np.ndarray) -> np.ndarray:
+    """Each row's score `(m,)` against the other rows of `matrix (m, F)`: the mean over its finite robust z of z
+    squared (NaN where it has none)."""
+    scores = np.full(len(matrix), np.nan)
+    for j in range(len(matrix)):
+        z = _robust_z(matrix[j], np.delete(matrix, j, axis=0))
+        z = z[np.isfinite(z)]
+        if len(z):
+            scores[j] = float(np.mean(z**2))
+    return scores
+
+
+def calibrated_surprise(clip: np.ndarray, reference: np.ndarray) -> CalibratedSurprise:
+    """The clip's `(F,)` conformal p against `reference (n, F)` over the features the clip has (NaN in the
+    reference: left out of that clip's medians)."""
+    known = np.isfinite(clip)
+    both = np.vstack([reference[:, known], clip[known][None]])
+    scores = leave_one_out_scores(both)
+    own = scores[-1]
+    if not math.isfinite(own):
+        return CalibratedSurprise(math.nan, math.nan, 0, len(reference))
+    p = float(np.mean(scores[np.isfinite(scores)] >= own))
+    return CalibratedSurprise(own, p, int(known.sum()), len(reference))
+
+
+class ReliabilityEntry(FileModel):
+    """The test-retest agreement of each clip feature measured on one clip source."""
+
+    source: str
+    clips: int
+    temporal_mode: str
+    icc: dict[str, float]
+    provenance: dict[str, str]
+
+    def value(self) -> ReliabilityEntry:
+        return self
+
+    @classmethod
+    def of(cls, value: ReliabilityEntry) -> ReliabilityEntry:
+        return value
+
+
+RELIABILITY_FILE = ShippedFile("reliability.json", "zedo-feature-reliability", 1, "sources",
+                               "clip feature reliability", ReliabilityEntry)  # fmt: skip
+
+
+def reliable_features(names: Sequence[str], entries: Sequence[ReliabilityEntry]) -> list[str]:
+    """`names` whose ICC is at least RELIABLE_ICC on every source that measured them (one measured at least)."""
+
+    def reliable(name: str) -> bool:
+        measured = [e.icc[name] for e in entries if name in e.icc]
+        return bool(measured) and all(math.isfinite(v) and v >= RELIABLE_ICC for v in measured)
+
+    return [n for n in names if reliable(n)]
+
+
+def bundled_reliability() -> tuple[ReliabilityEntry, ...]:
+    return RELIABILITY_FILE.read_bundled()
+
+
+def compare_calibrated(values: Mapping[str, float], reference: np.ndarray, names: Sequence[str]) -> CalibratedSurprise:
+    """`calibrated_surprise` of the clip's `values` over `names` (the columns of `reference (n, len(names))`)."""
+    return calibrated_surprise(np.array([values.get(n, math.nan) for n in names], float), reference)
