@@ -12,7 +12,7 @@ import pytest
 from analysis_results import kicking_poses, result_document, write_document
 from test_calibration import PARAMS, calibration
 
-from zedo_cli.analysis.analyse import INTERVAL_SHARE, SYMMETRY_NAMES, AnalysisSettings, analyse, probability_name
+from zedo_cli.analysis.analyse import SYMMETRY_NAMES, AnalysisSettings, analyse, probability_name
 from zedo_cli.analysis.pose.symmetry import CALLS
 from zedo_cli.analysis.uncertainty.calibration import LEVELS, MeasureModel
 from zedo_cli.analysis.uncertainty.clip_share import (
@@ -20,6 +20,12 @@ from zedo_cli.analysis.uncertainty.clip_share import (
     integrated_autocorrelation,
     probability_above,
     share_interval,
+)
+from zedo_cli.analysis.uncertainty.share_calibration import (
+    SHARE_CALIBRATED,
+    ShareMargin,
+    bundled_share_margins,
+    share_margin,
 )
 from zedo_cli.formats.readers.result import read_result
 
@@ -116,7 +122,7 @@ def test_clip_shares_add_up_with_the_frame_rows(tmp_path: Path) -> None:
         assert len(p) == 90 and all(0.0 <= x <= 1.0 for x in p)
         share = clip[f"{stem}_share_asymmetric"]
         assert share.value == pytest.approx(np.mean(p))
-        assert share.low_90 <= share.value <= share.high_90 and share.interval == INTERVAL_SHARE
+        assert share.low_90 <= share.value <= share.high_90 and share.interval == SHARE_CALIBRATED
         calls = [r.call for r in a.rows if r.measure == name and r.frame_index is not None]
         fractions = [clip[f"{stem}_fraction_{c}"].value for c in CALLS]
         assert fractions == pytest.approx([calls.count(c) / len(calls) for c in CALLS])  # unchanged
@@ -132,3 +138,49 @@ def test_without_a_calibration_the_share_says_why(tmp_path: Path) -> None:
     share = next(r for r in a.rows if r.measure == "symmetry_shank_share_asymmetric")
     assert np.isnan(share.value) and share.interval == "none: no frame has a calibrated value"
     assert all(np.isnan(r.value) for r in a.rows if r.measure == probability_name("symmetry_shank_deg"))
+
+
+def _margin(pair: str, threshold: float, margin: float, level: float = 0.9) -> ShareMargin:
+    return ShareMargin(pair=pair, threshold_deg=threshold, level=level, margin=margin, cases=100, sources=["test"],
+                       provenance={})  # fmt: skip
+
+
+def test_a_threshold_between_calibrated_ones_takes_the_larger_margin_and_none_outside() -> None:
+    margins = [_margin("symmetry_thigh", 15.0, 0.4), _margin("symmetry_thigh", 28.0, 0.2),
+               _margin("symmetry_thigh", 45.0, 0.3)]  # fmt: skip
+    assert share_margin(margins, "symmetry_thigh", 28.0, 0.9).margin == 0.2
+    assert share_margin(margins, "symmetry_thigh", 20.0, 0.9).margin == 0.4
+    assert share_margin(margins, "symmetry_thigh", 30.0, 0.9).margin == 0.3
+    assert share_margin(margins, "symmetry_thigh", 50.0, 0.9) is None
+    assert share_margin(margins, "symmetry_thigh", 28.0, 0.8) is None  # another level
+    assert share_margin(margins, "symmetry_shank", 28.0, 0.9) is None
+
+
+def test_the_share_interval_holds_the_margin_the_bootstrap_alone_would_not(tmp_path: Path) -> None:
+    """A long clip's bootstrap narrows with its length; the share's error on other sources does not, so the interval
+    reaches at least the bundled margin either side of the estimate (within [0, 1])."""
+    a = analyse(read_result(clip_result(tmp_path, 600)), AnalysisSettings(), calibrations=[calibration("smooth", 10.0)])
+    clip = {r.measure: r for r in a.rows if r.frame_index is None}
+    for name in SYMMETRY_NAMES:
+        stem = name.removesuffix("_deg")
+        share = clip[f"{stem}_share_asymmetric"]
+        margin = share_margin(bundled_share_margins(), stem, a.settings.threshold_deg, 0.9).margin
+        assert share.low_90 <= max(0.0, share.value - margin) + 1e-9
+        assert share.high_90 >= min(1.0, share.value + margin) - 1e-9
+
+
+def test_outside_the_calibrated_thresholds_the_share_has_no_interval(tmp_path: Path) -> None:
+    a = analyse(read_result(clip_result(tmp_path)), AnalysisSettings(threshold_deg=60.0),
+                calibrations=[calibration("smooth", 10.0)])  # fmt: skip
+    share = next(r for r in a.rows if r.measure == "symmetry_shank_share_asymmetric")
+    assert np.isfinite(share.value) and np.isnan(share.low_90) and np.isnan(share.high_90)
+    assert share.interval == "none: thresholds 15-45 deg only"
+
+
+def test_the_bundled_share_margins_cover_every_pair_threshold_and_level() -> None:
+    margins = bundled_share_margins()
+    for name in SYMMETRY_NAMES:
+        for threshold in (15.0, 28.0, 45.0):
+            for level in LEVELS:
+                held = share_margin(margins, name.removesuffix("_deg"), threshold, level)
+                assert held is not None and 0.0 < held.margin < 1.0 and held.cases >= 100

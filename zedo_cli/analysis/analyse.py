@@ -71,8 +71,14 @@ from .uncertainty.calibration import (
     find_calibration,
     measure_joints,
 )
-from .uncertainty.clip_share import block_frames, probability_above, share_interval
+from .uncertainty.clip_share import Share, block_frames, probability_above, share_interval
 from .uncertainty.domain import outside_calibration, without_outside
+from .uncertainty.share_calibration import (
+    SHARE_CALIBRATED,
+    bundled_share_margins,
+    calibrated_thresholds,
+    share_margin,
+)
 
 COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
            "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
@@ -82,7 +88,6 @@ INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.ca
 INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibration's model of such cases, wider
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
-INTERVAL_SHARE = "block_bootstrap_of_frame_probabilities"  # analysis.clip_share
 DEFAULT_MAX_VELOCITY_DEG_S = 500.0
 FLAG_TOO_FAST = "too_fast"
 
@@ -524,18 +529,37 @@ def _clip_rows(a: Analysis) -> list[Row]:
     return rows
 
 
-def _share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray, seed: int
-           ) -> tuple[float, str, float, float, str]:  # fmt: skip
-    """The clip row of a person's (`sel (M,)`) share of frames asymmetric in `name`: value, unit, interval, how."""
+def bootstrap_share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray, seed: int) -> Share | None:
+    """The block bootstrap of a person's (`sel (M,)`) share of frames asymmetric in `name`, over the frames with a
+    calibrated value (None: no such frame)."""
     order = np.flatnonzero(sel)[np.argsort(frames[sel], kind="stable")]
     p = a.probabilities[name][order]
     known = p[np.isfinite(p)]
     if not len(known):
+        return None
+    return share_interval(known, block_frames(known, float(a.fps or 0.0)), a.settings.level, seed=seed)
+
+
+def _share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray, seed: int
+           ) -> tuple[float, str, float, float, str]:  # fmt: skip
+    """The clip row of a person's share of frames asymmetric in `name`: value, unit, interval, how. The interval is
+    the block bootstrap's widened by the share's calibration across sources (share_calibration.py); none where no
+    margin holds for the threshold and level."""
+    share = bootstrap_share(a, name, sel, frames, seed)
+    if share is None:
         return np.nan, "fraction", np.nan, np.nan, "none: no frame has a calibrated value"
-    share = share_interval(known, block_frames(known, float(a.fps or 0.0)), a.settings.level, seed=seed)
-    how = INTERVAL_SHARE if len(known) == len(p) else (
-        f"{INTERVAL_SHARE}: over {len(known)} of {len(p)} frames (the others have no calibrated value)")  # fmt: skip
-    return share.value, "fraction", share.low, share.high, how
+    margins = bundled_share_margins()
+    held = share_margin(margins, name.removesuffix("_deg"), a.settings.threshold_deg, a.settings.level)
+    if held is None:
+        covered = calibrated_thresholds(margins)
+        where = "no share calibration" if covered is None else f"thresholds {covered[0]:g}-{covered[1]:g} deg only"
+        return share.value, "fraction", np.nan, np.nan, f"none: {where}"
+    low = max(0.0, min(share.low, share.value - held.margin))
+    high = min(1.0, max(share.high, share.value + held.margin))
+    counted, total = int(np.isfinite(a.probabilities[name][sel]).sum()), int(sel.sum())
+    how = SHARE_CALIBRATED if counted == total else (
+        f"{SHARE_CALIBRATED}: over {counted} of {total} frames (the others have no calibrated value)")  # fmt: skip
+    return share.value, "fraction", low, high, how
 
 
 def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
