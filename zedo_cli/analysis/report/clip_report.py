@@ -113,7 +113,9 @@ def summary_section(a: Analysis) -> str:
         if not all(r is None or not np.isfinite(r.value) for r in shares):
             out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: the estimated share of frames in "
                    f"which the pair's true symmetry angle is above {a.settings.threshold_deg:g}°, with its {level} "
-                   "interval (block bootstrap over correlated frames).</p>"
+                   "interval (a block bootstrap over correlated frames, widened to the share's error on whole clips "
+                   "of other sources: about ±0.3 whatever the clip's length, so differences smaller than that are "
+                   "not evidence).</p>"
                    f"<table><tr>{head}</tr><tr>{cells}</tr>{typical_shares_row(a)}</table>")  # fmt: skip
         turn = "".join(f"<th>head turned {c}</th>" if c != "midline" else "<th>head at the midline</th>"
                        for c in TURN_CALLS)  # fmt: skip
@@ -160,11 +162,12 @@ def comparison_block(a: Analysis) -> str:
         items = "".join(f"<li>{escape(t)}</li>" for t in far)
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
                    "reference: z compares the clip's summed log-likelihood under the reference with the typical "
-                   "clips' own sums (negative: less typical), p is its two-sided normal p-value (their false alarms depend on the "
-                   "features' tails and the clips' lengths: docs/movement.md). The calibrated p of the left-right "
-                   "asymmetry ranks the clip's distance from the reference among the reference clips' own (each "
-                   f"from the others): a typical clip gets p &lt; 0.05 at most 1 time in 20 (with {cal.reference_clips} "
-                   f"reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}). A small p says "
+                   "clips' own sums (negative: less typical), p is its two-sided normal p-value (their false alarms "
+                   "depend on the features' tails and the clips' lengths: docs/movement.md). The calibrated p of the "
+                   "left-right asymmetry ranks the clip's distance from the reference among the reference clips' own "
+                   "(each from the others): a typical clip gets p &lt; 0.05 at most 1 time in 20 (with "
+                   f"{cal.reference_clips} reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}). "
+                   "A small p says "
                    "the movements differ from the reference, not why.</p>"
                    f"<table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>{scores}</table>"
                    "<p class=meta>Furthest from typical (the largest |z| of single features):</p>"
