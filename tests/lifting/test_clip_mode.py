@@ -143,7 +143,7 @@ def test_zedo_lift_temporal_clip_records_the_skeleton_and_warns_of_a_fallback(ti
 def test_an_ambiguous_ankle_or_wrist_says_what_the_other_side_would_bend(tiny_prior: Prior) -> None:
     from dataclasses import replace
 
-    from zedo_cli.formats.writers.result_json import _ambiguous
+    from zedo_cli.formats.flags import ambiguous_joint
     from zedo_cli.lifting.clip import flexion_deg
 
     straight = flexion_deg(np.array([[0.0, 0.0, 0.0]]), np.array([[0.0, 0.1, 0.0]]), np.array([[0.0, 0.2, 0.0]]))
@@ -159,5 +159,44 @@ def test_an_ambiguous_ankle_or_wrist_says_what_the_other_side_would_bend(tiny_pr
     flagged[3, SYRIP12.index("left_ankle")] = flagged[3, SYRIP12.index("right_knee")] = True
     other = np.full((40, 12), np.nan)
     other[3, SYRIP12.index("left_ankle")] = 41.6
-    words = _ambiguous(SYRIP12.joints, replace(res, depth_ambiguous=flagged, other_flexion_deg=other), 3)
+    marked = replace(res, depth_ambiguous=flagged, other_flexion_deg=other)
+    words = [ambiguous_joint(SYRIP12.joints, marked, 3, j) for j in np.flatnonzero(flagged[3])]
     assert words == ["right_knee", "left_ankle (other side: left_knee flexion 42 deg)"]
+
+
+def test_a_csv_result_keeps_the_flags_per_joint_row_and_reads_them_back(tiny_prior: Prior, tmp_path) -> None:  # noqa: ANN001
+    """The CSV's `flags` column: each joint row its own flags and the person's; read back, the person's flags are
+    the JSON's (those not said by other columns: `status`, `observed`)."""
+    import csv
+    import io
+    from dataclasses import replace
+
+    from zedo_cli.camera.sanity import check_camera_sanity
+    from zedo_cli.formats.flags import person_flags
+    from zedo_cli.formats.readers.inputs import read_keypoints
+    from zedo_cli.formats.readers.result_csv import read_csv
+    from zedo_cli.formats.writers.result_csv import csv_text
+
+    kp = read_keypoints(str(_keypoints(tmp_path / "kp.json", 40))).to_skeleton(SYRIP12)
+    _, res = _clip_mode(tiny_prior, 40)
+    ambiguous, outliers, swapped = (np.zeros((40, 12), bool) for _ in range(3))
+    ambiguous[5, SYRIP12.index("left_ankle")] = ambiguous[5, SYRIP12.index("right_knee")] = True
+    outliers[7, SYRIP12.index("right_wrist")] = True
+    other = np.full((40, 12), np.nan)
+    other[5, SYRIP12.index("left_ankle")] = 12.0
+    res = replace(res, depth_ambiguous=ambiguous, other_flexion_deg=other, detection_outliers=outliers,
+                  detection_swapped=swapped[:, 0] | (np.arange(40) == 7))  # fmt: skip
+    k = np.repeat(K_TEST[None], 40, 0)
+    text = csv_text(kp, res, k, ["cli"] * 40)
+    rows = list(csv.DictReader(io.StringIO(text)))
+    cell = {(int(r["frame_index"]), r["joint"]): r["flags"] for r in rows}
+    assert cell[(5, "left_ankle")].endswith("depth_ambiguous (other side: left_knee flexion 12 deg)")
+    assert cell[(7, "right_wrist")].endswith("left_right_swapped_in_2d; detection_outlier")
+    hip = cell[(7, "left_hip")]
+    assert hip.endswith("left_right_swapped_in_2d") and "detection_outlier" not in hip
+    back = read_csv(text, "kp.zedo.csv", None)
+    sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
+    for i in range(40):
+        expected = [f for f in person_flags(kp, res, i, sanity) if not f.startswith(("not_lifted_", "joints_filled"))]
+        assert back.flags[i] == expected
+    assert "depth_ambiguous: right_knee, left_ankle (other side: left_knee flexion 12 deg)" in back.flags[5]

@@ -16,6 +16,7 @@ from ...camera.model import CameraModel
 from ...data.skeleton import skeleton_from_joint_names
 from ...errors import InputFormatError
 from ...strict_json import loads
+from ..flags import flags_from_rows
 from .result_common import (
     SCALE_TO_M,
     ReadParts,
@@ -101,7 +102,8 @@ def read_csv(text: str, name: str, meta: dict[str, Any] | None) -> ResultPoses:
         coordinate_frame=coord, units=units, params=params_of(meta), cameras=[inst["camera"] for inst in insts],
     )  # fmt: skip
     spread = np.array([inst["spread"] for inst in insts]) / 1000 if "hypothesis_spread_mm" in columns else None
-    return replace(finish(parts), record=_csv_record(order, j, meta), hypothesis_spread_m=spread,
+    flags = [flags_from_rows(names, inst["flags"]) for inst in insts] if "flags" in columns else None
+    return replace(finish(parts), record=_csv_record(order, j, meta), hypothesis_spread_m=spread, flags=flags,
                    **_csv_others(order, other_names, meta, name))  # fmt: skip
 
 
@@ -138,6 +140,7 @@ def _instances(
         inst["observed"][j] = _true(row.get("observed", "true"))
         if "uncertainty_m" in row:
             inst["radii"][j] = _cell(row["uncertainty_m"], f"{where}: uncertainty_m")
+        inst["flags"][j] = row.get("flags") or ""
     return order, joint_names, other_names
 
 
@@ -148,6 +151,7 @@ def _new_instance(row: dict[str, str], where: str, count: int) -> dict[str, Any]
             "status": row.get("status") or ("lifted" if _true(row["lifted"]) else "not_lifted"),
             "k_source": row.get("k_source") or "", "instance": _int_cell(row.get("instance_index"), count),
             "points": {}, "observed": {}, "radii": {}, "pixels": {}, "confidence": {}, "errors": {}, "other": {},
+            "flags": {},
             "spread": _cell(row.get("hypothesis_spread_mm") or "", f"{where}: hypothesis_spread_mm")}  # fmt: skip
 
 

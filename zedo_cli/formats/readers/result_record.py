@@ -98,7 +98,8 @@ class ResultPoses:
     coordinate_frame: str  # camera | root
     units_in_file: str  # m | mm (poses are converted to metres)
     params: dict[str, Any] = field(default_factory=dict)  # the lift's `params` (prior, settings, camera), if recorded
-    # flags and root_translation: JSON / JSON Lines only (None for CSV and NPZ): per row, its flags and
+    # flags: JSON, JSON Lines and CSV with a `flags` column (None for NPZ); root_translation: JSON / JSON Lines
+    # only (None for CSV and NPZ): per row, its flags and
     # its root point in the camera frame (metres; NaN when not lifted), which puts a root-frame result
     # back in the camera.
     cameras: list[CameraModel | None] | None = None  # (N,) each person's camera (any format); None: not stated

@@ -40,8 +40,10 @@ from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
+from ...camera.sanity import check_camera_sanity
 from ...data.keypoints import Keypoints2D
 from ...files import atomic_path, check_writable
+from ..flags import SEPARATOR, joint_flags, person_wide_flags
 from .common import (
     OutputOptions,
     camera_block,
@@ -73,7 +75,7 @@ def csv_columns(
     return [
         "frame_index", "image_id", "file_name", "person", "instance_index", "joint", "joint_index",
         *coordinate_columns(units, frame), "observed", "lifted", "status", "confidence", "u_px", "v_px",
-        "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source", "camera_model", "dist",
+        "reprojection_error_px", "fx_px", "fy_px", "cx_px", "cy_px", "k_source", "camera_model", "dist", "flags",
         *(["uncertainty_m"] if uncertainty else []), *(["hypothesis_spread_mm"] if spread else []),
     ]  # fmt: skip
 
@@ -103,8 +105,10 @@ def csv_rows(
     radii, spread = res.uncertainty_m, res.hypothesis_spread_m
     yield csv_columns(units, frame, uncertainty=radii is not None, spread=spread is not None)
     blanks = [""] * ((radii is not None) + (spread is not None))  # the other keypoints' last cells
+    sanity = check_camera_sanity(kp.xy, res.observed, kp.image_sizes, res.root_translation, res.lifted)
     for members in groups.members:
         for i in members:
+            wide = person_wide_flags(res, i, sanity)
             k = intrinsics[i]
             lens = camera_block(k, kp.image_sizes[i], sources[i], lens_at(lenses, i))
             camera = [_cell(k[0, 0], 6), _cell(k[1, 1], 6), _cell(k[0, 2], 6), _cell(k[1, 2], 6), sources[i],
@@ -118,10 +122,12 @@ def csv_rows(
                     _cell(conf, 4) if conf > 0 else "",
                     _cell(kp.xy[i, j, 0], 3), _cell(kp.xy[i, j, 1], 3),
                     _cell(res.reprojection_error_px[i, j], 3), *camera,
+                    SEPARATOR.join(wide + joint_flags(kp, res, i, j)),
                     *([] if radii is None else [_cell(radii[i, j], 4)]),
                     *([] if spread is None else [_cell(spread[i] * 1000, 1)]),
                 ]  # fmt: skip
-            yield from _other_rows(kp, i, head, [_bool(res.lifted[i]), str(res.status[i])], camera, blanks)
+            yield from _other_rows(kp, i, head, [_bool(res.lifted[i]), str(res.status[i])], camera,
+                                   [SEPARATOR.join(wide), *blanks])  # fmt: skip
 
 
 def _other_rows(
@@ -188,6 +194,9 @@ def _column_notes(units: str, frame: str) -> dict[str, str]:
         "camera_model": "the lens model: pinhole (OpenCV's, with distortion coefficients) or fisheye",
         "dist": "distortion coefficients in OpenCV's order, space-separated; empty: none (2D undistorted "
         "before lifting when there are some; reprojection errors are in the original image)",
+        "flags": "'; '-separated: the person's flags (implausible_distance, keypoints_outside_image, "
+        "unstable_solution, left_right_swapped_in_2d) and this joint's own (--temporal clip: detection_outlier, "
+        "depth_ambiguous, at an ankle or wrist with the other side's knee or elbow flexion); empty: none",
         "uncertainty_m": "only when calibrated: radius in metres (whatever the units) of the ball around the "
         "root-relative joint that holds the true joint with 90 % probability; empty where not lifted",
         "hypothesis_spread_mm": "only with --hypotheses K > 1: the person's hypotheses' RMS distance (mm) from the "

@@ -27,6 +27,7 @@ from ...camera.sanity import CameraSanity, check_camera_sanity
 from ...data.keypoints import Keypoints2D
 from ...data.skeleton import Skeleton
 from ...version import __version__
+from ..flags import person_flags
 from .common import (
     AXES,
     OutputOptions,
@@ -66,37 +67,10 @@ def _skeleton_doc(skeleton: Skeleton) -> dict[str, Any]:
             "root": " + ".join(skeleton.root) + (" (midpoint)" if len(skeleton.root) > 1 else "")}  # fmt: skip
 
 
-def _ambiguous(joints: tuple[str, ...], res: LiftResult, i: int) -> list[str]:
-    """Instance `i`'s depth-ambiguous joints, an ankle's or wrist's with the flexion the other side would give."""
-    assert res.depth_ambiguous is not None
-    other = res.other_flexion_deg
-    out = []
-    for j in np.flatnonzero(res.depth_ambiguous[i]):
-        name, angle = joints[j], np.nan if other is None else other[i, j]
-        hinge = name.replace("ankle", "knee").replace("wrist", "elbow")
-        out.append(name if not np.isfinite(angle) else f"{name} (other side: {hinge} flexion {angle:.0f} deg)")
-    return out
-
-
 def _person(
     kp: Keypoints2D, res: LiftResult, i: int, poses: np.ndarray, opts: OutputOptions, sanity: CameraSanity
 ) -> dict[str, Any]:
-    flags = [] if res.lifted[i] else [f"not_lifted_{res.status[i]}"]  # reasons: lifting.solver.NOT_LIFTED
-    missing = [kp.skeleton.joints[j] for j in np.flatnonzero(~res.observed[i])]
-    if missing and res.lifted[i]:
-        flags.append("joints_filled_by_prior: " + ", ".join(missing))
-    flags += sanity.flags(i)  # implausible_distance, keypoints_outside_image (camera.sanity)
-    unstable = res.unstable()
-    if unstable is not None and unstable[i]:  # K > 1: hypotheses far apart (lifting.result.UNSTABLE_SPREAD_M)
-        flags.append("unstable_solution")
-    if res.detection_swapped is not None and res.detection_swapped[i]:  # --temporal clip: corrected before lifting
-        flags.append("left_right_swapped_in_2d")
-    if res.detection_outliers is not None and res.detection_outliers[i].any():
-        flags.append(
-            "detection_outlier: " + ", ".join(kp.skeleton.joints[j] for j in np.flatnonzero(res.detection_outliers[i]))
-        )
-    if res.depth_ambiguous is not None and res.lifted[i] and res.depth_ambiguous[i].any():  # --temporal clip
-        flags.append("depth_ambiguous: " + ", ".join(_ambiguous(kp.skeleton.joints, res, i)))
+    flags = person_flags(kp, res, i, sanity)
     d = opts.digits
     return {
         "instance_index": i,
