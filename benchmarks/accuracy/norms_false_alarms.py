@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.resumable_runs import read_rows
+from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.clip.published_features import PREREGISTERED
 from zedo_cli.analysis.norms.calibrated import RELIABILITY_FILE, RELIABLE_ICC, ReliabilityEntry
 from zedo_cli.analysis.norms.norms import (
@@ -167,8 +167,7 @@ def lift(args: argparse.Namespace) -> int:
                     "seconds": length,
                     "values": {k: (v if math.isfinite(v) else None) for k, v in values.items()},
                 }
-                with out.open("a") as fh:
-                    fh.write(json.dumps(row) + "\n")
+                append_row(out, row)
             print(f"{args.source} {group} {i + 1}/{count} ({time.perf_counter() - t0:.0f} s)", flush=True)
     return 0
 

@@ -24,7 +24,6 @@ Lengths: 10 s, 60 s and 180 s.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from collections.abc import Iterator
@@ -34,7 +33,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, SOURCE_WORDS, habits, write_2d
-from benchmarks.lib.resumable_runs import read_rows
+from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, bootstrap_share
 from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, symmetry_angles
 from zedo_cli.analysis.uncertainty.calibration import LEVELS
@@ -114,8 +113,7 @@ def lift(args: argparse.Namespace) -> int:
             path = folder / "clip.2d.jsonl"
             write_2d(path, xy, conf, size)
             row = {"seconds": seconds, "clip": i, "pairs": share_cases(path, truth3d)}
-            with out.open("a") as fh:
-                fh.write(json.dumps(row, allow_nan=True) + "\n")
+            append_row(out, row)
             print(f"{args.source} {seconds:g} s {i + 1}/{count} ({time.perf_counter() - t0:.0f} s)", flush=True)
     return 0
 
