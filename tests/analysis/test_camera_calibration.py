@@ -55,7 +55,7 @@ def test_a_focal_result_in_the_calibrated_range_gets_intervals(tmp_path: Path) -
 
 
 def test_outside_the_calibrated_range_each_measure_says_so(tmp_path: Path) -> None:
-    cals = [calibration(), camera_calibration((1.2, 2.0))]
+    cals = [camera_calibration((1.2, 2.0))]  # no pseudo camera's calibration to stand in
     a = analyse(read_result(focal_result(tmp_path, depth=1.0)), calibrations=cals)
     assert not a.uncertainty_available
     for name in (*SYMMETRY_NAMES, "right_hip_flexion_deg"):
@@ -65,7 +65,7 @@ def test_outside_the_calibrated_range_each_measure_says_so(tmp_path: Path) -> No
             "none: camera outside the calibrated range (root depth 1.00 m, focal length 1000 px; calibrated: "
             "root depth 1.2-2 m, focal length 600-2500 px)"}  # fmt: skip
     assert {r.call for r in frame_rows(a, "symmetry_thigh_deg")} == {"uncertain"}
-    narrow_focal = [calibration(), camera_calibration((0.6, 2.0), focal=(1500.0, 2500.0))]
+    narrow_focal = [camera_calibration((0.6, 2.0), focal=(1500.0, 2500.0))]
     b = analyse(read_result(focal_result(tmp_path)), calibrations=narrow_focal)
     assert "focal length 1000 px" in frame_rows(b, "symmetry_thigh_deg")[0].interval
 
@@ -73,12 +73,29 @@ def test_outside_the_calibrated_range_each_measure_says_so(tmp_path: Path) -> No
 def test_poses_are_matched_one_by_one_to_the_calibrated_depth_ranges(tmp_path: Path) -> None:
     near, far = camera_calibration((0.6, 1.2), width=4.0), camera_calibration((1.2, 2.0), width=9.0)
     depth = np.array([0.8, 1.5, 2.5, np.nan])
-    got = assign_calibrations([calibration(), near, far], CLI, JOINTS, depth, np.full(4, 1000.0))
-    assert got.calibrations == (near, far) and got.index.tolist() == [0, 1, -1, -1]
+    got = assign_calibrations([near, far], CLI, JOINTS, depth, np.full(4, 1000.0))
+    assert got.calibrations == (near, far) and got.index.tolist() == [0, 1, -1, -1] and got.stand_in == 0
     assert got.why_not[2].startswith("camera outside the calibrated range (root depth 2.50 m")
     assert "states no root depth" in got.why_not[3]
     pseudo = assign_calibrations([calibration(), near], PARAMS, JOINTS, depth, np.full(4, np.nan))
     assert pseudo.index.tolist() == [0, 0, 0, 0]  # the pseudo camera's calibration has no range: every pose
+
+
+def test_outside_the_known_cameras_range_the_pseudo_cameras_calibration_stands_in(tmp_path: Path) -> None:
+    """Stating the camera never loses a frame interval that leaving it out would give: where the stated camera lies
+    outside every known camera calibration's range, the pseudo camera's calibration (matching but for the camera)
+    holds, and a note says so."""
+    pseudo, near, far = calibration(), camera_calibration((0.6, 1.2), width=4.0), camera_calibration((1.2, 2.0))
+    depth = np.array([0.8, 1.5, 2.5, np.nan])
+    got = assign_calibrations([pseudo, near, far], CLI, JOINTS, depth, np.full(4, 1000.0))
+    assert got.calibrations == (near, far, pseudo) and got.index.tolist() == [0, 1, 2, -1] and got.stand_in == 1
+    assert "states no root depth" in got.why_not[3]  # a pose whose camera cannot be checked gets none
+    a = analyse(read_result(focal_result(tmp_path, depth=3.0)), calibrations=[pseudo, far])
+    assert a.uncertainty_available and a.calibration_note == "calibrated"
+    assert all(np.isfinite(r.low_90) for r in frame_rows(a, "symmetry_thigh_deg"))
+    assert any("the pseudo camera's calibration stands in" in n for n in a.notes)
+    pseudo_result = assign_calibrations([pseudo, far], PARAMS, JOINTS, depth, np.full(4, np.nan))
+    assert pseudo_result.stand_in == 0 and pseudo_result.index.tolist() == [0, 0, 0, 0]
 
 
 def test_a_root_frame_result_without_its_root_depth_says_why(tmp_path: Path) -> None:
@@ -148,7 +165,7 @@ def test_a_joint_filled_by_the_prior_takes_the_calibrations_wider_model_where_it
 def test_ranges_that_meet_read_as_one_and_a_near_pose_takes_the_near_range() -> None:
     near, main = camera_calibration((0.4, 0.6), width=12.0), camera_calibration((0.6, 2.0))
     depth = np.array([0.45, 0.6, 1.0, 0.3, 2.2])
-    got = assign_calibrations([calibration(), near, main], CLI, JOINTS, depth, np.full(5, 1000.0))
+    got = assign_calibrations([near, main], CLI, JOINTS, depth, np.full(5, 1000.0))
     assert got.index.tolist() == [0, 0, 1, -1, -1]  # the first that holds the pose: 0.6 m is the near range's end
     assert got.why_not[3] == ("camera outside the calibrated range (root depth 0.30 m, focal length 1000 px; "
                               "calibrated: root depth 0.4-2 m, focal length 600-2500 px)")  # fmt: skip
@@ -223,7 +240,7 @@ def test_the_report_keeps_every_calibration_warning(tmp_path: Path) -> None:
     doc = result_document(poses)
     doc["params"].update({**CLI, "temporal": {"mode": "none"}})
     a = analyse(read_result(write_document(tmp_path / "half.zedo.json", doc)),
-                calibrations=[calibration(), camera_calibration((0.6, 2.0))])  # fmt: skip
+                calibrations=[camera_calibration((0.6, 2.0))])  # fmt: skip
     partly = "15 of 30 poses have no calibrated intervals"
     assert a.uncertainty_available and any(n.startswith(partly) for n in a.notes)
     assert partly in report_html(a)

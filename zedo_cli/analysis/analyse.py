@@ -73,12 +73,7 @@ from .uncertainty.calibration import (
 )
 from .uncertainty.clip_share import Share, block_frames, probability_above, share_interval
 from .uncertainty.domain import outside_calibration, without_outside
-from .uncertainty.share_calibration import (
-    SHARE_CALIBRATED,
-    bundled_share_margins,
-    calibrated_thresholds,
-    share_margin,
-)
+from .uncertainty.share_calibration import calibrated_share
 
 COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
            "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
@@ -329,6 +324,10 @@ def analyse(
                            "are uncertain")  # fmt: skip
         used = assignment.used()
         a.notes.extend(backing_note(c) for c in used)
+        if assignment.stand_in:
+            a.notes.append(f"{assignment.stand_in} of {len(index)} poses: the stated camera lies outside the known "
+                           "cameras' calibrated range, so the pseudo camera's calibration stands in (docs/clinical.md, "
+                           "\"Stated camera or not\")")  # fmt: skip
         sources = (c.provenance.get("data", "see the calibration file") for c in used)
         data = "; ".join(dict.fromkeys(str(x) for x in sources))
         side = (1 - settings.call_level) / 2
@@ -542,24 +541,12 @@ def bootstrap_share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray,
 
 def _share(a: Analysis, name: str, sel: np.ndarray, frames: np.ndarray, seed: int
            ) -> tuple[float, str, float, float, str]:  # fmt: skip
-    """The clip row of a person's share of frames asymmetric in `name`: value, unit, interval, how. The interval is
-    the block bootstrap's widened by the share's calibration across sources (share_calibration.py); none where no
-    margin holds for the threshold and level."""
-    share = bootstrap_share(a, name, sel, frames, seed)
-    if share is None:
-        return np.nan, "fraction", np.nan, np.nan, "none: no frame has a calibrated value"
-    margins = bundled_share_margins()
-    held = share_margin(margins, name.removesuffix("_deg"), a.settings.threshold_deg, a.settings.level)
-    if held is None:
-        covered = calibrated_thresholds(margins)
-        where = "no share calibration" if covered is None else f"thresholds {covered[0]:g}-{covered[1]:g} deg only"
-        return share.value, "fraction", np.nan, np.nan, f"none: {where}"
-    low = max(0.0, min(share.low, share.value - held.margin))
-    high = min(1.0, max(share.high, share.value + held.margin))
-    counted, total = int(np.isfinite(a.probabilities[name][sel]).sum()), int(sel.sum())
-    how = SHARE_CALIBRATED if counted == total else (
-        f"{SHARE_CALIBRATED}: over {counted} of {total} frames (the others have no calibrated value)")  # fmt: skip
-    return share.value, "fraction", low, high, how
+    """The clip row of a person's share of frames asymmetric in `name`: value, unit, interval, how
+    (`share_calibration.calibrated_share`)."""
+    counted = int(np.isfinite(a.probabilities[name][sel]).sum())
+    value, low, high, how = calibrated_share(bootstrap_share(a, name, sel, frames, seed), name.removesuffix("_deg"),
+                                             a.settings, counted, int(sel.sum()))  # fmt: skip
+    return value, "fraction", low, high, how
 
 
 def summary(a: Analysis) -> dict[str, dict[str, float | int]]:

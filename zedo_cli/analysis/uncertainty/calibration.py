@@ -229,6 +229,7 @@ class Assignment:
     calibrations: tuple[MeasureCalibration, ...]
     index: np.ndarray  # (M,) int
     why_not: np.ndarray  # (M,) str (object)
+    stand_in: int = 0  # poses whose stated camera lies outside every known camera's range: the pseudo's calibration
 
     @property
     def any(self) -> bool:
@@ -245,6 +246,21 @@ class Assignment:
             return "calibrated"
         reasons, counts = np.unique(missing.astype(str), return_counts=True)
         return str(reasons[np.argmax(counts)])
+
+
+def camera_stand_in(
+    calibrations: Sequence[MeasureCalibration], params: dict[str, Any], joints: tuple[str, ...], scope: str = "frames"
+) -> MeasureCalibration | None:  # fmt: skip
+    """For a result lifted with a stated camera: the pseudo camera's calibration of `scope` that holds for it but for
+    the camera. It stands in where the stated camera lies outside every known camera calibration's range, so that
+    stating the camera never loses an interval that leaving it out would give (measured on clips of another source:
+    docs/clinical.md, "Stated camera or not"). None for a pseudo-camera result or without such a calibration."""
+    sources = LiftParams.from_dict(params).camera_sources
+    if not sources or set(sources) <= {"pseudo"}:
+        return None
+    as_pseudo = {**params, "camera_sources": ["pseudo"]}
+    return next((c for c in calibrations if c.scope == scope and c.domain is None and set(c.cameras) == {"pseudo"}
+                 and c.mismatch(as_pseudo, joints) is None), None)  # fmt: skip
 
 
 def assign_calibrations(
@@ -264,11 +280,16 @@ def assign_calibrations(
     for i, c in enumerate(matching):
         inside = np.ones(m, bool) if c.domain is None else c.domain.contains(depth_m, focal_px)
         index[(index < 0) & inside] = i
+    stand_in = camera_stand_in(calibrations, params, joints)
+    stated = np.isfinite(depth_m) & np.isfinite(focal_px)
+    replaced = (index < 0) & stated if stand_in is not None else np.zeros(m, bool)
+    if replaced.any():
+        matching = [*matching, stand_in]
+        index[replaced] = len(matching) - 1
     why_not = np.full(m, "", dtype=object)
     out = index < 0
     if out.any():
         ranges = describe_domains([c.domain for c in matching if c.domain is not None])
-        stated = np.isfinite(depth_m) & np.isfinite(focal_px)
         why_not[out & ~stated] = ("the result states no root depth or camera for this pose (a root-frame CSV or "
                                   f"NPZ?), so the camera calibration ({ranges}) cannot be checked")  # fmt: skip
         known = np.flatnonzero(out & stated)
@@ -278,7 +299,7 @@ def assign_calibrations(
             texts = np.array([f"camera outside the calibrated range (root depth {d:.2f} m, focal length {f:.0f} px; "
                               f"calibrated: {ranges})" for d, f in uniq], dtype=object)  # fmt: skip
             why_not[known] = texts[inverse.ravel()]
-    return Assignment(tuple(matching), index, why_not)
+    return Assignment(tuple(matching), index, why_not, int(replaced.sum()))
 
 
 def clip_camera_mismatch(calibration: MeasureCalibration, depth_m: np.ndarray, focal_px: np.ndarray) -> str | None:

@@ -13,8 +13,12 @@ A threshold between two calibrated thresholds takes the larger of their margins;
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Protocol
+
+import numpy as np
 
 from ...versioned_json import FileModel, ShippedFile
+from .clip_share import Share
 
 
 class ShareMargin(FileModel):
@@ -59,3 +63,28 @@ def calibrated_thresholds(margins: Sequence[ShareMargin]) -> tuple[float, float]
     """The range of thresholds the margins cover (None: no margins)."""
     values = [m.threshold_deg for m in margins]
     return (min(values), max(values)) if values else None
+
+
+class _Levels(Protocol):
+    threshold_deg: float
+    level: float
+
+
+def calibrated_share(share: Share | None, pair: str, settings: _Levels, counted: int, total: int
+                     ) -> tuple[float, float, float, str]:  # fmt: skip
+    """A person's share of frames asymmetric as its clip row states it: value, low, high and the `interval` code,
+    from its block bootstrap `share` over the `counted` of `total` frames with a calibrated value (None: none),
+    widened by the bundled margin for `pair` at the settings' threshold and level; no interval where none holds."""
+    if share is None:
+        return np.nan, np.nan, np.nan, "none: no frame has a calibrated value"
+    margins = bundled_share_margins()
+    held = share_margin(margins, pair, settings.threshold_deg, settings.level)
+    if held is None:
+        covered = calibrated_thresholds(margins)
+        where = "no share calibration" if covered is None else f"thresholds {covered[0]:g}-{covered[1]:g} deg only"
+        return share.value, np.nan, np.nan, f"none: {where}"
+    low = max(0.0, min(share.low, share.value - held.margin))
+    high = min(1.0, max(share.high, share.value + held.margin))
+    how = SHARE_CALIBRATED if counted == total else (
+        f"{SHARE_CALIBRATED}: over {counted} of {total} frames (the others have no calibrated value)")  # fmt: skip
+    return share.value, low, high, how
