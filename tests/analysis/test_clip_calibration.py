@@ -106,11 +106,13 @@ def camera_clip_rows(tmp_path: Path, calibrations: list[MeasureCalibration], shi
 
 def test_a_clip_calibration_of_known_cameras_holds_for_clips_inside_its_range(tmp_path: Path) -> None:
     """A clip lifted with --focal gets the known cameras' clip calibration where its median root depth and
-    focal length lie in the calibration's domain, else the reason with the clip's camera; the pseudo
-    camera's clip calibration does not stand in for it."""
+    focal length lie in the calibration's domain; outside it the pseudo camera's clip calibration stands in where
+    there is one, else the reason with the clip's camera."""
     inside = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()])
     assert inside[KNEE].interval == "calibrated" and np.isfinite(inside[KNEE].low_90)
-    far = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()], shift_m=2.0)
+    stood_in = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()], shift_m=2.0)
+    assert stood_in[KNEE].interval == "calibrated" and np.isfinite(stood_in[KNEE].low_90)
+    far = camera_clip_rows(tmp_path, [known_cameras()], shift_m=2.0)
     assert far[KNEE].interval == (
         "none: camera outside the calibrated range (the clip's median root depth 3.00 m, "
         "focal length 1000 px; calibrated: root depth 0.5-1.5 m, focal length 900-1100 px)"

@@ -68,6 +68,7 @@ from .uncertainty.calibration import (
     assign_calibrations,
     backing_note,
     bundled_calibrations,
+    camera_stand_in,
     find_calibration,
     measure_joints,
 )
@@ -84,6 +85,13 @@ INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibrati
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
 DEFAULT_MAX_VELOCITY_DEG_S = 500.0
+# Where the `3d_` clip calibrations were fitted and where they were measured not to hold
+CLIP_CALIBRATION_CAVEAT = (
+    "the 3d_ features' intervals were calibrated on SyRIP key poses eased one into the next; on "
+    "clips of real movement (adult motion made infant-like) they held the truth far less often "
+    "than their level, and their estimates lean to the calibration clips' values "
+    '(docs/clinical.md, "Stated camera or not")'
+)
 FLAG_TOO_FAST = "too_fast"
 
 
@@ -366,7 +374,10 @@ def _clip_feature_rows(a: Analysis, models: Sequence[MeasureCalibration], camera
     a.clip_calibration = clip_cal
     if clip_cal is not None:
         a.notes.append(backing_note(clip_cal))
-    features = clip_features(res, a.index, float(a.fps or 0.0), clip_cal, clip_why, a.settings.level, cameras, outside)
+        a.notes.append(CLIP_CALIBRATION_CAVEAT)
+    stand_in = camera_stand_in(models, res.params, res.skeleton.joints, scope="clips")
+    features = clip_features(res, a.index, float(a.fps or 0.0), clip_cal, clip_why, a.settings.level, cameras, outside,
+                             stand_in)  # fmt: skip
     return [Row(None, None, None, f.person, f.measure, f.value, f.unit, f.low, f.high, interval=f.interval,
                 raw_value=f.raw_value) for f in features]  # fmt: skip
 

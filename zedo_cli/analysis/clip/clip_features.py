@@ -114,13 +114,16 @@ def clip_features(
     result: ResultPoses, index: np.ndarray, fps: float, calibration: MeasureCalibration | None = None,
     why_not: str = "no measure calibration installed", level: float = DEFAULT_LEVEL,
     cameras: tuple[np.ndarray, np.ndarray] | None = None, outside: np.ndarray | None = None,
+    stand_in: MeasureCalibration | None = None,
 ) -> list[ClipFeature]:  # fmt: skip
     """The published 2D and the `3d_` features of every person track among the analysed rows `index`; the
     `3d_` ones calibrated under `calibration` (a clip-scope one, `find_calibration(..., scope="clips")`),
     None: uncalibrated, with `why_not` in their `interval`. `cameras`: the root depth and focal length `(M,)`
     of each row of `index` (`analyse.pose_cameras`), for a calibration over known cameras, which holds track
     by track (`clip_camera_mismatch`); without them such a calibration cannot be checked and is not used.
-    `outside (M,)`: per row of `index` why its track lies outside the calibration clips ("" where not)."""
+    `outside (M,)`: per row of `index` why its track lies outside the calibration clips ("" where not).
+    `stand_in`: the pseudo camera's clip calibration, for a track whose stated camera lies outside `calibration`'s
+    range (`calibration.camera_stand_in`)."""
     out: list[ClipFeature] = []
     skel = result.skeleton
     for p in sorted(set(result.person[index].tolist())):
@@ -144,7 +147,7 @@ def clip_features(
             depth, focal = cameras if cameras is not None else (np.full(len(index), np.nan),) * 2
             why = clip_camera_mismatch(calibration, depth[mine], focal[mine])
             if why is not None:
-                track_calibration, track_why = None, why
+                track_calibration, track_why = stand_in, why
         if outside is not None and outside[mine].any() and outside[mine][0]:  # unlike the calibration clips
             track_calibration, track_why = None, str(outside[mine][0])
         out += _calibrated(p, features_3d(poses, skel, fps), track_calibration, track_why, level)
