@@ -172,14 +172,20 @@ def lift(args: argparse.Namespace) -> int:
     return 0
 
 
-def main() -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = ap.add_subparsers(dest="command", required=True)
+def lift_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """The `lift` sub-command's parser: where the data are, where the clips go, which source and seed."""
     p = sub.add_parser("lift")
     p.add_argument("--syrip-dir", required=True)
     p.add_argument("--work", type=Path, required=True)
-    p.add_argument("--seed", type=int, default=0)
     p.add_argument("--source", choices=SOURCES, default="adult")
+    p.add_argument("--seed", type=int, default=0)
+    return p
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = lift_parser(sub)
     p.add_argument("--groups", nargs="+", choices=list(GROUPS), default=list(GROUPS))
     r = sub.add_parser("reliability")
     r.add_argument("--work", type=Path, required=True)

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, SOURCE_WORDS, habits, write_2d
+from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, SOURCE_WORDS, habits, lift_parser, write_2d
 from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, bootstrap_share
 from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, symmetry_angles
@@ -121,11 +121,7 @@ def lift(args: argparse.Namespace) -> int:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("lift")
-    p.add_argument("--syrip-dir", required=True)
-    p.add_argument("--work", type=Path, required=True)
-    p.add_argument("--source", choices=tuple(SOURCE_WORDS), default="adult")
-    p.add_argument("--seed", type=int, default=0)
+    lift_parser(sub)
     f = sub.add_parser("fit")
     f.add_argument("--work", type=Path, required=True)
     f.add_argument("--out", type=Path)
