@@ -184,3 +184,23 @@ def test_the_bundled_share_margins_cover_every_pair_threshold_and_level() -> Non
             for level in LEVELS:
                 held = share_margin(margins, name.removesuffix("_deg"), threshold, level)
                 assert held is not None and 0.0 < held.margin < 1.0 and held.cases >= 100
+
+
+def test_a_long_clips_report_gives_its_shares_minute_by_minute(tmp_path: Path) -> None:
+    from zedo_cli.analysis.report.clip_report import epoch_shares, epoch_shares_table
+
+    a = analyse(
+        read_result(clip_result(tmp_path, 30 * 150)), AnalysisSettings(), calibrations=[calibration("smooth", 10.0)]
+    )
+    starts, shares = epoch_shares(a, 0)
+    assert starts.tolist() == [0.0, 60.0, 120.0] and shares.shape == (3, 4)
+    p = a.probabilities["symmetry_shank_deg"]
+    minute = (a.result.frame_index[a.index] // 1800).astype(int)
+    assert shares[:, SYMMETRY_NAMES.index("symmetry_shank_deg")] == pytest.approx(
+        [np.nanmean(p[minute == m]) for m in range(3)]
+    )
+    assert "minute by minute" in epoch_shares_table(a, 0) and "2:00" in epoch_shares_table(a, 0)
+    short = analyse(
+        read_result(clip_result(tmp_path, 90)), AnalysisSettings(), calibrations=[calibration("smooth", 10.0)]
+    )
+    assert epoch_shares_table(short, 0) == ""

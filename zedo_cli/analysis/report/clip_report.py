@@ -29,6 +29,7 @@ MAX_REVIEW = 8
 FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
 AMBIGUOUS_SHADE = "#b9c8f0"  # frames with a limb whose depth side the 2D cannot tell (`--temporal clip`)
 _TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
+EPOCH_S = 60.0  # the report's epochs of a long clip
 
 
 def _pct(value: float) -> str:
@@ -94,6 +95,41 @@ def depth_ambiguous(a: Analysis) -> np.ndarray:
     return np.array([any(f.startswith("depth_ambiguous") for f in flags[i]) for i in a.index], dtype=bool)
 
 
+def epoch_shares(a: Analysis, person: int, epoch_s: float = EPOCH_S) -> tuple[np.ndarray, np.ndarray]:
+    """Per `epoch_s` of a person's track, the start (s) `(E,)` and each symmetry pair's share of frames asymmetric
+    `(E, 4)` (the mean of the frames' calibrated probabilities; NaN where an epoch has none)."""
+    mine = a.result.person[a.index] == person
+    t = a.result.frame_index[a.index][mine] / float(a.fps or 1.0)
+    epoch = ((t - t.min()) // epoch_s).astype(int)
+    count = int(epoch.max()) + 1
+    shares = np.full((count, len(SYMMETRY_NAMES)), np.nan)
+    for k, name in enumerate(SYMMETRY_NAMES):
+        p = a.probabilities[name][mine] if name in a.probabilities else np.full(len(t), np.nan)
+        known = np.isfinite(p)
+        frames = np.bincount(epoch[known], minlength=count)
+        with np.errstate(invalid="ignore"):
+            shares[:, k] = np.bincount(epoch[known], weights=p[known], minlength=count) / frames
+    return t.min() + epoch_s * np.arange(count), shares
+
+
+def epoch_shares_table(a: Analysis, person: int) -> str:
+    """For a track of over two epochs: its shares of frames asymmetric epoch by epoch (estimates only)."""
+    if not a.fps or not a.probabilities:
+        return ""
+    starts, shares = epoch_shares(a, person)
+    if len(starts) <= 2:
+        return ""
+    head = "".join(f"<th>{_pair(n)}</th>" for n in SYMMETRY_NAMES)
+    body = "".join(f"<tr><td class=l>{s // 60:.0f}:{s % 60:02.0f}</td>"
+                   + "".join(f"<td>{_pct(v)}</td>" for v in row) + "</tr>"
+                   for s, row in zip(starts, shares, strict=True))  # fmt: skip
+    return (
+        f"<p class=meta>The same shares minute by minute (estimates only: each is known to about ±0.3, so only "
+        f"larger changes between minutes say something).</p><table><tr><th class=l>from (min:s)</th>{head}</tr>"
+        f"{body}</table>"
+    )
+
+
 def summary_section(a: Analysis) -> str:
     """The recording in a few lines: shares asymmetric, head, and the comparison with typical infants."""
     rows = _clip_rows(a)
@@ -117,6 +153,7 @@ def summary_section(a: Analysis) -> str:
                    "of other sources: about ±0.3 whatever the clip's length, so differences smaller than that are "
                    "not evidence).</p>"
                    f"<table><tr>{head}</tr><tr>{cells}</tr>{typical_shares_row(a)}</table>")  # fmt: skip
+            out.append(epoch_shares_table(a, p))
         turn = "".join(f"<th>head turned {c}</th>" if c != "midline" else "<th>head at the midline</th>"
                        for c in TURN_CALLS)  # fmt: skip
         turn_cells = "".join(_share_cell(rows.get((p, f"head_turn_fraction_{c}")), level) for c in TURN_CALLS)
