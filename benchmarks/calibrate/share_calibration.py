@@ -42,7 +42,7 @@ from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
-from zedo_cli.stats import require_quantile
+from zedo_cli.stats import pearson, require_quantile
 
 LENGTHS = {10.0: 60, 60.0: 16, 180.0: 6}  # seconds: clips
 NEAR_DEG = 10.0  # a frame's estimate this close to the threshold counts as near it
@@ -178,9 +178,28 @@ def coverage_table(cases: list[dict]) -> None:
             print(f"{start} {wide_held.mean():.1%} | {np.median(wide_high - wide_low):.2f} |")
 
 
+def difficulty_table(cases: list[dict]) -> None:
+    """Pearson's r of the share's absolute error with each per-clip difficulty the analysis knows (the frames'
+    median interval width, their mean 4 p (1 - p), the share of frames within NEAR_DEG of the threshold), per source
+    and length: a margin scaled by one would need it to track the error (docs/decisions.md)."""
+    print("\n| source | clip length | r with the frame width | r with 4 p (1 - p) | r with the share near the "
+          "threshold |")  # fmt: skip
+    print("| --- | --- | --- | --- | --- |")
+    for source in SOURCE_WORDS:
+        for seconds in LENGTHS:
+            mine = [c for c in cases if c["source"] == source and c["seconds"] == seconds
+                    and c["threshold_deg"] == DEFAULT_THRESHOLD_DEG and "near" in c]  # fmt: skip
+            if len(mine) < 3:
+                continue
+            error = np.array([abs(c["estimate"] - c["truth"]) for c in mine])
+            r = [pearson(error, np.array([c[k] for c in mine])) for k in ("frame_width", "uncertain", "near")]
+            print(f"| {source} | {seconds:g} s | " + " | ".join(f"{x:+.2f}" for x in r) + " |")
+
+
 def fit(args: argparse.Namespace) -> int:
     cases = load_cases(args.work)
     coverage_table(cases)
+    difficulty_table(cases)
     fitted = [c for c in cases if c["source"] in FITTED]
     sources = sorted({c["source"] for c in fitted})
     entries = []
