@@ -25,6 +25,18 @@ class FileModel(BaseModel):
     model_config = ConfigDict(strict=True, extra="forbid", frozen=True)
 
 
+class PlainEntry(FileModel):
+    """An item that the code computes with as it is read: `value()` is the item itself and `of(value)` takes it
+    back (for `ShippedFile`)."""
+
+    def value(self) -> Any:
+        return self
+
+    @classmethod
+    def of(cls, value: Any) -> Any:
+        return value
+
+
 def read_items(path: str | Path, fmt: str, version: int, key: str, what: str) -> list[dict[str, Any]]:
     """The items under `key` of a `fmt` version `version` file; WeightsError naming `what` otherwise."""
     path = Path(path)

@@ -15,13 +15,14 @@ on every source it was measured on.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from ...versioned_json import FileModel, ShippedFile
+from ...versioned_json import PlainEntry, ShippedFile
 
 MAD_TO_SD = 1.4826  # the median absolute deviation of a normal distribution times this is its SD
 SCALE_FLOOR = 0.25  # a feature's robust scale is at least this share of its standard deviation
@@ -76,7 +77,7 @@ def calibrated_surprise(clip: np.ndarray, reference: np.ndarray) -> CalibratedSu
     return CalibratedSurprise(own, p, int(known.sum()), len(reference))
 
 
-class ReliabilityEntry(FileModel):
+class ReliabilityEntry(PlainEntry):
     """The test-retest agreement of each clip feature measured on one clip source."""
 
     source: str
@@ -84,13 +85,6 @@ class ReliabilityEntry(FileModel):
     temporal_mode: str
     icc: dict[str, float]
     provenance: dict[str, str]
-
-    def value(self) -> ReliabilityEntry:
-        return self
-
-    @classmethod
-    def of(cls, value: ReliabilityEntry) -> ReliabilityEntry:
-        return value
 
 
 RELIABILITY_FILE = ShippedFile("reliability.json", "zedo-feature-reliability", 1, "sources",
@@ -107,6 +101,7 @@ def reliable_features(names: Sequence[str], entries: Sequence[ReliabilityEntry])
     return [n for n in names if reliable(n)]
 
 
+@functools.cache
 def bundled_reliability() -> tuple[ReliabilityEntry, ...]:
     return RELIABILITY_FILE.read_bundled()
 

@@ -12,16 +12,17 @@ A threshold between two calibrated thresholds takes the larger of their margins;
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
 
-from ...versioned_json import FileModel, ShippedFile
+from ...versioned_json import PlainEntry, ShippedFile
 from .clip_share import Share
 
 
-class ShareMargin(FileModel):
+class ShareMargin(PlainEntry):
     """The margin of one symmetry pair's share at one threshold and level, and what backs it."""
 
     pair: str  # symmetry_<pair>
@@ -32,18 +33,12 @@ class ShareMargin(FileModel):
     sources: list[str]
     provenance: dict[str, str]
 
-    def value(self) -> ShareMargin:
-        return self
-
-    @classmethod
-    def of(cls, value: ShareMargin) -> ShareMargin:
-        return value
-
 
 SHARE_FILE = ShippedFile("share.json", "zedo-share-calibration", 1, "margins", "share calibration", ShareMargin)
 SHARE_CALIBRATED = "block_bootstrap_and_share_calibration"  # the `interval` code of a share with a margin
 
 
+@functools.cache
 def bundled_share_margins() -> tuple[ShareMargin, ...]:
     return SHARE_FILE.read_bundled()
 
