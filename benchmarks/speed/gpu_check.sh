@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU figures of issue 38 item 3, in one go on a machine with a CUDA GPU (about 8 minutes at most):
+# The GPU figures of docs/benchmarks.md, in one go on a machine with a CUDA GPU (about 6 minutes on an H100, 8 at most):
 #
 #   1. `zedo benchmark --scale 100000 --scale 1000000 --device cuda`: lift throughput (poses/s, as zedo
 #      reports it) and peak GPU memory (torch.cuda.max_memory_allocated) of 10^5 and 10^6 synthetic
