@@ -29,12 +29,9 @@ from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.analysis.pose.symmetry import symmetry_angles
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
-from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, PSEUDO_CAMERA, CameraSetup
+from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA
 
 SKELETON = get_skeleton("syrip12")
-# Further than the clinic set-ups the clips are made with: a camera on a high tripod or the ceiling, 2.5-3.5 m away
-FAR_CAMERAS = (CameraSetup("far-1080p", 2000.0, 1920, 1080, (2.5, 3.5)),
-               CameraSetup("far-tele-1080p", 3000.0, 1920, 1080, (2.5, 3.5)))  # fmt: skip
 
 
 def held(path: Path, truth3d: np.ndarray, focal: float | None) -> tuple[Count, Count]:

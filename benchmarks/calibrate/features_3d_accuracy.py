@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import itertools
 import sys
 from pathlib import Path
 from typing import Any
@@ -63,67 +62,126 @@ CASE_MOTIONS = ("positions", "segments")
 # --cameras: the clips seen by known cameras instead (calibrate_measures.CAMERAS: focal lengths 600-2500 px, the
 # infant 0.5-2.2 m away, 1280x720 or 1920x1080 frames), with the frame calibrations' jitter (CAMERA_CLIPS: 1.25 %
 # of the body's 2D size instead of 3 px), lifted with their K as `zedo lift --focal / --intrinsics` does. The
-# calibration holds for clips whose lifted root depth (the clip's median) lies in CAMERA_DEPTH_M, the frame
-# calibrations' range, and whose focal length lies in CAMERAS.focal_px.
+# calibration holds for clips whose lifted root depth (the clip's median) and focal length lie in the ranges of its
+# cases (`camera_domain`): the root depth within CAMERA_DEPTH_M.
 CAMERA_NOISE = {"noise_px": 0.0, "noise_rel": 0.0125}
-CAMERA_DEPTH_M = (0.4, 2.0)
+CAMERA_DEPTH_M = (0.4, 3.5)
+
+
+def camera_domain(cases: dict[int, dict[str, np.ndarray]]) -> Any:
+    """The CameraDomain of the known cameras' cases: from CAMERA_DEPTH_M's near end to their furthest lifted root
+    depth (to 0.1 m, at most CAMERA_DEPTH_M's far end), and their focal lengths' range."""
+    from zedo_cli.analysis.uncertainty.calibration import CameraDomain
+
+    depth = np.concatenate([c["depth_m"] for c in cases.values()])
+    focal = np.concatenate([c["focal_px"] for c in cases.values()])
+    far = min(CAMERA_DEPTH_M[1], float(np.ceil(np.nanmax(depth) * 10) / 10))
+    return CameraDomain((CAMERA_DEPTH_M[0], far), (float(np.floor(focal.min())), float(np.ceil(focal.max()))))
 
 
 def lift_clip_cases(args: argparse.Namespace) -> None:
-    """Per fold prior and motion of CASE_MOTIONS: CASE_CLIPS clips of the fold's held-out poses lifted by its
-    prior (the default preset, `--temporal` smooth or none); per clip every `3d_` feature of the lifted poses (`raw`)
-    and of the true 3D (`truth`), the published 2D features (`flat`), and the clip's median lifted root depth
-    and its focal length (`depth_m`, `focal_px`). One npz a fold and motion in `--cases`
-    (`fold<k>-3d-clips-<motion>.npz`; other cameras and modes in its folders, `case_folder`)."""
+    """Per fold prior and clip source: CASE_CLIPS clips lifted by the fold's prior (the default preset, `--temporal`
+    smooth or none): the fold's held-out SyRIP poses under each motion of CASE_MOTIONS, and with `--adult` as many
+    clips of the adult motion made infant-like (`adult_case_clips`). Per clip every `3d_` feature of the lifted poses
+    (`raw`) and of the true 3D (`truth`), the published 2D features (`flat`), and the clip's median lifted root depth
+    and its focal length (`depth_m`, `focal_px`). One npz a fold and source in `--cases`
+    (`fold<k>-3d-clips-<motion>.npz`, the motion `adult` for the adult source; other cameras and modes in its
+    folders, `case_folder`)."""
     import torch
 
     from benchmarks.lib.folds import fold_priors
     from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, place_camera
     from zedo_cli.evaluation.clips.eased import make_sequences
-    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
-    from zedo_cli.lifting.temporal import lift_sequence
 
-    cfg = get_preset(DEFAULT_PRESET)
-    fps = float(CLIP_SETTINGS["fps"])
     folder = case_folder(args)
     folder.mkdir(parents=True, exist_ok=True)
     settings = {**CLIP_SETTINGS, **CASE_CLIPS, **(CAMERA_NOISE if args.cameras else {})}
     place = (lambda rng, rel, drift: place_camera(rng, rel, drift, CAMERAS)) if args.cameras else None
-    for (k, prior, truth, _), motion in itertools.product(fold_priors(args.folds, args.weights, args.syrip_dir),
-                                                          CASE_MOTIONS):  # fmt: skip
-        torch.manual_seed(k)
-        seed = (700 if args.cameras else 300) + k
-        clips = make_sequences(truth.poses, np.random.default_rng(seed), **settings, place=place,
-                               interpolation=motion)  # fmt: skip
-        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=args.temporal,
-                            tracks=clips["tracks"])  # fmt: skip
-        lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
-        depth = np.where(res.lifted, res.root_translation[:, 2], np.nan)
-        raw, true, flat, depths, focals = [], [], [], [], []
-        for track in np.unique(clips["tracks"]):
-            at = clips["tracks"] == track
-            first = np.flatnonzero(at)[0]
-            size = 2.0 * clips["k"][first, :2, 2]  # principal point at the frame's centre, the pseudo camera's too
-            raw.append(features_3d(lifted[at], SKELETON, fps).values)
-            true.append(features_3d(clips["rel"][at], SKELETON, fps).values)
-            flat.append(published_features(clips["xy"][at], SKELETON, fps, size).values)
-            depths.append(np.nanmedian(depth[at]))
-            focals.append(clips["k"][first, 0, 0])
-        names = sorted(raw[0])
-        flat_names = sorted(flat[0])
-        np.savez(folder / f"fold{k}-3d-clips-{motion}.npz", names=np.array(names), flat_names=np.array(flat_names),
-                 raw=np.array([[r[n] for n in names] for r in raw]),
-                 truth=np.array([[t[n] for n in names] for t in true]),
-                 flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps,
-                 depth_m=np.array(depths), focal_px=np.array(focals))  # fmt: skip
-        print(f"fold {k}, {motion}: {len(raw)} clips of {int(at.sum())} frames, "
-              f"{int(res.lifted.sum())}/{len(res.lifted)} frames lifted", flush=True)  # fmt: skip
+    for k, prior, truth, _ in fold_priors(args.folds, args.weights, args.syrip_dir):
+        for motion in CASE_MOTIONS:
+            torch.manual_seed(k)
+            seed = (700 if args.cameras else 300) + k
+            clips = make_sequences(truth.poses, np.random.default_rng(seed), **settings, place=place,
+                                   interpolation=motion)  # fmt: skip
+            save_case(folder / f"fold{k}-3d-clips-{motion}.npz", clips, prior, args.temporal)
+        if args.adult:
+            torch.manual_seed(k)
+            clips = adult_case_clips(args.syrip_dir, (1100 if args.cameras else 900) + k, args.cameras)
+            save_case(folder / f"fold{k}-3d-clips-{ADULT_SOURCE}.npz", clips, prior, args.temporal)
+
+
+ADULT_SOURCE = "adult"  # the motion name of the adult-motion clips' cases
+ADULT_JITTER_PX = 3.0
+
+
+def adult_case_clips(syrip_dir: str | Path, seed: int, known_cameras: bool) -> dict[str, np.ndarray]:
+    """CASE_CLIPS clips of the adult motion made infant-like (`zedo_cli.evaluation.clips`: bones of SyRIP's training
+    infants, supine, 30 fps, 3 px jitter, 3 % of joints dropped) in the arrays `make_sequences` returns (`rel`, `xy`,
+    `conf`, `k`, `tracks`): before the pseudo camera, or with `known_cameras` before the clinic set-ups and two
+    2.5-3.5 m away (`FAR_CAMERAS`: up to 3000 px)."""
+    from benchmarks.lib.settings import CLIP_SETTINGS
+    from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
+    from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA
+    from zedo_cli.evaluation.clips.habits import DetectorHabits
+    from zedo_cli.lifting.clip import root_relative
+
+    fps = float(CLIP_SETTINGS["fps"])
+    habits = DetectorHabits(jitter_px=ADULT_JITTER_PX, dropout=0.03, swaps_per_min=0, hand_jumps_per_min=0,
+                            losses_per_min=0)  # fmt: skip
+    cameras = (*CLINIC_CAMERAS, *FAR_CAMERAS) if known_cameras else (PSEUDO_CAMERA,)
+    settings = ClipSettings(fps=fps, cameras=cameras, habits=habits)
+    library = load_adult_library(Path(syrip_dir).parent / "adult")
+    seconds = (CASE_CLIPS["keyposes"] - 1) * float(CLIP_SETTINGS["transition_s"])
+    made = adult_infant_clips(library, infant_bodies_from_syrip(syrip_dir), seconds, CASE_CLIPS["count"], seed,
+                              settings)  # fmt: skip
+    parts: dict[str, list[np.ndarray]] = {"rel": [], "xy": [], "conf": [], "k": [], "tracks": []}
+    for track, clip in enumerate(made):
+        missing = ~np.isfinite(clip.xy).all(-1)
+        parts["rel"].append(root_relative(clip.poses3d, SKELETON)[0])
+        parts["xy"].append(np.where(missing[..., None], 0.0, clip.xy))
+        parts["conf"].append(np.where(missing, 0.0, clip.confidence))
+        parts["k"].append(np.broadcast_to(clip.intrinsics.matrix(), (len(clip), 3, 3)))
+        parts["tracks"].append(np.full(len(clip), track))
+    return {key: np.concatenate(v) for key, v in parts.items()}
+
+
+def save_case(path: Path, clips: dict[str, np.ndarray], prior: Any, temporal: str) -> None:
+    """Lift `clips` (make_sequences' arrays) with `prior` and write each clip's features (`lift_clip_cases`)."""
+    from benchmarks.lib.settings import CLIP_SETTINGS
+    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
+    from zedo_cli.lifting.temporal import lift_sequence
+
+    fps = float(CLIP_SETTINGS["fps"])
+    res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=temporal,
+                        tracks=clips["tracks"], fps=fps)  # fmt: skip
+    lifted = np.where(res.lifted[:, None, None], res.poses_root_relative, np.nan)  # (N, J, 3)
+    depth = np.where(res.lifted, res.root_translation[:, 2], np.nan)
+    raw, true, flat, depths, focals = [], [], [], [], []
+    for track in np.unique(clips["tracks"]):
+        at = clips["tracks"] == track
+        first = np.flatnonzero(at)[0]
+        size = 2.0 * clips["k"][first, :2, 2]  # principal point at the frame's centre, the pseudo camera's too
+        raw.append(features_3d(lifted[at], SKELETON, fps).values)
+        true.append(features_3d(clips["rel"][at], SKELETON, fps).values)
+        flat.append(published_features(clips["xy"][at], SKELETON, fps, size).values)
+        depths.append(np.nanmedian(depth[at]))
+        focals.append(clips["k"][first, 0, 0])
+    names = sorted(raw[0])
+    flat_names = sorted(flat[0])
+    np.savez(path, names=np.array(names), flat_names=np.array(flat_names),
+             raw=np.array([[r[n] for n in names] for r in raw]),
+             truth=np.array([[t[n] for n in names] for t in true]),
+             flat=np.array([[f[n] for n in flat_names] for f in flat]), fps=fps,
+             depth_m=np.array(depths), focal_px=np.array(focals))  # fmt: skip
+    print(f"{path.name}: {len(raw)} clips of {int(at.sum())} frames, {int(res.lifted.sum())}/{len(res.lifted)} "
+          "frames lifted", flush=True)  # fmt: skip
 
 
 def case_folder(args: argparse.Namespace) -> Path:
     """Where the clip cases are: `--cases` (the pseudo camera, `--temporal smooth`), else its folder `cameras`,
-    `frames` or `cameras-frames` (known cameras, `--temporal none`, both)."""
-    name = "-".join((["cameras"] if args.cameras else []) + (["frames"] if args.temporal == "none" else []))
+    `frames`, `clip` or `cameras-frames`, `cameras-clip` (known cameras, `--temporal none` or `clip`, both)."""
+    mode = {"none": ["frames"], "clip": ["clip"]}.get(args.temporal, [])
+    name = "-".join((["cameras"] if args.cameras else []) + mode)
     return args.cases / name if name else args.cases
 
 
@@ -178,11 +236,13 @@ def fit_features(raw: np.ndarray, truth: np.ndarray, names: np.ndarray) -> dict[
 
 
 def score(models: dict[str, Any], case: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Held-out clips `case`: per feature the calibrated estimate, the 90 % interval's hits (NaN: no case)."""
+    """Held-out clips `case`: per feature the calibrated estimate, the 90 % interval's hits and widths (NaN: no
+    case)."""
     from zedo_cli.analysis.clip.clip_features import feature_range
 
     est = np.full(case["raw"].shape, np.nan)
     hit = np.full(case["raw"].shape, np.nan)
+    width = np.full(case["raw"].shape, np.nan)
     for i, n in enumerate(case["names"]):
         m, v, t = models.get(str(n)), case["raw"][:, i], case["truth"][:, i]
         ok = np.isfinite(v) & np.isfinite(t)
@@ -193,7 +253,8 @@ def score(models: dict[str, Any], case: dict[str, np.ndarray]) -> dict[str, np.n
         low, high = (np.clip(x, lo_r, hi_r) for x in m.interval(e, v[ok], 0.9))
         est[ok, i] = np.clip(e, lo_r, hi_r)
         hit[ok, i] = (t[ok] >= low) & (t[ok] <= high)
-    return {"est": est, "hit": hit}
+        width[ok, i] = high - low
+    return {"est": est, "hit": hit, "width": width}
 
 
 def calibrate(args: argparse.Namespace) -> int:
@@ -249,6 +310,11 @@ def calibrate(args: argparse.Namespace) -> int:
     every = np.concatenate(every)
     print(f"| **all** | {len(every)} | **{every.mean():.1%}** |")
     motion = np.concatenate(motions)  # (clips,) in the order of every fold's hits
+    for src in np.unique(source_of(motion)):
+        at = {fam: np.concatenate(h)[source_of(np.concatenate(hit_motion[fam])) == src] for fam, h in hits.items()}
+        fams = " ".join(f"{fam} {v[np.isfinite(v)].mean():.1%}" for fam, v in at.items())
+        alls = np.concatenate([v[np.isfinite(v)] for v in at.values()])
+        print(f"clips of source {src}: all {alls.mean():.1%} ({fams})")
     for m in np.unique(motion):
         at = {fam: np.concatenate(h)[np.concatenate(hit_motion[fam]) == m] for fam, h in hits.items()}
         fams = " ".join(f"{fam} {v[np.isfinite(v)].mean():.1%}" for fam, v in at.items())
@@ -257,6 +323,7 @@ def calibrate(args: argparse.Namespace) -> int:
     if args.cameras:
         camera_coverage(np.concatenate(clip_hits), *(np.concatenate([cases[k][key] for k in scored])
                                                      for key in ("depth_m", "focal_px")))  # fmt: skip
+    by_source = held_out_by_source(cases, names) if len(set(source_of(motion))) > 1 else {}
     print("\n### MAE against the 3D truth, (clip, side, joint) cases of both folds held out")
     print("| feature | calibrated 3d_ | raw 3d_ | 2D (published) | calibrated / 2D | raw / 2D |")
     print("| --- | --- | --- | --- | --- | --- |")
@@ -269,8 +336,45 @@ def calibrate(args: argparse.Namespace) -> int:
             print(f"|   {f}, motion {m} | {cal:.2f} | {raw:.2f} | {flat:.2f} | {cal / flat:.2f} | {raw / flat:.2f} |")
     if args.write:
         fitted = {k: c for k, c in cases.items() if k in fit_on} if fit_on else cases
-        write_calibration(args, fitted, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()})
+        write_calibration(args, fitted, names, {fam: float(np.nanmean(np.concatenate(h))) for fam, h in hits.items()},
+                          by_source)  # fmt: skip
     return 0
+
+
+SYRIP_SOURCE = "SyRIP poses"
+
+
+def source_of(motion: np.ndarray) -> np.ndarray:
+    """The clip source of each case's motion: the adult motion, or SyRIP's poses (both motions: they share poses, so
+    they are left out together)."""
+    return np.where(motion == ADULT_SOURCE, "adult motion", SYRIP_SOURCE)
+
+
+def held_out_by_source(cases: dict[int, dict[str, np.ndarray]], names: np.ndarray) -> dict[str, dict[str, float]]:
+    """Each source's clips (every fold's) scored by a fit on the other sources' clips only: per family the coverage
+    of the 90 % intervals and their median width, printed as a table; returned as {source: {family: coverage}}."""
+    pooled = {key: np.concatenate([c[key] for c in cases.values()]) for key in ("raw", "truth", "motion")}
+    source = source_of(pooled["motion"])
+    fams = sorted({family(str(n)) for n in names})
+    fam_of = np.array([family(str(n)) for n in names])
+    out: dict[str, dict[str, float]] = {}
+    print("\n### held out by source: each source's clips scored by a fit on the other sources' clips only")
+    print("| source left out | clips | " + " | ".join(fams) + " | all |")
+    print("| --- | --- | " + " | ".join("---" for _ in fams) + " | --- |")
+    for s in np.unique(source):
+        fit, held = source != s, source == s
+        models = fit_features(pooled["raw"][fit], pooled["truth"][fit], names)
+        got = score(models, {"names": names, "raw": pooled["raw"][held], "truth": pooled["truth"][held]})
+        cells, out[str(s)] = [], {}
+        for fam in fams:
+            h, w = got["hit"][:, fam_of == fam], got["width"][:, fam_of == fam]
+            h, w = h[np.isfinite(h)], w[np.isfinite(w)]
+            out[str(s)][fam] = float(h.mean()) if len(h) else float("nan")
+            cells.append(f"{h.mean():.1%} (width {np.median(w):.3g})" if len(h) else "-")
+        every = got["hit"][np.isfinite(got["hit"])]
+        out[str(s)]["all"] = float(every.mean())
+        print(f"| {s} | {int(held.sum())} | " + " | ".join(cells) + f" | **{every.mean():.1%}** |")
+    return out
 
 
 def camera_coverage(hit: np.ndarray, depth_m: np.ndarray, focal_px: np.ndarray) -> None:
@@ -279,10 +383,12 @@ def camera_coverage(hit: np.ndarray, depth_m: np.ndarray, focal_px: np.ndarray) 
     groups = {
         "lifted 0.4-0.8 m away": depth_m < 0.8,
         "lifted 0.8-1.4 m away": (depth_m >= 0.8) & (depth_m < 1.4),
-        "lifted 1.4-2.0 m away": depth_m >= 1.4,
+        "lifted 1.4-2.0 m away": (depth_m >= 1.4) & (depth_m < 2.0),
+        "lifted 2.0-3.5 m away": depth_m >= 2.0,
         "focal length 600-1000 px": focal_px < 1000,
         "focal length 1000-1600 px": (focal_px >= 1000) & (focal_px < 1600),
-        "focal length 1600-2500 px": focal_px >= 1600,
+        "focal length 1600-2500 px": (focal_px >= 1600) & (focal_px < 2500),
+        "focal length 2500-3000 px": focal_px >= 2500,
         "f 800-1250 px, lifted 0.8-1.2 m away": (focal_px >= 800) & (focal_px <= 1250) & (depth_m >= 0.8)
         & (depth_m <= 1.2),
     }  # fmt: skip
@@ -294,7 +400,10 @@ def camera_coverage(hit: np.ndarray, depth_m: np.ndarray, focal_px: np.ndarray) 
         print(f"| {name} | {int(sel.sum())} | {len(h)} | {h.mean():.1%} |" if len(h) else f"| {name} | 0 | 0 | - |")
 
 
-def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, coverage: dict[str, float]) -> None:
+def write_calibration(
+    args: argparse.Namespace, cases: dict, names: np.ndarray, coverage: dict[str, float],
+    by_source: dict[str, dict[str, float]],
+) -> None:  # fmt: skip
     """Fit on every fold's clips; add the clip-scope calibration of the shipped prior to `--out` (the others stay)."""
     from benchmarks.lib.settings import CLIP_SETTINGS
     from zedo_cli.analysis.uncertainty.calibration import (
@@ -321,15 +430,26 @@ def write_calibration(args: argparse.Namespace, cases: dict, names: np.ndarray, 
         "clips": {**CLIP_SETTINGS, **CASE_CLIPS, "interpolation": list(CASE_MOTIONS)},
         "cross_fitted_coverage_90": {k: round(v, 4) for k, v in coverage.items()},
     }
+    motions = np.unique(np.concatenate([c["motion"] for c in cases.values()]))
+    if ADULT_SOURCE in motions:
+        provenance["data"] += ("; and as many clips a fold of the adult motion made infant-like (zedo_cli."
+                               "evaluation.clips, SyRIP training infants' bones, 3 px jitter), lifted by the same "
+                               "fold priors")  # fmt: skip
+        provenance["recipe"] += " --adult"
+        provenance["sources"] = sorted(str(s) for s in np.unique(source_of(motions)))
+        provenance["held_out_by_source_coverage_90"] = {
+            s: {k: round(v, 4) for k, v in fams.items()} for s, fams in by_source.items()
+        }
     cameras, domain = ("pseudo",), None
     if args.cameras:
         from benchmarks.lib.settings import CAMERAS
-        from zedo_cli.analysis.uncertainty.calibration import CameraDomain
 
-        cameras, domain = ("cli", "file"), CameraDomain(CAMERA_DEPTH_M, CAMERAS.focal_px)
+        cameras, domain = ("cli", "file"), camera_domain(cases)
         provenance["data"] += (f"; the clips seen by known cameras (focal length {CAMERAS.focal_px[0]:g}-"
                                f"{CAMERAS.focal_px[1]:g} px, the infant {CAMERAS.depth_m[0]:g}-{CAMERAS.depth_m[1]:g} "
                                "m away) and lifted with their K")  # fmt: skip
+        if ADULT_SOURCE in motions:
+            provenance["data"] += "; the adult motion's clips before the clinic set-ups and two 2.5-3.5 m away"
         provenance["recipe"] += " --cameras"
         provenance["clips"].update({**CAMERA_NOISE, "cameras": dataclasses.asdict(CAMERAS)})
         provenance["domain_rule"] = "the clip's median lifted root depth and its focal length"
@@ -358,13 +478,14 @@ def main() -> int:
     )
     ap.add_argument("--cases", type=Path, default=None, help="calibrate: the folds' clip cases' folder")
     ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
+    ap.add_argument("--adult", action="store_true", help="--lift: also the adult motion made infant-like")
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="--write: calibration file (default: the package's)")
     ap.add_argument("--cameras", action="store_true", help="--cases: the clips seen by known cameras (--focal)")
     ap.add_argument("--fit-folds", type=int, nargs="+", default=None,
                     help="--cases: fit on these folds' clips only and score the other folds' (default: each fold "
                          "scored by a fit on the others)")  # fmt: skip
-    ap.add_argument("--temporal", choices=("smooth", "none"), default="smooth",
+    ap.add_argument("--temporal", choices=("smooth", "none", "clip"), default="smooth",
                     help="--cases: the lift's temporal mode (none: frame by frame, zedo lift's default)")  # fmt: skip
     args = ap.parse_args()
     if args.cases is not None:

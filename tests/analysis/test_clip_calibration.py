@@ -22,6 +22,7 @@ from zedo_cli.analysis.uncertainty.calibration import (
     assign_calibrations,
     clip_camera_mismatch,
     find_calibration,
+    held_out_note,
     read_calibrations,
     write_calibrations,
 )
@@ -162,3 +163,17 @@ def test_a_clip_outside_calibration_states_no_3d_interval_and_says_why(tmp_path:
     knee = next(r for r in a.rows if r.frame_index is None and r.measure == KNEE)
     assert knee.interval.startswith("none: outside calibration: the infant's trunk points")
     assert np.isnan(knee.low_90) and knee.value == pytest.approx(180.0, abs=1e-3)  # the measurement, unshrunk
+
+
+def test_the_analysis_says_how_the_clip_calibration_held_on_sources_left_out(tmp_path: Path) -> None:
+    one_source = clip_calibration()
+    checked = replace(one_source, provenance={**one_source.provenance, "held_out_by_source_coverage_90": {
+        "adult motion": {"mean_angle": 0.7, "all": 0.8}, "SyRIP poses": {"mean_angle": 0.9, "all": 0.91}}})  # fmt: skip
+    doc = document(kicking_poses(90), fps=30.0, temporal="smooth")
+    a = analyse(read_result(write_document(tmp_path / "k.zedo.json", doc)),
+                AnalysisSettings(), calibrations=[calibration("smooth"), checked])  # fmt: skip
+    note = next(n for n in a.notes if "left out" in n)
+    assert "91 % on SyRIP poses, 80 % on adult motion" in note and "approximate" in note  # 80 % < 85 %
+    assert "one clip source" in held_out_note(one_source)
+    fine = replace(checked, provenance={"held_out_by_source_coverage_90": {"a": {"all": 0.86}, "b": {"all": 0.9}}})
+    assert "approximate" not in held_out_note(fine)

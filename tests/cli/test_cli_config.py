@@ -131,6 +131,19 @@ def test_analyze_render_and_calibrate_take_a_config(tmp_path: Path) -> None:
     )
 
 
+def test_norms_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[norms]\nage-weeks = [8.0, 14.0]\nfps = 30.0\noutput = "typical.json"\n')
+    norms = _printed("norms", "a.zedo.json", "b.zedo.json", "--config", str(config), "--fps", "25")["norms"]
+    assert norms == {"output": "typical.json", "age_weeks": [8.0, 14.0], "fps": 25.0, "overwrite": False,
+                     "quiet": False}  # fmt: skip
+    config.write_text("[norms]\nage-weeks = 8.0\n")  # a list, even of one age
+    bad = runner.invoke(app, ["norms", "a.zedo.json", "--config", str(config)])
+    assert bad.exit_code == 2 and bad.output.startswith(f"zedo: error: {config}: [norms] age_weeks: expected ")
+    bad = runner.invoke(app, ["norms", "a.zedo.json", "-o", "typical.csv"])
+    assert bad.exit_code == 2 and bad.output == "zedo: error: typical.csv: -o/--output writes the reference as .json\n"
+
+
 def test_a_result_is_a_config_of_lift_only(tmp_path: Path) -> None:
     result_file = tmp_path / "r.zedo.json"
     result_file.write_text(json.dumps({"schema": "zedo.pose3d/1", "params": {}}))

@@ -16,7 +16,7 @@ from zedo_cli.settings.config import read_config
 from zedo_cli.settings.config_file import config_toml, toml_value
 from zedo_cli.settings.lift import LiftOptions
 
-COMMANDS = ("lift", "analyze", "render", "calibrate", "export")
+COMMANDS = ("lift", "analyze", "render", "calibrate", "export", "norms")
 
 
 def _config(tmp_path: Path, text: str) -> Path:

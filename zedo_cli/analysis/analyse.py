@@ -70,6 +70,7 @@ from .uncertainty.calibration import (
     bundled_calibrations,
     camera_stand_in,
     find_calibration,
+    held_out_note,
     measure_joints,
 )
 from .uncertainty.clip_share import Share, block_frames, probability_above, share_interval
@@ -85,13 +86,6 @@ INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibrati
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
 DEFAULT_MAX_VELOCITY_DEG_S = 500.0
-# Where the `3d_` clip calibrations were fitted and where they were measured not to hold
-CLIP_CALIBRATION_CAVEAT = (
-    "the 3d_ features' intervals were calibrated on SyRIP key poses eased one into the next; on "
-    "clips of real movement (adult motion made infant-like) they held the truth far less often "
-    "than their level, and their estimates lean to the calibration clips' values "
-    '(docs/clinical.md, "Stated camera or not")'
-)
 FLAG_TOO_FAST = "too_fast"
 
 
@@ -374,7 +368,7 @@ def _clip_feature_rows(a: Analysis, models: Sequence[MeasureCalibration], camera
     a.clip_calibration = clip_cal
     if clip_cal is not None:
         a.notes.append(backing_note(clip_cal))
-        a.notes.append(CLIP_CALIBRATION_CAVEAT)
+        a.notes.append(held_out_note(clip_cal))
     stand_in = camera_stand_in(models, res.params, res.skeleton.joints, scope="clips")
     features = clip_features(res, a.index, float(a.fps or 0.0), clip_cal, clip_why, a.settings.level, cameras, outside,
                              stand_in)  # fmt: skip

@@ -1,4 +1,4 @@
-"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render` and `calibrate`.
+"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate` and `norms`.
 
 Precedence: a command's defaults < its table of the --config file < the flags given on the
 command line. The file is read before click parses the command line (`ZedoCommand.parse_args`)
@@ -36,12 +36,19 @@ MODELS = {
     "analyze": ("analyze", "AnalyzeOptions"),
     "render": ("render", "RenderOptions"),
     "calibrate": ("calibrate", "CalibrateOptions"),
+    "norms": ("norms", "NormsOptions"),
 }
 CONFIG_HELP = (
     "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
     'flags given here win (docs/cli.md, "Config files").{result}'
 )
-EXAMPLES = {"lift": "steps = 30", "analyze": "fps = 30.0", "render": "side-view = true", "calibrate": "square = 0.025"}
+EXAMPLES = {
+    "lift": "steps = 30",
+    "analyze": "fps = 30.0",
+    "render": "side-view = true",
+    "calibrate": "square = 0.025",
+    "norms": "age-weeks = [8.0]",
+}
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 
 

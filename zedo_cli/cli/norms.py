@@ -9,27 +9,21 @@ import typer
 
 from ..analysis.analyse import AnalysisSettings, analyse
 from ..analysis.compare import features_by_person
-from ..analysis.norms.norms import AGE_THRESHOLD_WEEKS, MIN_REFERENCE_CLIPS, build_norms, check_age_weeks
+from ..analysis.norms.norms import MIN_REFERENCE_CLIPS, build_norms
 from ..analysis.norms.norms_file import write_norms
 from ..errors import ConfigError, plural
 from ..files import check_writable
 from ..formats.readers.result import read_result
+from ..settings.norms import NormsOptions
 from ..version import __version__
 from .analyze import expand_results
 from .common import err_console, error_boundary, output_option, progress_bar
+from .config import config_option, print_config_option, resolve_options
 
 
-def ages_per_input(ages: list[float] | None, count: int) -> list[float | None]:
-    """--age-weeks: none, one age for every input, or one per input in order."""
-    if not ages:
-        return [None] * count
-    for age in ages:
-        check_age_weeks(age)
-    if len(ages) == 1:
-        return [ages[0]] * count
-    if len(ages) != count:
-        raise ConfigError(f"--age-weeks: give one age for every clip or one per clip ({count}), got {len(ages)}")
-    return list(ages)
+def _opt(key: str, *names: str) -> typer.models.OptionInfo:
+    """The option `key` of NormsOptions, with the model's help text."""
+    return typer.Option(*names, help=NormsOptions.help(key))
 
 
 @error_boundary
@@ -41,17 +35,13 @@ def norms_command(
             show_default=False,
         ),
     ],
-    output: Annotated[str, output_option("The reference to write (.json).")] = "norms.json",
-    age_weeks: Annotated[
-        Optional[list[float]],
-        typer.Option(
-            help=f"Age in weeks: once (every clip) or once per clip, in order. With ages, the reference is "
-            f"split at {AGE_THRESHOLD_WEEKS:g} weeks as published; without, one bracket."
-        ),
-    ] = None,
-    fps: Annotated[Optional[float], typer.Option(help="Frame rate, where zedo lift recorded none.")] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar or summary.")] = False,
+    output: Annotated[str, output_option(NormsOptions.help("output"))] = "norms.json",
+    age_weeks: Annotated[Optional[list[float]], _opt("age_weeks")] = None,
+    fps: Annotated[Optional[float], _opt("fps")] = None,
+    overwrite: Annotated[bool, _opt("overwrite")] = False,
+    quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("norms")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Build a reference of typical infants for zedo analyze --norms.
 
@@ -70,14 +60,13 @@ def norms_command(
       zedo norms a.zedo.json b.zedo.json ... --age-weeks 8 --age-weeks 14 ...
       zedo analyze infant.zedo.json --norms norms.json --age-weeks 12
     """
-    if Path(output).suffix.lower() != ".json":
-        raise ConfigError(f"{output}: -o/--output writes the reference as .json")
-    check_writable(Path(output), overwrite)
+    o: NormsOptions = resolve_options(NormsOptions).options
+    check_writable(Path(o.output), o.overwrite)
     sources = expand_results(results)
-    ages = ages_per_input(age_weeks, len(sources))
-    settings = AnalysisSettings(fps=fps)
+    ages = o.ages_per_input(len(sources))
+    settings = AnalysisSettings(fps=o.fps)
     clips = []
-    with progress_bar(quiet) as bar:
+    with progress_bar(o.quiet) as bar:
         task = bar.add_task("analyse clips", total=len(sources), status="")
         for source, age in zip(sources, ages, strict=True):
             a = analyse(read_result(source), settings)
@@ -87,8 +76,8 @@ def norms_command(
             clips += features_by_person(a, age)
             bar.update(task, advance=1)
     norms = build_norms(clips, __version__)
-    write_norms(output, norms, overwrite=overwrite)
-    if not quiet:
+    write_norms(o.output, norms, overwrite=o.overwrite)
+    if not o.quiet:
         for bracket in norms.brackets:
             n = norms.brackets_of_clips.count(bracket)
             fitted, left = len(norms.fits[bracket]), len(norms.left_out[bracket])
@@ -100,4 +89,4 @@ def norms_command(
             err_console.print(f"zedo: note: the clips were lifted in {len(liftings)} ways ({'; '.join(liftings)}): "
                               "their 3D features are measured differently; lift a reference alike",
                               markup=False, soft_wrap=True)  # fmt: skip
-        err_console.print(f"wrote {output}", markup=False, soft_wrap=True)
+        err_console.print(f"wrote {o.output}", markup=False, soft_wrap=True)

@@ -473,6 +473,22 @@ def backing(calibration: MeasureCalibration) -> dict[str, Any]:
             "data": calibration.provenance.get("data")}  # fmt: skip
 
 
+def held_out_note(calibration: MeasureCalibration) -> str:
+    """How far a calibration's intervals can be trusted off the clips it was fitted on: each source's coverage
+    when the calibration is fitted on the other sources only (its provenance's `held_out_by_source_coverage_90`),
+    or, for a calibration of one source, that no other source has checked it."""
+    held = calibration.provenance.get("held_out_by_source_coverage_90")
+    what = "the 3d_ features' intervals" if calibration.scope == "clips" else f"{calibration.scope} intervals"
+    if not held:
+        return (f"{what} were fitted on one clip source; on clips unlike it (real movement) they may hold the truth "
+                "less often than their level says")  # fmt: skip
+    per_source = ", ".join(f"{100 * fams['all']:.0f} % on {source}" for source, fams in sorted(held.items()))
+    low = min(fams["all"] for fams in held.values())
+    trust = "" if low >= 0.85 else "; read them as approximate on clips unlike all of its sources"
+    return (f"{what} were fitted on {len(held)} clip sources; fitted on all but one, their 90 % "
+            f"intervals held the truth in {per_source} (the one left out){trust}")  # fmt: skip
+
+
 def backing_note(calibration: MeasureCalibration) -> str:
     b = backing(calibration)
     where = f"; {b['camera_range']}" if b["camera_range"] else ""

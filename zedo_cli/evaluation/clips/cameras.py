@@ -52,6 +52,11 @@ CLINIC_CAMERAS: tuple[CameraSetup, ...] = (
     CameraSetup("tripod-1080p", 2200.0, 1920, 1080, (1.2, 1.5)),
     CameraSetup("tele-1080p", 3000.0, 1920, 1080, (1.4, 1.5)),
 )
+# Further than the clinic set-ups: a camera on a high tripod or the ceiling, 2.5-3.5 m away
+FAR_CAMERAS: tuple[CameraSetup, ...] = (
+    CameraSetup("far-1080p", 2000.0, 1920, 1080, (2.5, 3.5)),
+    CameraSetup("far-tele-1080p", 3000.0, 1920, 1080, (2.5, 3.5)),
+)
 
 
 def axis_rotations(axis: int, angle: np.ndarray) -> np.ndarray:
