@@ -222,16 +222,24 @@ def family(name: str) -> str:
     return name.removeprefix("3d_").rsplit("_", 1)[0]
 
 
-def fit_features(raw: np.ndarray, truth: np.ndarray, names: np.ndarray) -> dict[str, Any]:
+# --shrinkage: `none` (the default) keeps the measured value (weight 1) and fits only the intervals; `fitted` shrinks
+# each estimate towards the calibration truths' median by the weight of least error (calibration.WEIGHT_GRID), which
+# pulls a clip of another source towards the calibration clips' values
+SHRINKAGE = {"fitted": None, "none": (1.0,)}
+
+
+def fit_features(raw: np.ndarray, truth: np.ndarray, names: np.ndarray, shrinkage: str = "none") -> dict[str, Any]:
     """Per feature, a MeasureModel fitted on clips `raw, truth (C, F)` (fewer bins where few clips have it)."""
-    from zedo_cli.analysis.uncertainty.calibration import fit_measure
+    from zedo_cli.analysis.uncertainty.calibration import WEIGHT_GRID, fit_measure
+
+    weights = SHRINKAGE[shrinkage] or WEIGHT_GRID
 
     models = {}
     for i, n in enumerate(names):
         ok = int((np.isfinite(raw[:, i]) & np.isfinite(truth[:, i])).sum())
         if ok >= MIN_PER_BIN:
             bins = max(1, min(BINS, ok // MIN_PER_BIN))
-            models[str(n)] = fit_measure(raw[:, i], truth[:, i], circular=False, bins=bins)
+            models[str(n)] = fit_measure(raw[:, i], truth[:, i], circular=False, bins=bins, weights=weights)
     return models
 
 
@@ -278,7 +286,7 @@ def calibrate(args: argparse.Namespace) -> int:
         case = cases[k]
         others = [c for j, c in cases.items() if (j in fit_on if fit_on else j != k)]
         models = fit_features(np.concatenate([c["raw"] for c in others]),
-                              np.concatenate([c["truth"] for c in others]), names)  # fmt: skip
+                              np.concatenate([c["truth"] for c in others]), names, args.shrinkage)  # fmt: skip
         s = score(models, case)
         motions.append(case["motion"])
         clip_hits.append(s["hit"])
@@ -323,7 +331,7 @@ def calibrate(args: argparse.Namespace) -> int:
     if args.cameras:
         camera_coverage(np.concatenate(clip_hits), *(np.concatenate([cases[k][key] for k in scored])
                                                      for key in ("depth_m", "focal_px")))  # fmt: skip
-    by_source = held_out_by_source(cases, names) if len(set(source_of(motion))) > 1 else {}
+    by_source = held_out_by_source(cases, names, args.shrinkage) if len(set(source_of(motion))) > 1 else {}
     print("\n### MAE against the 3D truth, (clip, side, joint) cases of both folds held out")
     print("| feature | calibrated 3d_ | raw 3d_ | 2D (published) | calibrated / 2D | raw / 2D |")
     print("| --- | --- | --- | --- | --- | --- |")
@@ -350,7 +358,9 @@ def source_of(motion: np.ndarray) -> np.ndarray:
     return np.where(motion == ADULT_SOURCE, "adult motion", SYRIP_SOURCE)
 
 
-def held_out_by_source(cases: dict[int, dict[str, np.ndarray]], names: np.ndarray) -> dict[str, dict[str, float]]:
+def held_out_by_source(
+    cases: dict[int, dict[str, np.ndarray]], names: np.ndarray, shrinkage: str = "none"
+) -> dict[str, dict[str, float]]:
     """Each source's clips (every fold's) scored by a fit on the other sources' clips only: per family the coverage
     of the 90 % intervals and their median width, printed as a table; returned as {source: {family: coverage}}."""
     pooled = {key: np.concatenate([c[key] for c in cases.values()]) for key in ("raw", "truth", "motion")}
@@ -363,7 +373,7 @@ def held_out_by_source(cases: dict[int, dict[str, np.ndarray]], names: np.ndarra
     print("| --- | --- | " + " | ".join("---" for _ in fams) + " | --- |")
     for s in np.unique(source):
         fit, held = source != s, source == s
-        models = fit_features(pooled["raw"][fit], pooled["truth"][fit], names)
+        models = fit_features(pooled["raw"][fit], pooled["truth"][fit], names, shrinkage)
         got = score(models, {"names": names, "raw": pooled["raw"][held], "truth": pooled["truth"][held]})
         cells, out[str(s)] = [], {}
         for fam in fams:
@@ -417,7 +427,7 @@ def write_calibration(
 
     shipped = load_prior(resolve_prior_path(None))
     models = fit_features(np.concatenate([c["raw"] for c in cases.values()]),
-                          np.concatenate([c["truth"] for c in cases.values()]), names)  # fmt: skip
+                          np.concatenate([c["truth"] for c in cases.values()]), names, args.shrinkage)  # fmt: skip
     # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
     # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
     provenance = {
@@ -429,6 +439,7 @@ def write_calibration(
         "fps": float(CLIP_SETTINGS["fps"]),
         "clips": {**CLIP_SETTINGS, **CASE_CLIPS, "interpolation": list(CASE_MOTIONS)},
         "cross_fitted_coverage_90": {k: round(v, 4) for k, v in coverage.items()},
+        "shrinkage": args.shrinkage,
     }
     motions = np.unique(np.concatenate([c["motion"] for c in cases.values()]))
     if ADULT_SOURCE in motions:
@@ -459,8 +470,9 @@ def write_calibration(
                              shipped.skeleton.joints, models, provenance, domain=domain, scope="clips")  # fmt: skip
     out = args.out or bundled_path()
     old = read_calibrations(out) if out.exists() else []
-    keep = [c for c in old if (c.prior_sha256, c.temporal_mode, c.cameras, c.domain, c.scope)
-            != (cal.prior_sha256, cal.temporal_mode, cal.cameras, cal.domain, cal.scope)]  # fmt: skip
+    # one clip calibration per prior, temporal mode and kind of camera: a refit replaces it whatever its camera range
+    keep = [c for c in old if (c.prior_sha256, c.temporal_mode, c.cameras, c.scope)
+            != (cal.prior_sha256, cal.temporal_mode, cal.cameras, cal.scope)]  # fmt: skip
     write_calibrations(out, [*keep, cal])
     print(f"\nwrote {out}: {len(keep) + 1} calibrations ({len(models)} 3d_ features in the new one)")
 
@@ -479,6 +491,8 @@ def main() -> int:
     ap.add_argument("--cases", type=Path, default=None, help="calibrate: the folds' clip cases' folder")
     ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
     ap.add_argument("--adult", action="store_true", help="--lift: also the adult motion made infant-like")
+    ap.add_argument("--shrinkage", choices=tuple(SHRINKAGE), default="none",
+                    help="--cases: estimates shrunk to the calibration clips' median or not")  # fmt: skip
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="--write: calibration file (default: the package's)")
     ap.add_argument("--cameras", action="store_true", help="--cases: the clips seen by known cameras (--focal)")

@@ -144,6 +144,20 @@ def test_norms_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
     assert bad.exit_code == 2 and bad.output == "zedo: error: typical.csv: -o/--output writes the reference as .json\n"
 
 
+def test_export_takes_a_config_with_lifts_option_names(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[export]\nmarker-axes = "overhead"\nunits = "mm"\noutput-format = "trc"\n')
+    export = _printed("export", "r.zedo.json", "--config", str(config), "--format", "c3d")["export"]
+    assert (export["marker_axes"], export["units"], export["output_format"]) == ("overhead", "mm", "c3d")
+    config.write_text('[export]\nunits = "cm"\n')
+    bad = runner.invoke(app, ["export", "r.zedo.json", "--config", str(config)])
+    assert (
+        bad.exit_code == 2 and bad.output == f"zedo: error: {config}: [export] units: expected one of m, mm, got 'cm'\n"
+    )
+    bad = runner.invoke(app, ["export", "r.zedo.json", "--marker-axes", "sideways"])
+    assert bad.exit_code == 2 and bad.output.startswith("zedo: error: --marker-axes must be one of level, overhead")
+
+
 def test_a_result_is_a_config_of_lift_only(tmp_path: Path) -> None:
     result_file = tmp_path / "r.zedo.json"
     result_file.write_text(json.dumps({"schema": "zedo.pose3d/1", "params": {}}))

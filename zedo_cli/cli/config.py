@@ -1,4 +1,4 @@
-"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate` and `norms`.
+"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms` and `export`.
 
 Precedence: a command's defaults < its table of the --config file < the flags given on the
 command line. The file is read before click parses the command line (`ZedoCommand.parse_args`)
@@ -37,6 +37,7 @@ MODELS = {
     "render": ("render", "RenderOptions"),
     "calibrate": ("calibrate", "CalibrateOptions"),
     "norms": ("norms", "NormsOptions"),
+    "export": ("export", "ExportOptions"),
 }
 CONFIG_HELP = (
     "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
@@ -48,6 +49,7 @@ EXAMPLES = {
     "render": "side-view = true",
     "calibrate": "square = 0.025",
     "norms": "age-weeks = [8.0]",
+    "export": 'marker-axes = "overhead"',
 }
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 

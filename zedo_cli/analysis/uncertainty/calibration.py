@@ -112,8 +112,10 @@ class MeasureModel:
         return est - np.asarray(self.q_low[level])[b], est + np.asarray(self.q_high[level])[b]
 
 
-def fit_measure(value: np.ndarray, truth: np.ndarray, *, circular: bool, bins: int) -> MeasureModel:
-    """Fit one measure on held-out cases `(n,)` (NaN cases are left out): the weight of WEIGHT_GRID
+def fit_measure(
+    value: np.ndarray, truth: np.ndarray, *, circular: bool, bins: int, weights: Sequence[float] = WEIGHT_GRID
+) -> MeasureModel:
+    """Fit one measure on held-out cases `(n,)` (NaN cases are left out): the weight of `weights`
     with the least mean absolute error, then per bin of the measured value (`bins` of equal count)
     the conformal quantiles of (truth - estimate) for each level of LEVELS."""
     ok = np.isfinite(value) & np.isfinite(truth)
@@ -123,8 +125,8 @@ def fit_measure(value: np.ndarray, truth: np.ndarray, *, circular: bool, bins: i
         mean_dir = float(np.degrees(np.arctan2(np.sin(np.radians(truth)).mean(), np.cos(np.radians(truth)).mean())))
         center = float(wrap_deg(mean_dir + np.median(wrap_deg(truth - mean_dir))))
     errors = [np.abs(residuals(truth, MeasureModel(center, w, (), {}, {}, circular).estimate(value), circular)).mean()
-              for w in WEIGHT_GRID]  # fmt: skip
-    weight = WEIGHT_GRID[int(np.argmin(errors))]
+              for w in weights]  # fmt: skip
+    weight = float(weights[int(np.argmin(errors))])
     edges = tuple(float(e) for e in np.quantile(value, np.linspace(0, 1, bins + 1)[1:-1]))
     model = MeasureModel(center, weight, edges, {}, {}, circular)
     r = residuals(truth, model.estimate(value), circular)
