@@ -484,11 +484,12 @@ def held_out_note(calibration: MeasureCalibration) -> str:
     if not held:
         return (f"{what} were fitted on one clip source; on clips unlike it (real movement) they may hold the truth "
                 "less often than their level says")  # fmt: skip
-    per_source = ", ".join(f"{100 * fams['all']:.0f} % on {source}" for source, fams in sorted(held.items()))
+    per_source = ", ".join(f"{100 * fams['all']:.0f} % ({source})" for source, fams in sorted(held.items()))
     low = min(fams["all"] for fams in held.values())
-    trust = "" if low >= 0.85 else "; read them as approximate on clips unlike all of its sources"
-    return (f"{what} were fitted on {len(held)} clip sources; fitted on all but one, their 90 % "
-            f"intervals held the truth in {per_source} (the one left out){trust}")  # fmt: skip
+    unlike = "both sources" if len(held) == 2 else "every source"
+    trust = "" if low >= 0.85 else f"; read them as approximate on clips unlike {unlike}"
+    return (f"{what} were fitted on clips of {len(held)} sources; each source scored by a fit on the others alone, "
+            f"their 90 % intervals held the truth in {per_source} of cases{trust}")  # fmt: skip
 
 
 def backing_note(calibration: MeasureCalibration) -> str:
