@@ -13,7 +13,7 @@ features_3d_accuracy.py's table clips (16 clips of 5 s a fold, `--interpolation`
 prior `fold<k>.safetensors` in `--folds` (default preset, `--temporal smooth`). It prints, per variant:
 
 - the mean absolute error of the elbow and knee `3d_mean_angle` and `3d_median_vel_angle` against the truth
-  and its ratio to the published 2D features' error (issue 35's target: at most 0.5);
+  and its ratio to the published 2D features' error (the target: at most 0.5);
 - of the frames where the true and the lifted segment point clearly along the depth axis (|unit z| > 0.3),
   the share on the wrong side, before and after the vote.
 

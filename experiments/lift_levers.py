@@ -1,4 +1,4 @@
-"""Lifting levers measured on held-out folds and not adopted (issue 17): the mirror average, a
+"""Lifting levers measured on held-out folds and not adopted: the mirror average, a
 symmetrised prior and a confidence threshold, beside any LiftConfig variant.
 
     python experiments/lift_levers.py --syrip-dir ../shared/data/syrip --folds folds --weights=-ema \\

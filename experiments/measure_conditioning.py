@@ -1,5 +1,5 @@
 """Would conditioning the symmetry intervals on how far the limbs point at the camera make more
-single-image calls decisive? (issue 28, an experiment on held-out lifts only.)
+single-image calls decisive? (An experiment on held-out lifts only.)
 
 A segment that points towards or away from the camera gets its depth from the prior, so its
 symmetry angle is guessed; one lying in the image plane is seen. Per pair the case feature is

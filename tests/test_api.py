@@ -45,7 +45,7 @@ def test_api_names_resolve_to_their_subpackage_objects() -> None:
     assert "lift" in dir(zedo_cli) and "lift" in zedo_cli.__all__
 
 
-# The two-line API (issue 37, item 3): zedo_cli.lift_file and zedo_cli.analyze take the commands'
+# The two-line API: zedo_cli.lift_file and zedo_cli.analyze take the commands'
 # settings by their option names, with their defaults, and give what the commands give.
 
 ROOT = EXAMPLE.parents[1]

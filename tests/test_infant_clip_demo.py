@@ -1,4 +1,4 @@
-"""examples/infant_clip_demo.py (issue 36, item 7): the clip stays inside its frame, the footage
+"""examples/infant_clip_demo.py: the clip stays inside its frame, the footage
 is a readable video with the infant drawn where its keypoints say, and the keypoints file is one a
 detector would write (COCO-17, read by zedo without options). The whole demo, zedo commands
 included, runs with `-m slow`."""

@@ -1,4 +1,4 @@
-"""How far `zedo lift` answers differ between thread counts and between kinds of CPU (issue 38).
+"""How far `zedo lift` answers differ between thread counts and between kinds of CPU.
 
 Lifts SyRIP's 1400 real poses (700 images, ground-truth and FiDIP 2D, one instance per image each;
 the bundled prior, `fast`) in a fresh process per setting, and compares each setting's

@@ -1,4 +1,4 @@
-"""Which symmetry values of the f = 1000 px clips get an interval, end to end through `zedo analyze` (issue 35).
+"""Which symmetry values of the f = 1000 px clips get an interval, end to end through `zedo analyze`.
 
 benchmarks/calibrate/calibrate_measures.py --cameras counts the frame-pairs with an interval from its own bookkeeping
 of the cases; this runs the real thing. For each fold and 2D input it makes the recipe's f = 1000 px clips again (the

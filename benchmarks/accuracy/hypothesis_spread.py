@@ -1,4 +1,4 @@
-"""Does the spread of a lift's hypotheses tell which poses went wrong? (issue 38: unstable solutions.)
+"""Does the spread of a lift's hypotheses tell which poses went wrong (unstable solutions)?
 
 For every fold prior in FOLDS (fold<k>.safetensors), lift the fold's held-out SyRIP training poses
 (never Test100) from ground-truth and FiDIP 2D with `fast` and 8 hypotheses, and relate each pose's

@@ -1,4 +1,4 @@
-"""Why the lifted knee's clip mean angle misses issue 35's target (3D error at most half the published
+"""Why the lifted knee's clip mean angle misses the target (3D error at most half the published
 2D one): limbs lifted on the wrong side of the camera's depth axis (docs/movement.md, "What limits the
 knee's mean angle").
 

@@ -1,4 +1,4 @@
-"""Does the comparison with typical infants flag what it should, and only that? (issue 35's "Norms" targets)
+"""Does the comparison with typical infants flag what it should, and only that?
 
 Synthetic 30 fps clips of one generator (zedo_cli/evaluation/clips/eased.py's: SyRIP key poses eased 1 s apart, the
 body turning and drifting, 3 px noise, 3 % dropped joints), made from the held-out poses of a fold

@@ -2,7 +2,7 @@
 
 The reference (../shared/reference/chambers2020, a pandas-1.5 venv made by its make_venv.sh) and
 `zedo_cli.analysis.clip.published_features` compute the features of the same 2D clips; this prints, per
-feature, the worst relative difference over the clips, and the worst overall. Target (issue 35): every
+feature, the worst relative difference over the clips, and the worst overall. Target: every
 feature within 0.5 %, the entropies within 1 %.
 
 Relative difference: |zedo - reference| / max(|reference|, FLOOR), FLOOR = 1e-6 (in the feature's unit);

@@ -1,4 +1,4 @@
-"""How low can a lift's symmetry-angle error go while it honours the 2D? (issue 17)
+"""How low can a lift's symmetry-angle error go while it honours the 2D?
 
 A lift with perfect depth: SyRIP's weak 3D ground truth is placed in the pseudo camera (its root
 translation fitted to the rays of the 2D, as the lift places its poses), and every observed joint

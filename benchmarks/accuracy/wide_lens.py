@@ -1,5 +1,5 @@
 """A wide lens with barrel distortion: how much does lifting through its calibration file win back?
-(issue 29; docs/cameras.md "Benchmark")
+(docs/cameras.md "Benchmark")
 
 SyRIP's Test100 weak-ground-truth 3D poses are placed in front of a camera with f = 600 px,
 k1 = -0.3, k2 = 0.1 on a 1280 x 720 image, off-centre (root point at x = 0.3 m, 1 m deep, where

@@ -1,4 +1,4 @@
-"""Calibrate the measure-level estimates and intervals of `zedo analyze` on held-out lifts (issue 28).
+"""Calibrate the measure-level estimates and intervals of `zedo analyze` on held-out lifts.
 
 1. `--lift`: every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/lib/folds.py)
    lifts its fold's held-out SyRIP training poses with the default preset and the pseudo camera,
@@ -103,7 +103,7 @@ def lift_cases(args: argparse.Namespace) -> None:
         print(f"fold {k} clips: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
 
 
-F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the issue's target set-up
+F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the target set-up
 CAMERA_DRAWS = 6  # cameras per held-out pose and 2D input (images)
 # More cases for the near range of lifted root depths (below NEAR_BELOW_M), where CAMERAS gives few: the same
 # cameras at true depths of 0.5-1.1 m. A pose lifted that near comes from a true depth under about 1.1 m (lifted
@@ -630,7 +630,7 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
                                filled=[(m, k & clips) for m, k in filled])  # fmt: skip
             print(f"clip shares asymmetric, known intrinsics, {mode}:", sh)
             report[mode]["shares"] = sh
-        if mode == "smooth":  # the issue's set-up: f = 1000 px, about 1 m away
+        if mode == "smooth":  # the target set-up: f = 1000 px, about 1 m away
             ext, efold, ekind, egroup = load_cases(folder, "f1000-smooth")
             epairs = apply_held_out(held, ext, efold, same=False)
             efilled = apply_held_out(held, ext, efold, same=False, filled=True)

@@ -1,4 +1,4 @@
-"""Calibrate `uncertainty_m` on held-out SyRIP training poses and measure its coverage (issue 17).
+"""Calibrate `uncertainty_m` on held-out SyRIP training poses and measure its coverage.
 
 Reads the per-joint errors and hypotheses that `benchmarks/calibrate/lift_validation.py --errors DIR`
 saved for one variant (fold priors lifting their held-out poses from ground-truth and FiDIP

@@ -1,5 +1,5 @@
 """How close the `3d_` clip features of lifted clips and the published 2D features come to the 3D truth
-(issue 35, part 2): elbow and knee `mean_angle` and `median_vel_angle`.
+(elbow and knee `mean_angle` and `median_vel_angle`), and the `3d_` features' clip calibrations (`--cases`).
 
 For every fold prior `fold<k><weights>.safetensors` in `--folds` (benchmarks/lib/folds.py), the fold's 150
 held-out SyRIP training poses make synthetic clips (zedo_cli/evaluation/clips/eased.py's generator with
@@ -16,6 +16,12 @@ It prints the mean absolute error against the truth over (clip, side) of each, p
 ratio 3D / 2D (target: at most 0.5). Test100 and SyRIP's synthetic rows are never read.
 
     python benchmarks/calibrate/features_3d_accuracy.py --syrip-dir ../shared/data/syrip --folds folds/
+
+With `--cases DIR` it makes the `3d_` features' clip calibrations instead: `--lift [--adult]` lifts each fold's
+clip cases (the fold's held-out poses under two motions, and with `--adult` the adult motion made infant-like, a
+second source), then it prints the coverage of the 90 % intervals cross-fitted over folds, per source, with each
+source held out of the fit, and per kind of camera; `--write` fits on every case and writes the entry of the
+shipped prior into measures.json (docs/movement.md, "Calibrated estimates and 90 % intervals").
 """
 
 from __future__ import annotations

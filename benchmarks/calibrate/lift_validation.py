@@ -1,4 +1,4 @@
-"""Score lifting settings on held-out SyRIP training poses, never on Test100 (issue 17).
+"""Score lifting settings on held-out SyRIP training poses, never on Test100.
 
 For every fold of `benchmarks/lib/folds.py` whose prior exists (FOLDS/fold<k>.safetensors, trained
 on that fold's 450 poses), lift the fold's 150 held-out poses from ground-truth and FiDIP 2D

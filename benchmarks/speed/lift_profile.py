@@ -1,4 +1,4 @@
-"""Where a lift's time goes: per-phase wall time of `lift` on one thread (issue 38).
+"""Where a lift's time goes: per-phase wall time of `lift` on one thread.
 
 Lifts the first `--poses` of SyRIP's 1400 real poses (700 images, ground-truth then FiDIP 2D; the
 throughput set of `zedo benchmark`, never Test100 alone) with a preset, `--rounds` times, and

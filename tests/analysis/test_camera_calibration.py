@@ -1,4 +1,4 @@
-"""Measure calibrations for known cameras (issue 35, part 3): a result lifted with `--focal` or
+"""Measure calibrations for known cameras: a result lifted with `--focal` or
 `--intrinsics` gets intervals where its poses lie inside a calibration's camera range, and each
 measure says why not where they do not; pseudo-camera results are analysed as before."""
 
@@ -178,7 +178,8 @@ def test_ranges_that_meet_read_as_one_and_a_near_pose_takes_the_near_range() -> 
 def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_2_m() -> None:
     """Each mode's calibrations of known cameras meet end to end over 0.4-2 m and 600-2500 px, each range fitted
     on its own held-out cases with a model for every symmetry pair, observed and with a filled joint; the pseudo
-    camera's have no range (issue 35: every symmetry value of a clip at f = 1000 px about 1 m away)."""
+    camera's have no range (the target: an interval for every symmetry value of a clip at f = 1000 px about 1 m
+    away)."""
     from zedo_cli.analysis.uncertainty.calibration import bundled_calibrations, describe_domains
 
     frames = [c for c in bundled_calibrations() if c.scope == "frames"]

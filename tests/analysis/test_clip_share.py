@@ -1,4 +1,4 @@
-"""The clip-level share of frames asymmetric (issue 35, part 4): each frame's probability from its
+"""The clip-level share of frames asymmetric: each frame's probability from its
 calibrated distribution, an interval that holds its level when neighbouring frames err together
 (where a binomial one does not), and clip rows that agree with the frame rows."""
 

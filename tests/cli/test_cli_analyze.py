@@ -203,7 +203,7 @@ def test_evaluate_reads_every_result_format_through_the_shared_reader(tiny_prior
 
 def test_a_lift_given_its_focal_length_gets_the_bundled_camera_calibration(tmp_path: Path) -> None:
     """The bundled prior and preset, `--focal 1000` (the camera the 2D was made with, 1 m away): every
-    symmetry value gets a calibrated interval from the known cameras' calibration (issue 35)."""
+    symmetry value gets a calibrated interval from the known cameras' calibration."""
     src = write_coco(tmp_path / "kp.json", n=4)
     out = tmp_path / "kp.zedo.json"
     lifted = runner.invoke(app, ["lift", str(src), "--focal", "1000", "-q", "-o", str(out)])

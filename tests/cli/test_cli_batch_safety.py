@@ -1,5 +1,4 @@
-"""A batch of inputs: one bad input never sinks the batch, and nothing is lost or overwritten
-(issue 16, items 3 and 4)."""
+"""A batch of inputs: one bad input never sinks the batch, and nothing is lost or overwritten."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""`--config FILE` and `--print-config` (issue 37, item 2): a TOML config and the same flags give
+"""`--config FILE` and `--print-config`: a TOML config and the same flags give
 identical poses, flags given on the command line win, a zedo result reruns its lift, and a bad
 file is one line with exit code 2."""
 

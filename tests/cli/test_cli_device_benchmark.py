@@ -1,4 +1,4 @@
-"""`zedo benchmark --scale` (issue 38 item 3) from the command line, on the CPU with a tiny prior: the
+"""`zedo benchmark --scale` from the command line, on the CPU with a tiny prior: the
 JSON report and the refusals (one line, exit 2) before any work."""
 
 from __future__ import annotations

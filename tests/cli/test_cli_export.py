@@ -1,4 +1,4 @@
-"""`zedo export` (issue 36, item 5): a result written again in every format is what `zedo lift -o`
+"""`zedo export`: a result written again in every format is what `zedo lift -o`
 wrote from the same lift (the same input and seed), apart from the times (of writing, of lifting)
 and, for the C3D's float32 and the NPZ's full-precision arrays, the digits the source file
 rounded away; the same checks as lift."""

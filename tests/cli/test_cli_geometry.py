@@ -1,4 +1,4 @@
-"""`zedo lift` on impossible cameras and geometry (issue 16, item 2): input files that can never
+"""`zedo lift` on impossible cameras and geometry: input files that can never
 work are input errors (exit 3), and an instance that cannot be lifted is flagged in an output
 that keeps the others. (Camera options that can never work: test_cli_options.py, exit 2.)"""
 

@@ -1,4 +1,4 @@
-"""Issue 30, parts 4-6 at the command line: checks in the order a user needs them (usage, inputs,
+"""Hostile inputs at the command line: checks in the order a user needs them (usage, inputs,
 outputs, then the prior), the silent cases made loud, and I/O failures as one line with a
 documented exit code (5) that leave nothing behind."""
 

@@ -1,4 +1,4 @@
-"""Issue 36 at the command line: a batch reports and skips an input its up-front check refuses (a
+"""A newcomer at the command line: a batch reports and skips an input its up-front check refuses (a
 symbolic link loop in a folder: exit 4, the good file written), an --image-size that fills no
 image's size is said, `zedo evaluate` on hostile or incomplete results ends in one line, and
 `zedo --help` lists the analysts' commands first."""

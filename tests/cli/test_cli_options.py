@@ -1,4 +1,4 @@
-"""Option values are checked before any work on every command (issue 16, items 6 and 7): a bad
+"""Option values are checked before any work on every command: a bad
 value is one line on stderr and exit 2, never a traceback or an exit 1 after a full run."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ REPO = Path(__file__).resolve().parents[2]
         (["--sigma", "1e300", "--temporal", "smooth"], "--sigma"),
         (["--device", "bogus"], "--device"),
         (["--device", "cuda:99"], "--device"),
-        # Cameras that can never work (issue 16, item 2).
+        # Cameras that can never work.
         (["--focal", "1e30"], "--focal"),
         (["--focal", "1e-30"], "--focal"),
         (["--principal-point", "1e9", "1e9"], "--principal-point"),

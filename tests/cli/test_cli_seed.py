@@ -1,5 +1,4 @@
-"""What --seed does, exactly as docs/lifting.md states it ("Randomness and --seed";
-issue 16, item 8): lifting with one
+"""What --seed does, exactly as docs/lifting.md states it ("Randomness and --seed"): lifting with one
 hypothesis has no randomness, so its output does not depend on the seed (only params.seed records
 it; several hypotheses: tests/cli/test_cli_uncertainty.py); the commands
 that draw random numbers take every draw from their seed."""

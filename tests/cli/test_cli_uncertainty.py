@@ -1,4 +1,4 @@
-"""`zedo lift` with hypotheses and calibrated per-joint uncertainty (issue 17): what the output
+"""`zedo lift` with hypotheses and calibrated per-joint uncertainty: what the output
 carries, when, and what it says when there is no calibration."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""Usage mistakes are one line with a hint and exit code 2, off a terminal and on one (issue 36,
-item 3): never typer's boxed panel, on any command. Run as a user runs zedo, in a subprocess,
+"""Usage mistakes are one line with a hint and exit code 2, off a terminal and on one:
+never typer's boxed panel, on any command. Run as a user runs zedo, in a subprocess,
 with stderr a pipe and then a pseudo-terminal."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Every `wrote ...` line names files that exist (issue 36, item 2): `--person all -o kick.trc`
+"""Every `wrote ...` line names files that exist: `--person all -o kick.trc`
 writes kick_P1.trc and kick_P2.trc, and says so; a CSV names its sidecar; analyze its outputs."""
 
 from __future__ import annotations

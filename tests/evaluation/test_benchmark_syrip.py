@@ -35,7 +35,7 @@ def test_throughput_inputs_are_every_real_image_once_per_2d_source() -> None:
 @pytest.mark.slow
 @needs_syrip
 def test_fast_preset_is_as_accurate_as_faithful() -> None:
-    """The issue's bar: fast within 1 mm of faithful on Test100 (both 2D inputs)."""
+    """The bar: fast within 1 mm of faithful on Test100 (both 2D inputs)."""
     prior = load_prior(bundled_prior_path(), skeleton="syrip12")
     fast, _ = run_syrip_benchmark(SYRIP_DIR, prior, get_preset("fast"))
     faithful, _ = run_syrip_benchmark(SYRIP_DIR, prior, get_preset("faithful"))

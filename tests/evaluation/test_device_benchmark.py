@@ -1,4 +1,4 @@
-"""The device benchmark (`zedo benchmark --scale`, issue 38 item 3), run on the CPU with a tiny prior:
+"""The device benchmark (`zedo benchmark --scale`), run on the CPU with a tiny prior:
 the synthetic inputs, the agreement's classes, the figures and their JSON, and the refusals."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 30: a null joint in the ground truth names the joint, the pose and the file; a joint set
+"""A null joint in the ground truth names the joint, the pose and the file; a joint set
 that lacks a protocol's joint says which; analysed poses are counted honestly."""
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ Valid documents of each layout (tests/format_fixtures.py) are mutated (keys drop
 replaced by NaN, inf, huge integers, wrong types or random JSON, lists cut short, text cut and
 spliced) and read through `read_parsed` (parsed JSON), `read_keypoints_text` (text, JSON Lines
 included) and `read_keypoints` (files, stdin-like names, OpenPose directories, Pose2Sim-named
-frame folders, files over a lowered size limit). The documents include the shapes of issue 16:
+frame folders, files over a lowered size limit). The documents include the shapes of real files:
 COCO and MMPose joint names in another order, H36M names in a COCO file, Human-Art's 21 names
 over 17 joints, OpenPose BODY_25B; reads also draw a ``--skeleton``. Whatever is read either
 fails with an `InputFormatError` naming the input on one line, or is a consistent `Keypoints2D`
@@ -86,7 +86,7 @@ BUILDERS: dict[str, Callable[[], Any]] = {
     "zedo-jsonl": lambda: jsonl_records()[0],
 }
 LAYOUTS = sorted(BUILDERS)
-# Documents in the shapes of issue 16's real files, as (layout, builder).
+# Documents in the shapes of real files, as (layout, builder).
 VARIANTS: list[tuple[str, Callable[[], Any]]] = [
     ("coco-annotations", lambda: _coco_named([MMPOSE_COCO_NAMES[k] for k in _PERM])),
     ("coco-annotations", lambda: _coco_named(_H36M_NAMES)),
@@ -100,7 +100,7 @@ SKELETON_OPTIONS = [None, None, None, *sorted(SKELETONS)]
 
 
 def pick_document(rng: random.Random) -> tuple[str, Any]:
-    """A fresh document: a quarter of the time one of the issue-16 shapes."""
+    """A fresh document: a quarter of the time one of the real files' shapes."""
     if rng.random() < 0.25:
         layout, build = rng.choice(VARIANTS)
         return layout, build()

@@ -1,4 +1,4 @@
-"""Issue 30, parts 5 and 6 in the library: hostile numbers (integers of thousands of digits, deep
+"""Hostile inputs in the library: hostile numbers (integers of thousands of digits, deep
 nesting, booleans, non-ASCII digits, 1e30) in every reader, intrinsics file and weights metadata
 end as typed one-line errors; the silent cases (a folder with a COCO file named like an OpenPose
 frame, per-image intrinsics matching no image) are said; writes the system refuses are

@@ -1,4 +1,4 @@
-"""Issue 36, part 9 in the library: a JSON object naming a key twice is refused by every JSON
+"""Hostile JSON in the library: a JSON object naming a key twice is refused by every JSON
 reader (keypoint inputs, results, calibration files, shipped calibrations, weights metadata)
 naming the key; a ragged K matrix is a camera error; the result reader refuses deep nesting and
 integers past Python's digit limit in one line as the keypoint readers do; an image id past

@@ -1,6 +1,6 @@
-"""Joints are mapped by name, always (issue 16, items 1 and 7).
+"""Joints are mapped by name, always.
 
-Fixtures are generated here in the shapes of the real files the issue names: MMPose's
+Fixtures are generated here in the shapes of real files: MMPose's
 tests/data/h36m/h36m_coco.json (H36M names, left side first, "root (pelvis)"), MMPose's
 tests/data/humanart/test_humanart.json (21 category names, 17-joint ``keypoints`` plus
 ``keypoints_21``), a Halpe-136 COCO file without category names, OpenPose BODY_25B frames
@@ -277,7 +277,7 @@ def test_cli_skeleton_option(tiny_prior_path: Path, tmp_path: Path) -> None:
 
 
 def _twelve_joint_inputs() -> dict[str, Any]:
-    """Issue 36: one 12-joint input (SyRIP's syrip12, unnamed) in every layout that counts joints."""
+    """One 12-joint input (SyRIP's syrip12, unnamed) in every layout that counts joints."""
     from format_fixtures import alphapose, jsonl_records, mmpose_image
 
     coco = coco_annotations()

@@ -1,4 +1,4 @@
-"""Reading large inputs element by element (issue 19): `jsondoc.scan_document` gives what
+"""Reading large inputs element by element: `jsondoc.scan_document` gives what
 json.loads gives, invalid text fails with json.loads' own message, and no reader parses a whole
 document into Python objects or holds more than a few times the file's size."""
 
@@ -126,7 +126,7 @@ def test_readers_read_every_layout_as_from_json_loads(layout: str) -> None:
     kp = read_keypoints_text(text, name)
     assert kp.format == layout and len(kp) > 0
     if layout != "zedo-jsonl":
-        _same(kp, read_parsed(json.loads(text), name))  # the whole document parsed, as before issue 19
+        _same(kp, read_parsed(json.loads(text), name))  # the whole document parsed at once
 
 
 @pytest.mark.parametrize("layout", sorted(_documents(3)))

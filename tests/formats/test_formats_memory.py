@@ -1,4 +1,4 @@
-"""Peak memory of reading and writing 100,000 poses in one input (issue 19), in a process of its
+"""Peak memory of reading and writing 100,000 poses in one input, in a process of its
 own: resident memory stays bounded (before the streaming readers and writers: 3.8 GB with the
 lifting). Slow (about a minute): run with ``pytest -m slow``."""
 

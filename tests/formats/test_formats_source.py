@@ -1,4 +1,4 @@
-"""Input files that are not plain JSON files (issue 16, items 6 and 7): inputs over the size
+"""Input files that are not plain JSON files: inputs over the size
 limit, FIFOs and devices refused before reading, symlink loops and broken links named as such,
 file names with newlines or terminal escapes shown escaped on one line."""
 

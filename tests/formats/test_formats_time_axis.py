@@ -1,4 +1,4 @@
-"""The time axis is kept (issue 16, item 5): OpenPose frame numbers from file names reach the
+"""The time axis is kept: OpenPose frame numbers from file names reach the
 output's ``frame_index`` (empty frames never shift later ones), AlphaPose timestamps are not
 merged by their trailing digits, a Pose2Sim folder without ``_keypoints`` is one sequence, and
 the temporal filter never blends across a long gap of missing frames."""

@@ -1,5 +1,5 @@
 """The result writers stream: the JSON text is json.dumps' to the byte, yet neither the frames
-nor the text of a document is ever held whole (issue 19: peak memory of large inputs)."""
+nor the text of a document is ever held whole (peak memory of large inputs)."""
 
 from __future__ import annotations
 

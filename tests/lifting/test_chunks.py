@@ -1,4 +1,4 @@
-"""The same lift to the bit for every thread count and batch cut (issue 38; lifting/chunks.py)."""
+"""The same lift to the bit for every thread count and batch cut (lifting/chunks.py)."""
 
 from __future__ import annotations
 
@@ -165,8 +165,8 @@ print(torch.get_num_threads())
 
 def test_two_processes_with_one_and_two_threads_give_the_same_bits(tmp_path: Path) -> None:
     """The bundled prior's network (1024 wide), as `zedo lift` runs it: with OMP_NUM_THREADS 1 and 2
-    (one chunk of 64 poses, or two of 32 on two threads) the poses are the same to the bit. Before
-    issue 38 they differed by up to a micrometre."""
+    (one chunk of 64 poses, or two of 32 on two threads) the poses are the same to the bit (with
+    the sums split over intra-op threads they would differ by up to a micrometre)."""
     outs = []
     for threads in (1, 2):
         env = {**os.environ, "OMP_NUM_THREADS": str(threads), "PYTHONPATH": os.pathsep.join(

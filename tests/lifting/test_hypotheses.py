@@ -1,4 +1,4 @@
-"""Multiple hypotheses and the twin-limb term of the lifting loop (issue 17), with a tiny prior."""
+"""Multiple hypotheses and the twin-limb term of the lifting loop, with a tiny prior."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""A lift's working set is one chunk, whatever the batch size (issue 38 item 3; docs/lifting.md,
+"""A lift's working set is one chunk, whatever the batch size (docs/lifting.md,
 "Memory"): the per-step tensors are never made for more than a chunk's rows, and a batch cut in
 many small chunks gives the same bits as one chunk."""
 

@@ -124,7 +124,7 @@ def test_fast_preset_is_no_worse_than_faithful(tiny_prior: Prior) -> None:
     poses, xy, conf, k = _inputs(20)
     fast = mpjpe_mm(lift(xy, conf, k, tiny_prior, get_preset("fast")).poses_root_relative, poses)
     faithful = mpjpe_mm(lift(xy, conf, k, tiny_prior, get_preset("faithful")).poses_root_relative, poses)
-    assert fast < faithful + 2.0, (fast, faithful)  # since issue 17 (t_start 0.2) fast is the better one
+    assert fast < faithful + 2.0, (fast, faithful)  # with t_start 0.2, fast is the better one
 
 
 def test_bf16_network_changes_little(tiny_prior: Prior) -> None:

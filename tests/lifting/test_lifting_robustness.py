@@ -1,4 +1,4 @@
-"""Impossible or hopeless geometry is never reported as lifted (issue 16, item 2).
+"""Impossible or hopeless geometry is never reported as lifted.
 
 Each instance that cannot be lifted is marked so, with its reason in `LiftResult.status`, while
 the other instances of the batch are lifted as usual; nothing raises.

@@ -1,4 +1,4 @@
-"""The temporal mode lifts only what is one sequence (issue 36, item 1): photos, frames out of
+"""The temporal mode lifts only what is one sequence: photos, frames out of
 order and jumping poses are refused before smoothing; after smoothing, a pose pulled off its 2D
 is poor_fit."""
 

@@ -1,4 +1,4 @@
-"""The temporal filter on the input's time axis (issue 16, item 5): missing frames are gaps,
+"""The temporal filter on the input's time axis: missing frames are gaps,
 and a gap longer than the filter's radius is never blended across."""
 
 from __future__ import annotations

@@ -209,7 +209,7 @@ def test_load_scratch_recipe() -> None:
     assert recipe.training.batch_size == 5000
     assert recipe.training.lr == pytest.approx(2e-4)
     assert recipe.training.warmup_steps == 5000
-    assert recipe.output.weights == "ema"  # chosen on held-out folds (issue 17)
+    assert recipe.output.weights == "ema"  # chosen on held-out folds
     assert recipe.output.dtype == "float16"
     assert recipe.sde == SubVPSDE()
     cfg = recipe.prior_config(12)

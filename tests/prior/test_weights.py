@@ -63,7 +63,7 @@ def test_loading_for_another_skeleton_is_an_error(tiny_prior_path: Path) -> None
         ({"drop": "model.head.bias"}, "do not match the model"),
         ({"drop": "template"}, "template"),
         ({"add": "surprise"}, "unexpected tensors"),
-        # Issue 16: every problem of the file is a WeightsError (exit 3), checked before allocating.
+        # Every problem of the file is a WeightsError (exit 3), checked before allocating.
         ({"meta": {"skeleton": "nope"}}, "metadata 'skeleton': unknown skeleton 'nope'"),
         ({"meta": {"model_config": json.dumps({"num_joints": 12, "hidden": 0})}}, "model hidden must be a positive"),
         ({"meta": {"model_config": json.dumps({"num_joints": 12, "hidden": 128, "embed": 32, "groups": 8,

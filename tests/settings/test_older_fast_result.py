@@ -1,4 +1,4 @@
-"""A `fast` result written before issue 38 (`params.config.bf16` false, no `params.options`) is still a
+"""A `fast` result written by an older zedo (`params.config.bf16` false, no `params.options`) is still a
 --config that lifts again: bf16 does not change the poses beyond noise (CALIBRATION_IRRELEVANT)."""
 
 from __future__ import annotations
