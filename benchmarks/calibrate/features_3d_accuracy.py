@@ -122,8 +122,8 @@ ADULT_JITTER_PX = 3.0
 
 def adult_case_clips(syrip_dir: str | Path, seed: int, known_cameras: bool) -> dict[str, np.ndarray]:
     """CASE_CLIPS clips of the adult motion made infant-like (`zedo_cli.evaluation.clips`: bones of SyRIP's training
-    infants, supine, 30 fps, 3 px jitter, 3 % of joints dropped) in the arrays `make_sequences` returns (`rel`, `xy`,
-    `conf`, `k`, `tracks`): before the pseudo camera, or with `known_cameras` before the clinic set-ups and two
+    infants, supine, 30 fps, 3 px jitter, 3 % of joints dropped: NaN) in the arrays `make_sequences` returns (`rel`,
+    `xy`, `conf`, `k`, `tracks`): before the pseudo camera, or with `known_cameras` before the clinic set-ups and two
     2.5-3.5 m away (`FAR_CAMERAS`: up to 3000 px)."""
     from benchmarks.lib.settings import CLIP_SETTINGS
     from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
@@ -142,9 +142,9 @@ def adult_case_clips(syrip_dir: str | Path, seed: int, known_cameras: bool) -> d
                               settings)  # fmt: skip
     parts: dict[str, list[np.ndarray]] = {"rel": [], "xy": [], "conf": [], "k": [], "tracks": []}
     for track, clip in enumerate(made):
-        missing = ~np.isfinite(clip.xy).all(-1)
+        missing = ~np.isfinite(clip.xy).all(-1)  # NaN, as zedo's readers give a detector's missing joints
         parts["rel"].append(root_relative(clip.poses3d, SKELETON)[0])
-        parts["xy"].append(np.where(missing[..., None], 0.0, clip.xy))
+        parts["xy"].append(clip.xy)
         parts["conf"].append(np.where(missing, 0.0, clip.confidence))
         parts["k"].append(np.broadcast_to(clip.intrinsics.matrix(), (len(clip), 3, 3)))
         parts["tracks"].append(np.full(len(clip), track))

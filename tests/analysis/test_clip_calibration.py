@@ -1,4 +1,4 @@
-"""Clip-scope measure calibrations of the `3d_` clip features (issue 35, part 2): a calibrated feature
+"""Clip-scope measure calibrations of the `3d_` clip features: a calibrated feature
 gets a shrinkage estimate and its interval, an uncalibrated one the reason; clip calibrations leave the
 frame measures alone."""
 
@@ -135,10 +135,11 @@ def test_a_clip_whose_camera_cannot_be_checked_gets_no_known_camera_interval() -
     assert clip_camera_mismatch(clip_calibration(), np.full(3, np.nan), np.full(3, np.nan)) is None  # no domain
 
 
-def test_the_bundled_clip_calibrations_cover_both_modes_and_both_kinds_of_camera() -> None:
-    """A clip lifted frame by frame (zedo lift's default) or with --temporal smooth, by the pseudo camera or a
-    known one, finds a clip calibration with every 3d_ feature's model, fitted on held-out clips whose
-    cross-fitted coverage is stated (docs/movement.md)."""
+def test_the_bundled_clip_calibrations_cover_every_mode_and_both_kinds_of_camera() -> None:
+    """A clip lifted frame by frame (zedo lift's default), with --temporal smooth or as one infant (clip), by the
+    pseudo camera or a known one up to 3.5 m and 3000 px, finds a clip calibration with every 3d_ feature's model,
+    fitted on held-out clips of two sources, with its cross-fitted and its held-out-by-source coverage stated
+    (docs/movement.md)."""
     from zedo_cli.analysis.clip.features_3d import features_3d
     from zedo_cli.analysis.uncertainty.calibration import bundled_calibrations
     from zedo_cli.data.skeleton import get_skeleton
@@ -146,14 +147,18 @@ def test_the_bundled_clip_calibrations_cover_both_modes_and_both_kinds_of_camera
 
     clips = [c for c in bundled_calibrations() if c.scope == "clips"]
     names = set(features_3d(kicking_poses(60) - np.array([0.0, 0.0, 1.0]), get_skeleton("syrip12"), 30.0).values)
-    for mode in ("none", "smooth"):
+    for mode in ("none", "smooth", "clip"):
         for sources in (["pseudo"], ["cli"], ["file"]):
             params = {"prior": {"sha256": clips[0].prior_sha256}, "config": get_preset(DEFAULT_PRESET).to_dict(),
                       "temporal": {"mode": mode}, "camera_sources": sources}  # fmt: skip
             found, why = find_calibration(clips, params, clips[0].joints, scope="clips")
             assert why == "calibrated" and found is not None and found.temporal_mode == mode
             assert (found.domain is None) == (sources == ["pseudo"]) and set(found.measures) == names
+            if found.domain is not None:
+                assert found.domain.contains(np.array([3.4]), np.array([2990.0]))[0]
             assert 0.85 <= np.mean(list(found.provenance["cross_fitted_coverage_90"].values())) <= 0.95
+            assert set(found.provenance["held_out_by_source_coverage_90"]) == {"SyRIP poses", "adult motion"}
+    assert len(clips) == 6  # one per mode and kind of camera
 
 
 def test_a_clip_outside_calibration_states_no_3d_interval_and_says_why(tmp_path: Path) -> None:
@@ -172,8 +177,8 @@ def test_the_analysis_says_how_the_clip_calibration_held_on_sources_left_out(tmp
     doc = document(kicking_poses(90), fps=30.0, temporal="smooth")
     a = analyse(read_result(write_document(tmp_path / "k.zedo.json", doc)),
                 AnalysisSettings(), calibrations=[calibration("smooth"), checked])  # fmt: skip
-    note = next(n for n in a.notes if "left out" in n)
-    assert "91 % on SyRIP poses, 80 % on adult motion" in note and "approximate" in note  # 80 % < 85 %
+    note = next(n for n in a.notes if "by a fit on the others" in n)
+    assert "91 % (SyRIP poses), 80 % (adult motion) of cases" in note and "approximate" in note  # 80 % < 85 %
     assert "one clip source" in held_out_note(one_source)
     fine = replace(checked, provenance={"held_out_by_source_coverage_90": {"a": {"all": 0.86}, "b": {"all": 0.9}}})
     assert "approximate" not in held_out_note(fine)

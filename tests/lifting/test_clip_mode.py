@@ -200,3 +200,17 @@ def test_a_csv_result_keeps_the_flags_per_joint_row_and_reads_them_back(tiny_pri
         expected = [f for f in person_flags(kp, res, i, sanity) if not f.startswith(("not_lifted_", "joints_filled"))]
         assert back.flags[i] == expected
     assert "depth_ambiguous: right_knee, left_ankle (other side: left_knee flexion 12 deg)" in back.flags[5]
+
+
+@pytest.mark.parametrize("mode", ["two-pass", "clip"])
+def test_a_joint_the_lift_does_not_use_never_moves_the_smoothed_2d(tiny_prior: Prior, mode: str) -> None:
+    """A detector's placeholder (0, 0) or a joint under --min-confidence is not an observation: the poses are those
+    of the same joint missing (NaN), not pulled towards it by the 2D smoothing of the second pass."""
+    _, xy, conf, k = _video(40)
+    junk_xy, junk_conf, missing_xy = xy.copy(), conf.copy(), xy.copy()
+    junk_xy[::3, 8] = 0.0  # the left wrist at the image's corner every third frame
+    junk_conf[::3, 8] = 0.05
+    missing_xy[::3, 8] = np.nan
+    got = lift_sequence(junk_xy, junk_conf, k, tiny_prior, QUICK, mode=mode, fps=30.0, min_confidence=0.3)
+    want = lift_sequence(missing_xy, junk_conf, k, tiny_prior, QUICK, mode=mode, fps=30.0, min_confidence=0.3)
+    np.testing.assert_allclose(got.poses_camera, want.poses_camera, atol=1e-9)

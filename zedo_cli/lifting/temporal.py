@@ -256,7 +256,10 @@ def lift_sequence(
     # two-pass: a short warm-started loop from the smoothed poses puts the joints back on rays. The rays
     # go through the detections smoothed by the same filter: rays through the raw pixels would bring
     # back their noise, one pixel being ~0.5 mm at 1 m with f = 2000 px (measured: jitter x3).
-    xy_smooth = smooth_tracks_2d(undistort_instances(xy, cameras), sigma, tracks, frames)
+    # Only the joints the lift uses are smoothed: a joint below the confidence threshold (or at a detector's
+    # placeholder 0, 0) would pull its neighbours' smoothed pixels towards it.
+    xy_used = np.where(observed[..., None], xy, np.nan)
+    xy_smooth = smooth_tracks_2d(undistort_instances(xy_used, cameras), sigma, tracks, frames)
     second = lift(xy_smooth, confidence, intrinsics, prior, config, callback=progress.part(), start_poses=rel,
                   start_translation=trans, min_confidence=min_confidence, device=device)  # fmt: skip
     # An instance the first pass could not lift (its start is NaN) stays not lifted, for the same reason,
