@@ -10,6 +10,7 @@ symmetry angle, and the median interval width; the same for the clips' `3d_` fea
 true 3D.
 
     python benchmarks/accuracy/camera_trust.py --syrip-dir ../shared/data/syrip --clips 12
+    python benchmarks/accuracy/camera_trust.py --syrip-dir ../shared/data/syrip --clips 8 --seconds 180 --setups pseudo
 """
 
 from __future__ import annotations
@@ -34,9 +35,9 @@ from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUD
 SKELETON = get_skeleton("syrip12")
 
 
-def held(path: Path, truth3d: np.ndarray, focal: float | None) -> tuple[Count, Count]:
+def held(path: Path, truth3d: np.ndarray, focal: float | None, families: dict[str, Count]) -> tuple[Count, Count]:
     """The clip's frame symmetry values and its `3d_` clip features, each as (values, with an interval, intervals
-    holding the truth, widths)."""
+    holding the truth, widths); the features also counted per family into `families`."""
     import zedo_cli
 
     lifted = zedo_cli.lift_file(str(path), skeleton="syrip12", fps=FPS, temporal="smooth", focal=focal)
@@ -51,6 +52,10 @@ def held(path: Path, truth3d: np.ndarray, focal: float | None) -> tuple[Count, C
     features = Count()
     features.add(np.ones(len(rows), bool), np.array([r.low_90 for r in rows]), np.array([r.high_90 for r in rows]),
                  np.array([true_features[r.measure] for r in rows]))  # fmt: skip
+    for r in rows:
+        family = r.measure.removeprefix(PREFIX_3D).rsplit("_", 1)[0]
+        families.setdefault(family, Count()).add(np.ones(1, bool), np.array([r.low_90]), np.array([r.high_90]),
+                                                 np.array([true_features[r.measure]]))  # fmt: skip
     return frames, features
 
 
@@ -91,6 +96,8 @@ def main() -> int:
     ap.add_argument("--clips", type=int, default=12, help="clips per camera set-up")
     ap.add_argument("--work", type=Path, default=Path("camera_trust"), help="a folder for the clips' 2D")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seconds", type=float, default=10.0, help="each clip's length")
+    ap.add_argument("--setups", nargs="+", default=None, help="only these camera set-ups (names of the table)")
     args = ap.parse_args()
     args.work.mkdir(parents=True, exist_ok=True)
     library = load_adult_library(Path(args.syrip_dir).parent / "adult")
@@ -98,19 +105,25 @@ def main() -> int:
     print("| camera set-up | focal length | infant's depth | lifted | frame values with an interval | holding the "
           "truth | median width | `3d_` features with an interval | holding the truth |")  # fmt: skip
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    families: dict[str, Count] = {}
     for camera in (PSEUDO_CAMERA, *CLINIC_CAMERAS, *FAR_CAMERAS):
+        if args.setups and camera.name not in args.setups:
+            continue
         settings = ClipSettings(fps=FPS, cameras=(camera,), habits=habits(JITTER_PX))
         totals = {way: (Count(), Count()) for way in ("no camera stated", "--focal stated")}
-        for i, clip in enumerate(adult_infant_clips(library, bodies, 10.0, args.clips, args.seed, settings)):
+        for i, clip in enumerate(adult_infant_clips(library, bodies, args.seconds, args.clips, args.seed, settings)):
             path = args.work / f"{camera.name}{i:02d}.jsonl"
             write_2d(path, clip.xy, clip.confidence, clip.image_size)
             for way, focal in (("no camera stated", None), ("--focal stated", camera.focal_px)):
-                for total, got in zip(totals[way], held(path, clip.poses3d, focal), strict=True):
+                for total, got in zip(totals[way], held(path, clip.poses3d, focal, families), strict=True):
                     total.merge(got)
         depth = f"{camera.depth_m[0]:g}-{camera.depth_m[1]:g} m"
         for way, (frames, features) in totals.items():
             print(f"| {camera.name} | {camera.focal_px:g} px | {depth} | {way} | {frames.cells('deg')} | "
                   f"{features.cells(None)} |", flush=True)  # fmt: skip
+    print("\n| `3d_` family, every set-up and way | with an interval | holding the truth |\n| --- | --- | --- |")
+    for family, count in sorted(families.items()):
+        print(f"| {family} | {count.cells(None)} |")
     return 0
 
 
