@@ -199,3 +199,10 @@ def test_an_older_result_without_its_options_lifts_again(tiny_prior_path: Path, 
     first.write_text(json.dumps(doc))
     refused = runner.invoke(app, ["lift", str(src), "--config", str(first), "--prior", str(tiny_prior_path)])
     assert refused.exit_code == 2 and "lifted with a camera from cli" in refused.output
+
+
+def test_norms_help_states_the_reference_minimum() -> None:
+    from zedo_cli.analysis.norms.norms import MIN_REFERENCE_CLIPS
+
+    text = " ".join(runner.invoke(app, ["norms", "--help"]).output.split())
+    assert f"at least {MIN_REFERENCE_CLIPS} per bracket" in text

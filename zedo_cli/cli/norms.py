@@ -48,7 +48,8 @@ def norms_command(
     Analyses each clip as zedo analyze does and fits, per clip feature and
     age bracket, a normal distribution by maximum likelihood (Chambers et
     al. 2020). Each person track of a clip is one reference clip; at least
-    10 per bracket. The reference keeps every clip's features, so that a
+    20 per bracket (fewer are refused), of about the length of the clips you
+    will compare. The reference keeps every clip's features, so that a
     clip missing a feature is compared on the features it has. Lift the
     reference's clips and the clips you compare alike (prior, preset,
     --temporal, kind of camera): the 3D features depend on it, and each
