@@ -206,3 +206,18 @@ def test_norms_help_states_the_reference_minimum() -> None:
 
     text = " ".join(runner.invoke(app, ["norms", "--help"]).output.split())
     assert f"at least {MIN_REFERENCE_CLIPS} per bracket" in text
+
+
+def test_adapt_takes_a_config_and_names_its_bad_values() -> None:
+    from zedo_cli.prior.recipes import DTYPES, WEIGHT_CHOICES
+    from zedo_cli.settings.adapt import STORED_DTYPES, WEIGHTS
+
+    assert WEIGHTS == WEIGHT_CHOICES and STORED_DTYPES == tuple(DTYPES)  # the torch-free copies agree
+    adapt = _printed("adapt", "--strategy", "finetune", "--limit", "100", "--seed", "3")["adapt"]
+    assert (adapt["strategy"], adapt["limit"], adapt["seed"], adapt["output"]) == ("finetune", 100, 3,
+                                                                                   "adapted.safetensors")  # fmt: skip
+    for args, message in ((["--strategy", "tune"], "--strategy must be one of control, finetune, scratch"),
+                          (["--limit", "0"], "--limit must be an integer >= 1, got 0"),
+                          (["--dtype", "bf16"], "--dtype must be one of float16, float32")):  # fmt: skip
+        bad = runner.invoke(app, ["adapt", *args])
+        assert bad.exit_code == 2 and bad.output.startswith(f"zedo: error: {message}"), bad.output

@@ -10,10 +10,17 @@ import typer
 
 from ..data.datasets import load_npz_poses, npz_license
 from ..files import check_writable
-from ..prior.schedules import ADAPT_TRAINING, STRATEGIES, default_training
-from .checks import DEVICE_HELP, check_choice, check_device, check_seed, check_syrip_split
-from .common import check_weights_output, epoch_progress, err_console, error_boundary, output_option
+from ..prior.schedules import default_training
+from ..settings.adapt import AdaptOptions
+from ..settings.device import check_device
+from .common import epoch_progress, err_console, error_boundary, output_option
+from .config import config_option, print_config_option, resolve_options
 from .fit import load_training_poses
+
+
+def _opt(key: str, *names: str) -> typer.models.OptionInfo:
+    """The option `key` of AdaptOptions, with the model's help text."""
+    return typer.Option(*names, help=AdaptOptions.help(key))
 
 
 @error_boundary
@@ -24,56 +31,27 @@ def adapt_command(
             help="Infant 3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names'), in the base's joint set."
         ),
     ] = None,
-    base: Annotated[
-        str, typer.Option(help="Prior to adapt: a bundled name (adult12-rotscale, syrip12-scratch) or a weights file.")
-    ] = "adult12-rotscale",
-    strategy: Annotated[
-        str,
-        typer.Option(
-            help="control (frozen base + trainable branch), finetune (all weights from the base) or scratch (fresh net of the base's size)."
-        ),
-    ] = "control",
-    out: Annotated[Path, output_option("Weights file to write (.safetensors); `zedo lift --prior` loads it.")] = Path(
-        "adapted.safetensors"
-    ),
-    syrip_dir: Annotated[Optional[Path], typer.Option(help="Adapt on the SyRIP data folder instead of POSES.")] = None,
-    split: Annotated[str, typer.Option(help="SyRIP side: train (600 poses), test or all.")] = "train",
-    skeleton: Annotated[Optional[str], typer.Option(help="Joint set of POSES when its file does not name it.")] = None,
-    add_poses: Annotated[
-        Optional[Path],
-        typer.Option(help="Also train on these poses (npz, e.g. from `zedo augment`), added after the --limit subset."),
-    ] = None,
-    limit: Annotated[
-        Optional[int], typer.Option(help="Train on a seeded, reproducible subset of N poses (default: all).")
-    ] = None,
-    epochs: Annotated[
-        Optional[int],
-        typer.Option(
-            help="Passes over the data; one step each while N <= batch size. Default: 1000 (control, finetune), 8000 (scratch)."
-        ),
-    ] = None,
-    batch_size: Annotated[int, typer.Option(help="Poses per step.")] = ADAPT_TRAINING.batch_size,
-    lr: Annotated[float, typer.Option(help="Adam learning rate after warm-up.")] = ADAPT_TRAINING.lr,
-    warmup_steps: Annotated[
-        Optional[int], typer.Option(help="Linear warm-up steps. Default: 200 (control, finetune), 5000 (scratch).")
-    ] = None,
-    seed: Annotated[
-        int, typer.Option(help="Seed of the --limit subset, new weights (prompt, scratch net), noise and shuffling.")
-    ] = 0,
-    weights: Annotated[
-        str,
-        typer.Option(
-            help="Which weights to save: ema (moving average, the default: steadier on held-out poses) or raw (last step)."
-        ),
-    ] = "ema",
-    dtype: Annotated[str, typer.Option(help="Stored precision: float16 or float32.")] = "float16",
-    license_text: Annotated[
-        Optional[str],
-        typer.Option("--license", help="Terms of POSES, stored with the base's terms (SyRIP's are filled in)."),
-    ] = None,
-    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    base: Annotated[str, _opt("base")] = AdaptOptions.default("base"),
+    strategy: Annotated[str, _opt("strategy")] = AdaptOptions.default("strategy"),
+    out: Annotated[Path, output_option(AdaptOptions.help("output"))] = AdaptOptions.default("output"),
+    syrip_dir: Annotated[Optional[Path], _opt("syrip_dir")] = None,
+    split: Annotated[str, _opt("split")] = AdaptOptions.default("split"),
+    skeleton: Annotated[Optional[str], _opt("skeleton")] = None,
+    add_poses: Annotated[Optional[Path], _opt("add_poses")] = None,
+    limit: Annotated[Optional[int], _opt("limit")] = None,
+    epochs: Annotated[Optional[int], _opt("epochs")] = None,
+    batch_size: Annotated[int, _opt("batch_size")] = AdaptOptions.default("batch_size"),
+    lr: Annotated[float, _opt("lr")] = AdaptOptions.default("lr"),
+    warmup_steps: Annotated[Optional[int], _opt("warmup_steps")] = None,
+    seed: Annotated[int, _opt("seed")] = 0,
+    weights: Annotated[str, _opt("weights")] = AdaptOptions.default("weights"),
+    dtype: Annotated[str, _opt("dtype")] = AdaptOptions.default("dtype"),
+    license_text: Annotated[Optional[str], _opt("license", "--license")] = None,
+    device: Annotated[str, _opt("device")] = "cpu",
+    overwrite: Annotated[bool, _opt("overwrite")] = False,
+    quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("adapt")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Adapt a pose prior to a small infant 3D data set; write a prior `zedo lift` loads.
 
@@ -92,45 +70,42 @@ def adapt_command(
 
       zedo lift keypoints.json --prior ca100.safetensors
     """
-    check_choice("--strategy", strategy, STRATEGIES)
-    check_weights_output(weights, dtype)
-    check_syrip_split(split)
-    check_seed(seed)
-    device = check_device(device)  # auto: CUDA when present
+    o: AdaptOptions = resolve_options(AdaptOptions).options
+    device = check_device(o.device)  # auto: CUDA when present
     from ..prior.adapt import adapt_prior, select_subset, with_added_poses, write_adapted_prior  # torch from here on
     from ..prior.recipes import DTYPES, SYRIP_LICENSE
     from ..prior.weights import load_prior, resolve_prior_path
 
-    check_writable(out, overwrite)
-    recipe = default_training(strategy)
-    cfg = replace(recipe, epochs=recipe.epochs if epochs is None else epochs, batch_size=batch_size, lr=lr,
-                  warmup_steps=recipe.warmup_steps if warmup_steps is None else warmup_steps, seed=seed)  # fmt: skip
-    prior = load_prior(resolve_prior_path(base), device="cpu")
-    data = select_subset(load_training_poses(poses, syrip_dir, split, skeleton), limit, seed)
-    if add_poses is not None:
-        data = with_added_poses(data, load_npz_poses(add_poses, data.skeleton.name))
+    check_writable(o.output, o.overwrite)
+    recipe = default_training(o.strategy)
+    cfg = replace(recipe, epochs=recipe.epochs if o.epochs is None else o.epochs, batch_size=o.batch_size, lr=o.lr,
+                  warmup_steps=recipe.warmup_steps if o.warmup_steps is None else o.warmup_steps, seed=o.seed)  # fmt: skip
+    prior = load_prior(resolve_prior_path(o.base), device="cpu")
+    data = select_subset(load_training_poses(poses, o.syrip_dir, o.split, o.skeleton), o.limit, o.seed)
+    if o.add_poses is not None:
+        data = with_added_poses(data, load_npz_poses(o.add_poses, data.skeleton.name))
     terms = (
-        license_text
-        if license_text is not None
-        else (SYRIP_LICENSE if syrip_dir is not None else "as the terms of the adaptation data")
+        o.license
+        if o.license is not None
+        else (SYRIP_LICENSE if o.syrip_dir is not None else "as the terms of the adaptation data")
     )
     err_console.print(
-        f"adapting {prior.label} by {strategy} on {len(data.names)} poses from {data.source}: "
+        f"adapting {prior.label} by {o.strategy} on {len(data.names)} poses from {data.source}: "
         f"{cfg.epochs} epochs, batch {cfg.batch_size}, lr {cfg.lr}, seed {cfg.seed}, {device}"
     )
-    with epoch_progress(quiet, "adapt", cfg.epochs) as on_epoch:
-        adapted = adapt_prior(prior, data, strategy, cfg, device=device, callback=on_epoch)
+    with epoch_progress(o.quiet, "adapt", cfg.epochs) as on_epoch:
+        adapted = adapt_prior(prior, data, o.strategy, cfg, device=device, callback=on_epoch)
     base_terms = prior.metadata.get("license", "unknown")
-    license_all = terms if strategy == "scratch" else f"{terms} Adapted from a prior whose terms are: {base_terms}"
-    added_terms = None if add_poses is None else npz_license(add_poses)
+    license_all = terms if o.strategy == "scratch" else f"{terms} Adapted from a prior whose terms are: {base_terms}"
+    added_terms = None if o.add_poses is None else npz_license(o.add_poses)
     if added_terms is not None:  # e.g. augmented poses derived from non-commercial data
-        license_all += f" Also trained on poses from {add_poses.name}, whose terms are: {added_terms}"
+        license_all += f" Also trained on poses from {o.add_poses.name}, whose terms are: {added_terms}"
     sha = write_adapted_prior(
-        out, adapted, prior, data, cfg, license_text=license_all, weights=weights, dtype=DTYPES[dtype],
-        extra={"device": device, "limit": limit, "added_poses": None if add_poses is None else str(add_poses)},
+        o.output, adapted, prior, data, cfg, license_text=license_all, weights=o.weights, dtype=DTYPES[o.dtype],
+        extra={"device": device, "limit": o.limit, "added_poses": None if o.add_poses is None else str(o.add_poses)},
     )  # fmt: skip
     err_console.print(
-        f"wrote {out} ({strategy}, {adapted.trainable:,} of {adapted.total:,} parameters trained, {dtype}, "
+        f"wrote {o.output} ({o.strategy}, {adapted.trainable:,} of {adapted.total:,} parameters trained, {o.dtype}, "
         f"sha256 {sha[:12]}); {adapted.result.steps} steps in {adapted.result.seconds:.0f} s, "
         f"final loss {adapted.result.final_loss:.3f}"
     )

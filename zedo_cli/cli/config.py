@@ -1,4 +1,5 @@
-"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms` and `export`.
+"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export` and
+`adapt`.
 
 Precedence: a command's defaults < its table of the --config file < the flags given on the
 command line. The file is read before click parses the command line (`ZedoCommand.parse_args`)
@@ -38,6 +39,7 @@ MODELS = {
     "calibrate": ("calibrate", "CalibrateOptions"),
     "norms": ("norms", "NormsOptions"),
     "export": ("export", "ExportOptions"),
+    "adapt": ("adapt", "AdaptOptions"),
 }
 CONFIG_HELP = (
     "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
@@ -50,6 +52,7 @@ EXAMPLES = {
     "calibrate": "square = 0.025",
     "norms": "age-weeks = [8.0]",
     "export": 'marker-axes = "overhead"',
+    "adapt": 'strategy = "finetune"',
 }
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 
