@@ -221,3 +221,14 @@ def test_adapt_takes_a_config_and_names_its_bad_values() -> None:
                           (["--dtype", "bf16"], "--dtype must be one of float16, float32")):  # fmt: skip
         bad = runner.invoke(app, ["adapt", *args])
         assert bad.exit_code == 2 and bad.output.startswith(f"zedo: error: {message}"), bad.output
+
+
+def test_fit_prior_takes_a_config_and_leaves_the_rest_to_its_recipe(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[fit-prior]\nrecipe = "weights_spec/syrip12-scratch.toml"\nepochs = 2000\nweights = "ema"\n')
+    fit = _printed("fit-prior", "--config", str(config), "--seed", "4")["fit-prior"]
+    assert (fit["recipe"], fit["epochs"], fit["weights"], fit["seed"]) == ("weights_spec/syrip12-scratch.toml", 2000,
+                                                                          "ema", 4)  # fmt: skip
+    assert "batch_size" not in fit  # unset: the recipe's
+    bad = runner.invoke(app, ["fit-prior", "--minirgbd-split", "mine"])
+    assert bad.exit_code == 2 and bad.output.startswith("zedo: error: --minirgbd-split must be one of paper, reference")

@@ -287,8 +287,8 @@ def test_fit_prior_trains_an_h36m17_prior_from_the_folder(mini_prior: Path) -> N
     [
         (["--syrip-dir", "{tmp}"], 2, "exactly one"),
         (["--skeleton", "syrip12"], 2, "h36m17 joint set"),
-        (["--minirgbd-split", "ours"], 2, "unknown MINI-RGBD split"),
-        (["--mapping", "toes"], 2, "unknown MINI-RGBD mapping"),
+        (["--minirgbd-split", "ours"], 2, "--minirgbd-split must be one of paper, reference, got 'ours'"),
+        (["--mapping", "toes"], 2, "--mapping must be one of reference, anatomical, got 'toes'"),
     ],
 )
 def test_fit_prior_errors_with_minirgbd(

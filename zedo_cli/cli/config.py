@@ -1,5 +1,5 @@
-"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export` and
-`adapt`.
+"""`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export`,
+`adapt` and `fit-prior`.
 
 Precedence: a command's defaults < its table of the --config file < the flags given on the
 command line. The file is read before click parses the command line (`ZedoCommand.parse_args`)
@@ -40,6 +40,7 @@ MODELS = {
     "norms": ("norms", "NormsOptions"),
     "export": ("export", "ExportOptions"),
     "adapt": ("adapt", "AdaptOptions"),
+    "fit-prior": ("fit_prior", "FitPriorOptions"),
 }
 CONFIG_HELP = (
     "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
@@ -53,6 +54,7 @@ EXAMPLES = {
     "norms": "age-weeks = [8.0]",
     "export": 'marker-axes = "overhead"',
     "adapt": 'strategy = "finetune"',
+    "fit-prior": "epochs = 2000",
 }
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 

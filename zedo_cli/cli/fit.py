@@ -11,8 +11,10 @@ from ..data.datasets import PoseSet, load_npz_poses, load_syrip_3d
 from ..data.minirgbd import MINIRGBD_LICENSE, load_minirgbd_3d
 from ..errors import ConfigError
 from ..files import check_writable
-from .checks import DEVICE_HELP, check_device, check_seed, check_syrip_split
+from ..settings.device import check_device
+from ..settings.fit_prior import FitPriorOptions
 from .common import epoch_progress, err_console, error_boundary, output_option
+from .config import config_option, print_config_option, resolve_options
 
 
 def load_training_poses(
@@ -38,65 +40,39 @@ def load_training_poses(
     return load_npz_poses(poses, skeleton)
 
 
+def _opt(key: str, *names: str) -> typer.models.OptionInfo:
+    """The option `key` of FitPriorOptions, with the model's help text."""
+    return typer.Option(*names, help=FitPriorOptions.help(key))
+
+
 @error_boundary
 def fit_prior_command(
     poses: Annotated[
         Optional[Path], typer.Argument(help="3D poses (npz with 'poses' (N,J,3) in metres, 'joint_names').")
     ] = None,
-    out: Annotated[Path, output_option("Weights file to write (.safetensors).")] = Path("prior.safetensors"),
-    syrip_dir: Annotated[Optional[Path], typer.Option(help="Train on the SyRIP data folder instead of POSES.")] = None,
-    split: Annotated[
-        str,
-        typer.Option(
-            help="Side of the split: train, test or all (SyRIP: 600, 100, 700 poses; MINI-RGBD: see --minirgbd-split)."
-        ),
-    ] = "train",
-    minirgbd_dir: Annotated[
-        Optional[Path], typer.Option(help="Train on a local MINI-RGBD folder (holding 01 .. 12), mapped to h36m17.")
-    ] = None,
-    minirgbd_split: Annotated[
-        str,
-        typer.Option(
-            help="MINI-RGBD sequences: paper (train 01-09, test 10-12) or reference (train 01-10, test 11-12)."
-        ),
-    ] = "paper",
-    mapping: Annotated[
-        str,
-        typer.Option(
-            help="MINI-RGBD SMIL -> h36m17 joints: reference (toes as ankles, collars as shoulders, as the authors) or anatomical."
-        ),
-    ] = "reference",
-    adult_dir: Annotated[
-        Optional[Path],
-        typer.Option(
-            help="Train on the adult motion-capture folder (three *_h36m17.npz files), in --skeleton's joints (default syrip12)."
-        ),
-    ] = None,
-    skeleton: Annotated[
-        Optional[str], typer.Option(help="Joint set of POSES when its file does not name it (h36m17, syrip12, ...).")
-    ] = None,
-    recipe: Annotated[
-        Optional[Path], typer.Option(help="TOML recipe (see weights_spec/); options below override it.")
-    ] = None,
-    epochs: Annotated[Optional[int], typer.Option(help="Passes over the data (recipe: 8000).")] = None,
-    batch_size: Annotated[Optional[int], typer.Option(help="Poses per step (recipe: 5000).")] = None,
-    lr: Annotated[Optional[float], typer.Option(help="Adam learning rate after warm-up (2e-4).")] = None,
-    warmup_steps: Annotated[Optional[int], typer.Option(help="Linear warm-up steps (5000).")] = None,
-    seed: Annotated[Optional[int], typer.Option(help="Seed of initial weights, shuffling and noise (0).")] = None,
-    weights: Annotated[
-        Optional[str], typer.Option(help="Which weights to save: raw (last step, as the reference) or ema.")
-    ] = None,
-    dtype: Annotated[Optional[str], typer.Option(help="Stored precision: float16 (half the size) or float32.")] = None,
-    license_text: Annotated[
-        Optional[str],
-        typer.Option("--license", help="Terms of the training data, stored in the file (SyRIP's are filled in)."),
-    ] = None,
-    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    ema_out: Annotated[
-        Optional[Path], typer.Option(help="Also write the EMA weights to this file (to compare with the raw ones).")
-    ] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    out: Annotated[Path, output_option(FitPriorOptions.help("output"))] = FitPriorOptions.default("output"),
+    syrip_dir: Annotated[Optional[Path], _opt("syrip_dir")] = None,
+    split: Annotated[str, _opt("split")] = FitPriorOptions.default("split"),
+    minirgbd_dir: Annotated[Optional[Path], _opt("minirgbd_dir")] = None,
+    minirgbd_split: Annotated[str, _opt("minirgbd_split")] = FitPriorOptions.default("minirgbd_split"),
+    mapping: Annotated[str, _opt("mapping")] = FitPriorOptions.default("mapping"),
+    adult_dir: Annotated[Optional[Path], _opt("adult_dir")] = None,
+    skeleton: Annotated[Optional[str], _opt("skeleton")] = None,
+    recipe: Annotated[Optional[Path], _opt("recipe")] = None,
+    epochs: Annotated[Optional[int], _opt("epochs")] = None,
+    batch_size: Annotated[Optional[int], _opt("batch_size")] = None,
+    lr: Annotated[Optional[float], _opt("lr")] = None,
+    warmup_steps: Annotated[Optional[int], _opt("warmup_steps")] = None,
+    seed: Annotated[Optional[int], _opt("seed")] = None,
+    weights: Annotated[Optional[str], _opt("weights")] = None,
+    dtype: Annotated[Optional[str], _opt("dtype")] = None,
+    license_text: Annotated[Optional[str], _opt("license", "--license")] = None,
+    device: Annotated[str, _opt("device")] = "cpu",
+    ema_out: Annotated[Optional[Path], _opt("ema_out")] = None,
+    overwrite: Annotated[bool, _opt("overwrite")] = False,
+    quiet: Annotated[bool, _opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("fit-prior")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Train a score-matching diffusion prior over 3D poses and write it as a weights file.
 
@@ -110,9 +86,8 @@ def fit_prior_command(
 
       zedo fit-prior --minirgbd-dir ~/data/MINI-RGBD --minirgbd-split paper --split train -o mini.safetensors
     """
-    check_syrip_split(split)  # option errors before any data is read
-    check_seed(seed)
-    device = check_device(device)  # auto: CUDA when present
+    o: FitPriorOptions = resolve_options(FitPriorOptions).options  # option errors before any data is read
+    device = check_device(o.device)  # auto: CUDA when present
     from ..data.adult import ADULT_LICENSE  # the training stack loads here, not for --help
     from ..prior.recipes import (
         SYRIP_LICENSE,
@@ -125,18 +100,20 @@ def fit_prior_command(
         write_fitted_prior,
     )
 
-    check_writable(out, overwrite)
-    if ema_out is not None:
-        check_writable(ema_out, overwrite)
-    base = load_recipe(recipe) if recipe is not None else Recipe()
-    chosen = with_overrides(base, epochs=epochs, batch_size=batch_size, lr=lr, warmup_steps=warmup_steps, seed=seed)
-    chosen = with_output(chosen, weights=weights, dtype=dtype)
-    data = load_training_poses(poses, syrip_dir, split, skeleton, minirgbd_dir=minirgbd_dir,
-                               minirgbd_split=minirgbd_split, mapping=mapping, adult_dir=adult_dir)  # fmt: skip
+    check_writable(o.output, o.overwrite)
+    if o.ema_out is not None:
+        check_writable(o.ema_out, o.overwrite)
+    base = load_recipe(o.recipe) if o.recipe is not None else Recipe()
+    chosen = with_overrides(base, epochs=o.epochs, batch_size=o.batch_size, lr=o.lr, warmup_steps=o.warmup_steps,
+                            seed=o.seed)  # fmt: skip
+    chosen = with_output(chosen, weights=o.weights, dtype=o.dtype)
+    data = load_training_poses(poses, o.syrip_dir, o.split, o.skeleton, minirgbd_dir=o.minirgbd_dir,
+                               minirgbd_split=o.minirgbd_split, mapping=o.mapping, adult_dir=o.adult_dir)  # fmt: skip
+    license_text = o.license
     if license_text is None:
-        license_text = SYRIP_LICENSE if syrip_dir is not None else "as the terms of the training data"
-        license_text = MINIRGBD_LICENSE if minirgbd_dir is not None else license_text
-        license_text = ADULT_LICENSE if adult_dir is not None else license_text
+        license_text = SYRIP_LICENSE if o.syrip_dir is not None else "as the terms of the training data"
+        license_text = MINIRGBD_LICENSE if o.minirgbd_dir is not None else license_text
+        license_text = ADULT_LICENSE if o.adult_dir is not None else license_text
     err_console.print(
         f"training a {data.skeleton.name} prior on {len(data.names)} poses from {data.source}: "
         f"{chosen.training.epochs} epochs, batch {chosen.training.batch_size}, seed {chosen.training.seed}, {device}"
@@ -146,17 +123,17 @@ def fit_prior_command(
     fits = []
     for number, member_seed in enumerate(seeds, 1):  # an ensemble recipe (output.members > 1) trains one per seed
         label = "fit-prior" if len(seeds) == 1 else f"fit-prior, member {number}/{len(seeds)} (seed {member_seed})"
-        with epoch_progress(quiet, label, chosen.training.epochs) as on_epoch:
+        with epoch_progress(o.quiet, label, chosen.training.epochs) as on_epoch:
             fits.append(fit_prior(data, with_overrides(chosen, seed=member_seed), device=device, callback=on_epoch))
-    extra = {"recipe": str(recipe) if recipe else None, "device": device}
-    sha = write_fitted_prior(out, fits, data, chosen, license_text=license_text, extra_training=extra)
-    if ema_out is not None:
+    extra = {"recipe": str(o.recipe) if o.recipe else None, "device": device}
+    sha = write_fitted_prior(o.output, fits, data, chosen, license_text=license_text, extra_training=extra)
+    if o.ema_out is not None:
         ema_recipe = with_output(chosen, weights="ema")
-        write_fitted_prior(ema_out, fits, data, ema_recipe, license_text=license_text, extra_training=extra)
-        err_console.print(f"wrote {ema_out} (EMA weights)")
+        write_fitted_prior(o.ema_out, fits, data, ema_recipe, license_text=license_text, extra_training=extra)
+        err_console.print(f"wrote {o.ema_out} (EMA weights)")
     kind = "" if len(fits) == 1 else f", an ensemble of {len(fits)}"
     err_console.print(
-        f"wrote {out} ({chosen.output.weights} weights, {chosen.output.dtype}{kind}, sha256 {sha[:12]}); "
+        f"wrote {o.output} ({chosen.output.weights} weights, {chosen.output.dtype}{kind}, sha256 {sha[:12]}); "
         f"{sum(f.result.steps for f in fits)} steps in {sum(f.result.seconds for f in fits):.0f} s, "
         f"final loss {fits[-1].result.final_loss:.3f}"
     )
