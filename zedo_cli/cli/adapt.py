@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -14,13 +15,10 @@ from ..prior.schedules import default_training
 from ..settings.adapt import AdaptOptions
 from ..settings.device import check_device
 from .common import epoch_progress, err_console, error_boundary, output_option
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 from .fit import load_training_poses
 
-
-def _opt(key: str, *names: str) -> typer.models.OptionInfo:
-    """The option `key` of AdaptOptions, with the model's help text."""
-    return typer.Option(*names, help=AdaptOptions.help(key))
+_opt = partial(model_option, AdaptOptions)  # the option `key` of AdaptOptions, with the model's help text
 
 
 @error_boundary

@@ -4,6 +4,7 @@ accuracy on SyRIP Test100)."""
 from __future__ import annotations
 
 from dataclasses import asdict
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
@@ -41,7 +42,7 @@ from .common import (
     report_figures,
     stdout_console,
 )
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 from .lift_plan import STDIN, expand_inputs, output_stem
 
 if TYPE_CHECKING:
@@ -66,9 +67,7 @@ def _result_files(folder: Path) -> list[str]:
     return found
 
 
-def _opt(key: str, *names: str) -> typer.models.OptionInfo:
-    """The option `key` of AnalyzeOptions, with the model's help text."""
-    return typer.Option(*names, help=AnalyzeOptions.help(key))
+_opt = partial(model_option, AnalyzeOptions)  # the option `key` of AnalyzeOptions, with the model's help text
 
 
 def _D(key: str) -> object:  # noqa: N802  (the option's default, from the model)

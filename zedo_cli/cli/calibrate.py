@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -18,12 +19,9 @@ from ..camera.calibration_writer import storage_format, write_calibration
 from ..files import check_writable
 from ..settings.calibrate import CalibrateOptions
 from .common import err_console, error_boundary, output_option, step_progress
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 
-
-def _opt(key: str, *names: str, **extra: object) -> typer.models.OptionInfo:
-    """The option `key` of CalibrateOptions, with the model's help text."""
-    return typer.Option(*names, help=CalibrateOptions.help(key), **extra)  # type: ignore[arg-type]
+_opt = partial(model_option, CalibrateOptions)  # the option `key` of CalibrateOptions, with the model's help text
 
 
 def _report(cal: Calibration, output: str) -> None:

@@ -59,6 +59,12 @@ EXAMPLES = {
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 
 
+def model_option(model: type[Options], key: str, *names: str, **extra: Any) -> Any:
+    """A typer option of `model`'s field `key`, with the model's help text (one source for the command line,
+    --config and the Python API)."""
+    return typer.Option(*names, help=model.help(key), **extra)
+
+
 def config_option(command: str, panel: str | None = None) -> Any:
     result = " A zedo result lifts again with its recorded settings." if command == "lift" else ""
     return typer.Option("--config", metavar="FILE", help=CONFIG_HELP.format(command=command, example=EXAMPLES.get(command, "seed = 3"), result=result),

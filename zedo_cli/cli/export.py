@@ -3,6 +3,7 @@ by the writers of `zedo lift` (formats.export), without lifting again."""
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -13,7 +14,7 @@ from ..formats.export import export_result
 from ..formats.writers.outputs import output_format as format_of
 from ..settings.export import ExportOptions
 from .common import err_console, error_boundary, output_option
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 from .lift_plan import STDIN, check_output_options, output_stem, plan_outputs
 
 
@@ -27,9 +28,7 @@ def _output(result: str, out: str | None, fmt: str | None) -> str:
     return str(folder / f"{output_stem(result)}.zedo.{format_of('x', fmt)}")
 
 
-def _opt(key: str, *names: str) -> typer.models.OptionInfo:
-    """The option `key` of ExportOptions, with the model's help text."""
-    return typer.Option(*names, help=ExportOptions.help(key))
+_opt = partial(model_option, ExportOptions)  # the option `key` of ExportOptions, with the model's help text
 
 
 @error_boundary

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -14,7 +15,7 @@ from ..files import check_writable
 from ..settings.device import check_device
 from ..settings.fit_prior import FitPriorOptions
 from .common import epoch_progress, err_console, error_boundary, output_option
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 
 
 def load_training_poses(
@@ -40,9 +41,7 @@ def load_training_poses(
     return load_npz_poses(poses, skeleton)
 
 
-def _opt(key: str, *names: str) -> typer.models.OptionInfo:
-    """The option `key` of FitPriorOptions, with the model's help text."""
-    return typer.Option(*names, help=FitPriorOptions.help(key))
+_opt = partial(model_option, FitPriorOptions)  # the option `key` of FitPriorOptions, with the model's help text
 
 
 @error_boundary

@@ -44,7 +44,7 @@ from .common import (
     print_table,
     progress_bar,
 )
-from .config import Resolved, check_prior, config_option, print_config_option, resolve_options
+from .config import Resolved, check_prior, config_option, model_option, print_config_option, resolve_options
 from .lift_plan import (
     STDIN,
     check_inputs,
@@ -200,7 +200,7 @@ PANEL_SETTINGS = "Settings files"
 def _opt(key: str, panel: str, *names: str, **extra: object) -> typer.models.OptionInfo:
     """The option `key` of LiftOptions, its help text the model's (one source for the CLI, --config
     and the Python API)."""
-    return typer.Option(*names, help=LiftOptions.help(key), rich_help_panel=panel, **extra)  # type: ignore[arg-type]
+    return model_option(LiftOptions, key, *names, rich_help_panel=panel, **extra)
 
 
 def _check_engine(options: LiftOptions, inputs: list[str]) -> None:

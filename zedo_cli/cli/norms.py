@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -18,12 +19,9 @@ from ..settings.norms import NormsOptions
 from ..version import __version__
 from .analyze import expand_results
 from .common import err_console, error_boundary, output_option, progress_bar
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 
-
-def _opt(key: str, *names: str) -> typer.models.OptionInfo:
-    """The option `key` of NormsOptions, with the model's help text."""
-    return typer.Option(*names, help=NormsOptions.help(key))
+_opt = partial(model_option, NormsOptions)  # the option `key` of NormsOptions, with the model's help text
 
 
 @error_boundary

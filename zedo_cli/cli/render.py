@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -12,12 +13,9 @@ from ..footage.render import RenderSettings, render_images, render_video
 from ..formats.readers.result import read_result
 from ..settings.render import RenderOptions
 from .common import err_console, error_boundary, output_option, step_progress
-from .config import config_option, print_config_option, resolve_options
+from .config import config_option, model_option, print_config_option, resolve_options
 
-
-def _opt(key: str, *names: str) -> typer.models.OptionInfo:
-    """The option `key` of RenderOptions, with the model's help text."""
-    return typer.Option(*names, help=RenderOptions.help(key))
+_opt = partial(model_option, RenderOptions)  # the option `key` of RenderOptions, with the model's help text
 
 
 @error_boundary
