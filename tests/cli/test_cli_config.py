@@ -209,10 +209,15 @@ def test_norms_help_states_the_reference_minimum() -> None:
 
 
 def test_adapt_takes_a_config_and_names_its_bad_values() -> None:
-    from zedo_cli.prior.recipes import DTYPES, WEIGHT_CHOICES
-    from zedo_cli.settings.adapt import STORED_DTYPES, WEIGHTS
+    from typing import get_args
 
-    assert WEIGHTS == WEIGHT_CHOICES and STORED_DTYPES == tuple(DTYPES)  # the torch-free copies agree
+    from zedo_cli.prior.recipes import DTYPES, WEIGHT_CHOICES
+    from zedo_cli.settings.adapt import AdaptOptions
+
+    fields = AdaptOptions.model_fields  # the options take exactly what a recipe's output takes
+    assert get_args(fields["weights"].annotation) == WEIGHT_CHOICES and get_args(fields["dtype"].annotation) == tuple(
+        DTYPES
+    )
     adapt = _printed("adapt", "--strategy", "finetune", "--limit", "100", "--seed", "3")["adapt"]
     assert (adapt["strategy"], adapt["limit"], adapt["seed"], adapt["output"]) == ("finetune", 100, 3,
                                                                                    "adapted.safetensors")  # fmt: skip

@@ -20,6 +20,7 @@ from rich.text import Text
 
 from ..errors import ConfigError, ZedoError, one_line
 from ..files import check_writable, write_text_atomic
+from ..prior.schedules import STORED_DTYPES, WEIGHT_CHOICES
 from .checks import check_choice
 
 if TYPE_CHECKING:
@@ -245,10 +246,8 @@ def step_progress(quiet: bool, name: str) -> Iterator[Callable[[int, int], None]
 
 def check_weights_output(weights: str, dtype: str) -> None:
     """`--weights` and `--dtype` of a command that writes trained weights."""
-    from ..prior.recipes import DTYPES, WEIGHT_CHOICES  # torch: only once a training command runs
-
     check_choice("--weights", weights, WEIGHT_CHOICES)
-    check_choice("--dtype", dtype, DTYPES)
+    check_choice("--dtype", dtype, STORED_DTYPES)
 
 
 def progress_bar(quiet: bool) -> Progress | LineProgress:

@@ -22,7 +22,7 @@ from ..data.datasets import PoseSet
 from ..errors import ConfigError
 from .ensemble import ensemble_state
 from .model import PriorConfig, ScoreNet, parameter_count
-from .schedules import TrainConfig
+from .schedules import STORED_DTYPES, WEIGHT_CHOICES, TrainConfig
 from .sde import SubVPSDE
 from .training import TrainProgress, TrainResult, train_score_model
 from .weights import MAX_MEMBERS, save_prior
@@ -33,8 +33,7 @@ SYRIP_LICENSE = (
     "Their terms: 'This code is for non-commercial purpose only.' These weights are for "
     "research / non-commercial use only."
 )
-WEIGHT_CHOICES = ("raw", "ema")
-DTYPES = {"float16": torch.float16, "float32": torch.float32}
+DTYPES = dict(zip(STORED_DTYPES, (torch.float16, torch.float32), strict=True))
 
 
 @dataclass(frozen=True)

@@ -54,6 +54,9 @@ class TrainConfig:
 
 
 STRATEGIES = ("control", "finetune", "scratch")
+# What a trained prior's file stores: its raw (last step) or moving-average weights, at one of these precisions
+WEIGHT_CHOICES = ("raw", "ema")
+STORED_DTYPES = ("float16", "float32")
 
 # The adaptation recipe of `control` and `finetune`: the paper's objective and optimiser with a
 # schedule sized for small sets. `scratch` has nothing to adapt from and keeps the core recipe

@@ -8,14 +8,11 @@ from typing import Annotated, ClassVar, Literal, Optional
 from pydantic import Field
 
 from ..data.datasets import SYRIP_SPLITS
-from ..prior.schedules import ADAPT_TRAINING, STRATEGIES
+from ..prior.schedules import ADAPT_TRAINING, STORED_DTYPES, STRATEGIES, WEIGHT_CHOICES
 from .limits import DEVICE_HELP, MAX_SEED
 from .model import Options
 
 PathOption = Annotated[Optional[Path], Field(strict=False)]
-# The stored weights and precision of a trained prior (prior.recipes' WEIGHT_CHOICES and DTYPES, which import torch)
-WEIGHTS = ("raw", "ema")
-STORED_DTYPES = ("float16", "float32")
 
 
 class AdaptOptions(Options):
@@ -59,7 +56,7 @@ class AdaptOptions(Options):
         0, ge=0, le=MAX_SEED, description="Seed of the --limit subset, new weights (prompt, scratch net), noise and "
         "shuffling.",
     )  # fmt: skip
-    weights: Literal[WEIGHTS] = Field(  # type: ignore[valid-type]
+    weights: Literal[WEIGHT_CHOICES] = Field(  # type: ignore[valid-type]
         "ema",
         description="Which weights to save: ema (moving average, the default: steadier on held-out poses) or raw "
         "(last step).",

@@ -9,7 +9,7 @@ from pydantic import Field
 
 from ..data.datasets import SYRIP_SPLITS
 from ..data.minirgbd import MAPPINGS, SPLITS
-from .adapt import STORED_DTYPES, WEIGHTS
+from ..prior.schedules import STORED_DTYPES, WEIGHT_CHOICES
 from .limits import DEVICE_HELP, MAX_SEED
 from .model import Options
 
@@ -59,7 +59,7 @@ class FitPriorOptions(Options):
     seed: Optional[int] = Field(
         None, ge=0, le=MAX_SEED, description="Seed of initial weights, shuffling and noise (0)."
     )
-    weights: Optional[Literal[WEIGHTS]] = Field(  # type: ignore[valid-type]
+    weights: Optional[Literal[WEIGHT_CHOICES]] = Field(  # type: ignore[valid-type]
         None, description="Which weights to save: raw (last step, as the reference) or ema."
     )
     dtype: Optional[Literal[STORED_DTYPES]] = Field(  # type: ignore[valid-type]
