@@ -9,6 +9,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 from test_cli import runner, write_coco
 
 from zedo_cli.cli import app
@@ -237,3 +238,118 @@ def test_fit_prior_takes_a_config_and_leaves_the_rest_to_its_recipe(tmp_path: Pa
     assert "batch_size" not in fit  # unset: the recipe's
     bad = runner.invoke(app, ["fit-prior", "--minirgbd-split", "mine"])
     assert bad.exit_code == 2 and bad.output.startswith("zedo: error: --minirgbd-split must be one of paper, reference")
+
+
+def _refused(args: list[str], message: str) -> None:
+    """`args` exit with code 2 and the one line `message` (its start)."""
+    bad = runner.invoke(app, args)
+    assert bad.exit_code == 2 and bad.output.startswith(f"zedo: error: {message}"), bad.output
+    assert bad.output.count("\n") == 1, bad.output
+
+
+@pytest.fixture
+def no_data_read(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Reading poses or weights fails the test: the settings are refused before."""
+    import zedo_cli.augment.augmenter
+    import zedo_cli.cli.augment
+    import zedo_cli.prior.weights
+
+    def read(*args: object, **kwargs: object) -> None:
+        raise AssertionError("data read before the settings were checked")
+
+    for name in ("load_infant_source", "load_adult_source"):
+        monkeypatch.setattr(zedo_cli.cli.augment, name, read)
+    monkeypatch.setattr(zedo_cli.prior.weights, "load_prior", read)
+    monkeypatch.setattr(zedo_cli.augment.augmenter, "load_augmenter", read)
+
+
+def test_fit_augmenter_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
+    from zedo_cli.prior.schedules import AUGMENTER_TRAINING
+
+    config = tmp_path / "study.toml"
+    config.write_text('[fit-augmenter]\nsyrip-dir = "syrip"\nadult-dir = "adult"\nepochs = 16\nseed = 3\n')
+    fit = _printed("fit-augmenter", "--config", str(config), "--epochs", "4")["fit-augmenter"]
+    assert (fit["syrip_dir"], fit["adult_dir"], fit["epochs"], fit["seed"]) == ("syrip", "adult", 4, 3)
+    assert (fit["batch_size"], fit["lr"], fit["warmup_steps"]) == (AUGMENTER_TRAINING.batch_size,
+                                                                   AUGMENTER_TRAINING.lr,
+                                                                   AUGMENTER_TRAINING.warmup_steps)  # fmt: skip
+    assert (fit["output"], fit["weights"], fit["dtype"], fit["init"]) == ("augmenter.safetensors", "ema", "float16",
+                                                                          "adult12-rotscale")  # fmt: skip
+    printed = tmp_path / "printed.toml"
+    printed.write_text(runner.invoke(app, ["fit-augmenter", "--config", str(config), "--lr", "0.001",
+                                           "--print-config"]).stdout)  # fmt: skip
+    assert _printed("fit-augmenter", "--config", str(printed))["fit-augmenter"] == {**fit, "epochs": 16, "lr": 0.001}
+
+
+def test_fit_augmenter_refuses_bad_settings_before_any_data_is_read(tmp_path: Path, no_data_read: None) -> None:
+    out = tmp_path / "a.safetensors"
+    sources = ["--syrip-dir", str(tmp_path), "--adult-dir", str(tmp_path), "-o", str(out)]
+    for args, message in (
+        (["--epochs", "0"], "--epochs must be an integer >= 1, got 0"),
+        (["--batch-size", "0"], "--batch-size must be an integer >= 1, got 0"),
+        (["--lr", "inf"], "--lr must be a number in (0, 1], got inf"),
+        (["--warmup-steps", "-1"], "--warmup-steps must be an integer >= 0, got -1"),
+        (["--seed", "-1"], "--seed must be an integer in [0, 9223372036854775807], got -1"),
+        (["--split", "bogus"], "--split must be one of train, test, all, got 'bogus'"),
+        (["--weights", "last"], "--weights must be one of raw, ema, got 'last'"),
+        (["--dtype", "bf16"], "--dtype must be one of float16, float32, got 'bf16'"),
+    ):
+        _refused(["fit-augmenter", *sources, *args], message)
+    _refused(["fit-augmenter", "--adult-dir", str(tmp_path)], "give the infant poses: --infant (an npz file) or")
+    _refused(["fit-augmenter", *sources, "--infant", "i.npz"], "give at most one infant source")
+    _refused(["fit-augmenter", "--syrip-dir", str(tmp_path)], "give exactly one adult source: --adult-poses")
+    config = tmp_path / "study.toml"
+    config.write_text("[fit-augmenter]\nepochs = 0\n")
+    _refused(["fit-augmenter", *sources, "--config", str(config)],
+             f"{config}: [fit-augmenter] epochs: expected an integer >= 1, got 0")  # fmt: skip
+    assert not out.exists()
+
+
+def test_augment_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[augment]\nstrength = 0.3\ncount = 50\norient = "infant"\nsyrip-dir = "syrip"\n')
+    aug = _printed("augment", "adult.npz", "--config", str(config), "--count", "12")["augment"]
+    assert (aug["strength"], aug["count"], aug["orient"], aug["syrip_dir"]) == (0.3, 12, "infant", "syrip")
+    assert (aug["model"], aug["output"], aug["steps"], aug["scale"], aug["bones"]) == (
+        "augmenter.safetensors", "augmented.npz", 100, "infant", "keep")  # fmt: skip
+    printed = tmp_path / "printed.toml"
+    printed.write_text(runner.invoke(app, ["augment", "--config", str(config), "--steps", "20",
+                                           "--print-config"]).stdout)  # fmt: skip
+    assert _printed("augment", "--config", str(printed))["augment"] == {**aug, "count": 50, "steps": 20}
+
+
+def test_augment_refuses_bad_settings_before_any_data_is_read(tmp_path: Path, no_data_read: None) -> None:
+    out = tmp_path / "o.npz"
+    base = ["augment", str(tmp_path / "adult.npz"), "-o", str(out)]
+    for args, message in (
+        (["--count", "0"], "--count must be an integer in [1, 1000000], got 0"),
+        (["--strength", "1.5"], "--strength must be a number in [0, 1], got 1.5"),
+        (["--strength", "nan"], "--strength must be a number in [0, 1], got nan"),
+        (["--steps", "0"], "--steps must be an integer in [1, 100000], got 0"),
+        (["--seed", "-1"], "--seed must be an integer in [0, 9223372036854775807], got -1"),
+        (["--scale", "adult"], "--scale must be one of infant, keep, got 'adult'"),
+        (["--orient", "up"], "--orient must be one of keep, infant, got 'up'"),
+        (["--bones", "adult"], "--bones must be one of keep, infant, got 'adult'"),
+        (["--plot", "plots"], "--orient infant, --bones infant and --plot need infant reference poses"),
+        (["--infant", "i.npz", "--syrip-dir", "s"], "give at most one infant source"),
+    ):
+        _refused([*base, *args], message)
+    config = tmp_path / "study.toml"
+    config.write_text("[augment]\nstrength = 2\n")
+    _refused([*base, "--config", str(config)], f"{config}: [augment] strength: expected a number in [0, 1], got 2")
+    assert not out.exists()
+
+
+def test_augment_commands_defaults_are_their_models() -> None:
+    import inspect
+
+    from zedo_cli.cli.augment import augment_command, fit_augmenter_command
+    from zedo_cli.settings.augment import AugmentOptions, FitAugmenterOptions
+
+    for command, model in ((fit_augmenter_command, FitAugmenterOptions), (augment_command, AugmentOptions)):
+        defaults = model().values()
+        assert all(model.help(key) for key in defaults), model
+        for name, param in inspect.signature(command).parameters.items():
+            key = {"out": "output", "license_text": "license"}.get(name, name)
+            if key in defaults:
+                assert defaults[key] == param.default, (command.__name__, key)

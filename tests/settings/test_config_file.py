@@ -127,3 +127,22 @@ def test_every_option_has_help_and_the_model_defaults_are_the_presets() -> None:
         assert all(model.help(key) for key in model.keys()), model
     assert LiftOptions().lift_config().to_dict() == __import__("zedo_cli").PRESETS["fast"].to_dict()
     assert LiftOptions.validated({"steps": 7, "twin_rate": 0.5}).lift_config().steps == 7
+
+
+def test_the_augment_models_read_their_tables_and_train_as_the_recipe(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from zedo_cli.prior.schedules import AUGMENTER_TRAINING
+    from zedo_cli.settings.augment import AugmentOptions, FitAugmenterOptions
+
+    commands = (*COMMANDS, "fit-augmenter", "augment")
+    path = _config(tmp_path, '[fit-augmenter]\nsyrip-dir = "s"\nadult-poses = "a.npz"\nepochs = 3\n'
+                             "[augment]\ncount = 5\n")  # fmt: skip
+    config = read_config(path, FitAugmenterOptions, commands)
+    assert config.notes == (f"{path}: [augment] is for zedo augment; zedo fit-augmenter reads [fit-augmenter]",)
+    fit = FitAugmenterOptions.validated(config.values)
+    assert fit.syrip_dir == Path("s") and fit.training() == replace(AUGMENTER_TRAINING, epochs=3)
+    assert FitAugmenterOptions().training() == AUGMENTER_TRAINING
+    assert AugmentOptions.validated(read_config(path, AugmentOptions, commands).values).count == 5
+    with pytest.raises(ConfigError, match="need infant reference poses"):
+        AugmentOptions.validated({"bones": "infant"})

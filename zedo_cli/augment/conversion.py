@@ -27,11 +27,11 @@ from ..data.datasets import PoseSet
 from ..data.skeleton import Skeleton, bone_lengths, center_on_root
 from ..errors import ConfigError, DataError, plural
 from ..prior.sampling import integrate_reverse_sde
+from ..prior.schedules import SCALE_MODES
 from ..prior.sde import SubVPSDE
 from ..rotation import best_rotation
 from .domain_model import DomainScoreNet, domain_index
 
-SCALE_MODES = ("infant", "keep")
 SIZE_CLIP_SD = 2.5
 TORSO_JOINTS = ("left_hip", "right_hip", "left_shoulder", "right_shoulder")
 CHUNK = 4096  # poses per network call in conversion

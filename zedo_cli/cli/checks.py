@@ -9,7 +9,7 @@ from collections.abc import Iterable
 from ..data.datasets import SYRIP_SPLITS
 from ..errors import ConfigError
 from ..settings.device import check_device  # noqa: F401  (every command's --device)
-from ..settings.limits import DEVICE_HELP, MAX_COUNT, MAX_FPS, MAX_SEED, MAX_SIGMA_FRAMES, MAX_STEPS  # noqa: F401
+from ..settings.limits import DEVICE_HELP, MAX_FPS, MAX_SEED, MAX_SIGMA_FRAMES, MAX_STEPS  # noqa: F401
 
 
 def check_range(

@@ -20,8 +20,6 @@ from rich.text import Text
 
 from ..errors import ConfigError, ZedoError, one_line
 from ..files import check_writable, write_text_atomic
-from ..prior.schedules import STORED_DTYPES, WEIGHT_CHOICES
-from .checks import check_choice
 
 if TYPE_CHECKING:
     from rich.progress import Progress
@@ -242,12 +240,6 @@ def step_progress(quiet: bool, name: str) -> Iterator[Callable[[int, int], None]
             bar.update(task, completed=done, total=total)
 
         yield on_step
-
-
-def check_weights_output(weights: str, dtype: str) -> None:
-    """`--weights` and `--dtype` of a command that writes trained weights."""
-    check_choice("--weights", weights, WEIGHT_CHOICES)
-    check_choice("--dtype", dtype, STORED_DTYPES)
 
 
 def progress_bar(quiet: bool) -> Progress | LineProgress:

@@ -1,5 +1,5 @@
 """`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export`,
-`adapt` and `fit-prior`.
+`adapt`, `fit-prior`, `fit-augmenter` and `augment`.
 
 Precedence: a command's defaults < its table of the --config file < the flags given on the
 command line. The file is read before click parses the command line (`ZedoCommand.parse_args`)
@@ -41,6 +41,8 @@ MODELS = {
     "export": ("export", "ExportOptions"),
     "adapt": ("adapt", "AdaptOptions"),
     "fit-prior": ("fit_prior", "FitPriorOptions"),
+    "fit-augmenter": ("augment", "FitAugmenterOptions"),
+    "augment": ("augment", "AugmentOptions"),
 }
 CONFIG_HELP = (
     "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
@@ -55,6 +57,8 @@ EXAMPLES = {
     "export": 'marker-axes = "overhead"',
     "adapt": 'strategy = "finetune"',
     "fit-prior": "epochs = 2000",
+    "fit-augmenter": "epochs = 16",
+    "augment": "strength = 0.3",
 }
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 

@@ -1,5 +1,5 @@
 """Training settings (`TrainConfig`) and the named schedules of `fit-prior`, `adapt` and
-`fit-augmenter`.
+`fit-augmenter`, the choices of the weights they store and of the sizes `zedo augment` gives.
 
 Free of torch so that option parsing and `--help` can show the defaults without loading the
 training code.
@@ -75,3 +75,5 @@ def default_training(strategy: str) -> TrainConfig:
 
 # `zedo fit-augmenter`'s defaults.
 AUGMENTER_TRAINING = TrainConfig(epochs=8, batch_size=1024, warmup_steps=200)
+# The sizes `zedo augment` gives its outputs: drawn from the infant sizes its model stores, or each input's own
+SCALE_MODES = ("infant", "keep")

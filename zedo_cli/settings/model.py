@@ -1,5 +1,5 @@
 """The base of every command's settings model (`zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export`,
-`adapt`, `fit-prior`).
+`adapt`, `fit-prior`, `fit-augmenter`, `augment`).
 
 One field per long option, named as the option with underscores (`--min-confidence` ->
 `min_confidence`), with its type, bounds, default and help. The command line, a `--config`
