@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.adult_cases import ADULT_SOURCE, adult_case_clips
 from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, CameraRange, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, all_measures
 from zedo_cli.analysis.pose.joint_angles import CIRCULAR_ANGLES
@@ -54,6 +55,20 @@ from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
 BINS = {"none": 2, "smooth": 4}  # bins of the measured value per measure (images: ~300 cases a fold, clips: ~2400)
+# The second source, the adult motion made infant-like (benchmarks/lib/adult_cases.py), in about as many cases a fold
+# as the SyRIP poses give, so that neither source outweighs the other in the shipped fit: before the pseudo camera
+# 16 clips of 5 s (2400 frames, as the SyRIP clips), frame by frame every 8th of their frames (300, as the SyRIP
+# images); before the clinic cameras 24 clips of 10 s (7200 frames, as the SyRIP camera cases of either mode).
+ADULT_CLIPS = {"count": 16, "seconds": 5.0}
+ADULT_IMAGE_STRIDE = 8
+ADULT_CAMERA_CLIPS = {"count": 24, "seconds": 10.0}
+SOURCES = ("syrip", "adult")
+SOURCE_NAMES = {"syrip": "SyRIP poses", "adult": "adult motion"}
+
+
+def source_of(kind: np.ndarray) -> np.ndarray:
+    """The clip source `(n,)` of cases of input kinds `kind (n,)`: the adult motion's kinds end in ADULT_SOURCE."""
+    return np.where(np.char.endswith(kind.astype(str), ADULT_SOURCE), SOURCE_NAMES["adult"], SOURCE_NAMES["syrip"])
 
 
 def measures(p: np.ndarray) -> dict[str, np.ndarray]:
@@ -88,6 +103,10 @@ def lift_cases(args: argparse.Namespace) -> None:
     cfg = get_preset(DEFAULT_PRESET)
     args.cases.mkdir(parents=True, exist_ok=True)
     for k, prior, truth, inputs in fold_priors(args.folds, args.weights, args.syrip_dir, args.fold_ids):
+        if "adult" in args.sources:
+            lift_adult_cases(args, k, prior)
+        if "syrip" not in args.sources:
+            continue
         for key, kp in inputs.items():
             kp = kp.to_skeleton(prior.skeleton)
             mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
@@ -101,6 +120,25 @@ def lift_cases(args: argparse.Namespace) -> None:
         arrays = case_arrays(res.poses_root_relative, res.observed, res.lifted, clips["rel"])
         np.savez(args.cases / f"fold{k}-smooth-clips.npz", group=clips["tracks"], **arrays)
         print(f"fold {k} clips: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
+
+
+def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
+    """The adult source's cases of fold `k` before the pseudo camera (ADULT_CLIPS): `--temporal smooth`
+    (`fold<k>-smooth-adult.npz`) and frame by frame, every ADULT_IMAGE_STRIDE-th frame (`fold<k>-none-adult.npz`)."""
+    import torch
+
+    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
+    from zedo_cli.lifting.temporal import lift_sequence
+
+    torch.manual_seed(k)
+    clips = adult_case_clips(args.syrip_dir, 1300 + k, False, **ADULT_CLIPS)
+    for mode, keep in (("smooth", slice(None)), ("none", slice(None, None, ADULT_IMAGE_STRIDE))):
+        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
+                            tracks=clips["tracks"])  # fmt: skip
+        arrays = case_arrays(res.poses_root_relative[keep], res.observed[keep], res.lifted[keep], clips["rel"][keep])
+        np.savez(args.cases / f"fold{k}-{mode}-{ADULT_SOURCE}.npz", group=clips["tracks"][keep], **arrays)
+        print(f"fold {k} {ADULT_SOURCE} {mode}: {int(res.lifted[keep].sum())}/{len(arrays[next(iter(arrays))])} "
+              "frames lifted", flush=True)  # fmt: skip
 
 
 F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the target set-up
@@ -189,6 +227,10 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
         start = time.perf_counter()
         kp = {key: v.to_skeleton(prior.skeleton) for key, v in inputs.items()}
         errors = relative_errors(kp["gt"].xy, kp["detected"].xy)
+        if "adult" in args.sources:
+            lift_adult_camera_cases(args, out, k, prior)
+        if "syrip" not in args.sources:
+            continue
         if "near" in args.camera_kinds:
             lift_near_cases(out, k, prior, truth.poses, kp, errors)
         if "base" not in args.camera_kinds:
@@ -213,6 +255,25 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
                     np.savez(out / f"fold{k}-{kind}-{mode}-clips_{key}.npz", group=clips["tracks"],
                              **camera_cases(res, clips))  # fmt: skip
         print(f"fold {k}: camera cases lifted in {time.perf_counter() - start:.0f} s")
+
+
+def lift_adult_camera_cases(args: argparse.Namespace, out: Path, k: int, prior: Any) -> None:
+    """The adult source's cases of fold `k` before the clinic cameras and two far ones (ADULT_CAMERA_CLIPS), lifted
+    with their true K in `--temporal smooth` and frame by frame (`fold<k>-intrinsics-<mode>-clips_adult.npz`)."""
+    import torch
+
+    from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
+    from zedo_cli.lifting.temporal import lift_sequence
+
+    torch.manual_seed(k)
+    clips = adult_case_clips(args.syrip_dir, 1500 + k, True, **ADULT_CAMERA_CLIPS)
+    for mode in ("smooth", "none"):
+        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
+                            tracks=clips["tracks"])  # fmt: skip
+        np.savez(out / f"fold{k}-intrinsics-{mode}-clips_{ADULT_SOURCE}.npz", group=clips["tracks"],
+                 **camera_cases(res, clips))  # fmt: skip
+        print(f"fold {k} {ADULT_SOURCE} known cameras {mode}: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted",
+              flush=True)  # fmt: skip
 
 
 def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, errors: np.ndarray) -> None:
@@ -279,7 +340,12 @@ def names_of(cases: dict[str, np.ndarray]) -> list[str]:
     return sorted({k.split("|")[0] for k in cases if "|" in k}, key=lambda n: (n not in SYMMETRY_NAMES, n))
 
 
+MIN_CASES = 100  # a model only from this many cases (a range without them, as a source leaves it, has none)
+
+
 def fit_all(cases: dict[str, np.ndarray], mask: np.ndarray, bins: int) -> dict[str, MeasureModel]:
+    if mask.sum() < MIN_CASES:
+        return {}
     return {n: fit_measure(cases[f"{n}|raw"][mask], cases[f"{n}|truth"][mask], circular=n in CIRCULAR_ANGLES,
                            bins=bins) for n in names_of(cases)}  # fmt: skip
 
@@ -337,16 +403,18 @@ def scored(held_out: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: di
     return out
 
 
-def clip_median_coverage(cases: dict[str, np.ndarray], fold: np.ndarray, group: np.ndarray, bins: int) -> dict:
+def clip_median_coverage(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray,
+                         bins: int) -> dict:  # fmt: skip
     """Per symmetry pair, cross-fitted: how often a clip's median of the true angle lies within the
     median of its frames' 90 % interval ends (the interval `zedo analyze` gives a clip's median)."""
     hits: dict[str, list[bool]] = {}
+    clip = np.char.add(np.char.add(kind.astype(str), "/"), group.astype(str))  # a clip: its kind and group
     for fit, evaluate in splits(fold, group):
         models = fit_all(cases, fit, bins)
         for n in SYMMETRY_NAMES:
             raw, truth = cases[f"{n}|raw"], cases[f"{n}|truth"]
-            for g in np.unique(group[evaluate]):
-                sel = evaluate & (group == g) & np.isfinite(raw)
+            for g in np.unique(clip[evaluate]):
+                sel = evaluate & (clip == g) & np.isfinite(raw)
                 if sel.sum() < 3:
                     continue
                 est = models[n].estimate(raw[sel])
@@ -381,12 +449,14 @@ def print_table(figures: dict, mode: str) -> None:
 
 # m: the calibrations of known cameras, one per range of the lifted root depth; the near one (below NEAR_BELOW_M)
 # holds the poses lifted closer than the drawn 0.5 m allows, mostly ones lifted too near (their truth 0.5-1.1 m)
-DEPTH_EDGES = (0.4, NEAR_BELOW_M, 2.0)
-FOCAL_EDGES = (600.0, 1000.0, 1600.0, 2500.0)  # px: bins the held-out figures are reported by
-DEPTH_EDGES_REPORT = (0.0, 0.4, 0.5, 0.6, 0.9, 1.2, 1.6, 2.0, 9.0)  # m: likewise (the lifted root depth)
+# and one beyond 2 m (the drawn cameras' poses lifted there, and the adult motion's far cameras, 2.5-3.5 m away)
+DEPTH_EDGES = (0.4, NEAR_BELOW_M, 2.0, 3.5)
+FOCAL_EDGES = (600.0, 1000.0, 1600.0, 2500.0, 3000.0)  # px: bins the held-out figures are reported by
+DEPTH_EDGES_REPORT = (0.0, 0.4, 0.5, 0.6, 0.9, 1.2, 1.6, 2.0, 2.5, 3.5, 9.0)  # m: likewise (the lifted root depth)
 SIZE_EDGES = (0.0, 60.0, 120.0, 1e9)  # px: the body's 2D size (RMS distance of the joints from their mean)
 # what each mode is fitted on: frame by frame, images and clips' frames; --temporal smooth, clips
-CAMERA_FITS = {"none": ("gt", "detected", "clips_gt", "clips_detected"), "smooth": ("clips_gt", "clips_detected")}
+CAMERA_FITS = {"none": ("gt", "detected", "clips_gt", "clips_detected", f"clips_{ADULT_SOURCE}"),
+               "smooth": ("clips_gt", "clips_detected", f"clips_{ADULT_SOURCE}")}  # fmt: skip
 # the near draws' kinds (lift_near_cases), fitted and scored only in the ranges below NEAR_BELOW_M
 NEAR_FITS = {mode: tuple(f"near_{k}" for k in kinds) for mode, kinds in CAMERA_FITS.items()}
 
@@ -412,6 +482,8 @@ def filled_view(cases: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 
 def fit_filled(cases: dict[str, np.ndarray], mask: np.ndarray) -> dict[str, MeasureModel]:
+    if mask.sum() < MIN_CASES:
+        return {}
     view = filled_view(cases)
     enough = [n for n in names_of(view) if (mask & np.isfinite(view[f"{n}|raw"])).sum() >= MIN_FILLED]
     return {n: fit_measure(view[f"{n}|raw"][mask], view[f"{n}|truth"][mask], circular=n in CIRCULAR_ANGLES,
@@ -490,6 +562,19 @@ def pooled(rows: dict[str, dict], level: float = 0.9, call_level: float = 0.8) -
             "angles_coverage": [min(angles, default=np.nan), max(angles, default=np.nan)]}  # fmt: skip
 
 
+def family_coverage(rows: dict[str, dict], level: float = 0.9) -> dict[str, float]:
+    """Coverage at `level` of the measures of `rows` (scored's rows of one stratum), weighted by their cases: all of
+    them, the symmetry pairs and the joint angles (the shape of a calibration's `held_out_by_source_coverage_90`)."""
+    families = {"all": list(rows), "symmetry": [n for n in rows if n in SYMMETRY_NAMES],
+                "joint_angles": [n for n in rows if n not in SYMMETRY_NAMES]}  # fmt: skip
+    out = {}
+    for family, names in families.items():
+        cases = np.array([rows[n]["cases"] for n in names], float)
+        if cases.sum():
+            out[family] = float((np.array([rows[n][f"coverage_{level}"] for n in names]) * cases).sum() / cases.sum())
+    return out
+
+
 def print_pooled(title: str, figures: dict[str, dict]) -> None:
     print(f"\n### {title} (cross-fitted)")
     print("| stratum | pair-cases | symmetry MAE raw -> estimate | 90 % coverage (pairs) | per pair | "
@@ -515,7 +600,7 @@ def frame_probabilities(pairs: list[tuple[dict[str, MeasureModel], np.ndarray]],
     p, rank = np.full(len(raw), np.nan), np.full(len(raw), np.nan)
     for models, mask in pairs:
         sel = mask & np.isfinite(raw) & np.isfinite(truth)
-        if sel.any():
+        if sel.any() and name in models:  # a range without enough cases has no models
             p[sel] = probability_above(models[name], raw[sel], threshold)
             rank[sel] = 1.0 - probability_above(models[name], raw[sel], truth[sel])
     return p, rank
@@ -608,13 +693,14 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
     for mode in ("none", "smooth"):
         cases, fold, kind, group = load_cases(folder, f"intrinsics-{mode}")
         held, final = camera_fits(cases, fold, kind, group, mode)
+        adult = bool(np.isin(kind, f"clips_{ADULT_SOURCE}").any())
         pairs = apply_held_out(held, cases, fold, same=True)
         filled = apply_held_out(held, cases, fold, same=True, filled=True)
         depth = cases["lifted_depth"]
         inside = depth_bin(depth) >= 0
         print(f"\n## mode {mode}: {int((~inside).sum())} of {len(depth)} cases lifted outside {DEPTH_EDGES[0]:g}-"
               f"{DEPTH_EDGES[-1]:g} m (no interval)")  # fmt: skip
-        strata = {"input": kind, "focal": bin_labels(cases["focal"], FOCAL_EDGES, "px"),
+        strata = {"input": kind, "source": source_of(kind), "focal": bin_labels(cases["focal"], FOCAL_EDGES, "px"),
                   "depth": bin_labels(depth, DEPTH_EDGES_REPORT, "m"),
                   "size": bin_labels(cases["size_px"], SIZE_EDGES, "px")}  # fmt: skip
         figures = {by: scored(pairs, cases, labels, args.threshold) for by, labels in strata.items()}
@@ -622,6 +708,8 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
         for by, f in figures.items():
             print_pooled(f"known intrinsics, {mode}, by {by}", f)
         report[mode] = {by: {k: pooled(v) for k, v in f.items()} for by, f in figures.items()}
+        by_source = camera_by_source(cases, fold, kind, group, mode, args.threshold, fps) if adult else {}
+        report[f"{mode}_held_out_by_source"] = by_source
         base = np.isin(kind, CAMERA_FITS[mode])  # the near draws cover only the near range: left out here
         report[mode]["interval_share"], report[mode]["lifted_pairs"] = interval_share(pairs, filled, cases, base)
         clips = np.char.startswith(kind.astype(str), "clips")
@@ -657,7 +745,8 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
                                                       filled=efilled)  # fmt: skip
             print("clip shares asymmetric, f1000:", report["f1000"]["shares"])
         for r, (models, filled_models) in enumerate(zip(final.models, final.filled, strict=True)):
-            domain = CameraDomain((DEPTH_EDGES[r], DEPTH_EDGES[r + 1]), CAMERAS.focal_px)
+            focal = cases["focal"][np.isin(kind, CAMERA_FITS[mode])]
+            domain = CameraDomain((DEPTH_EDGES[r], DEPTH_EDGES[r + 1]), (float(focal.min()), float(focal.max())))
             fitted = final.cases[r]
             near = DEPTH_EDGES[r + 1] <= NEAR_BELOW_M
             # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
@@ -671,9 +760,14 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
                 + ", 1280x720 and 1920x1080), from their projected GT "
                 "2D and with their own FiDIP error, " + ("as images and synthetic 30 fps clips lifted frame by frame"
                                                         if mode == "none" else "as synthetic 30 fps clips")
-                + "; never Test100 or the synthetic rows",
+                + "; never Test100 or the synthetic rows"
+                + ("; and the adult motion made infant-like (benchmarks/lib/adult_cases.py: "
+                   f"{ADULT_CAMERA_CLIPS['count']} clips of {ADULT_CAMERA_CLIPS['seconds']:g} s a fold, 3 px jitter) "
+                   "before the clinic cameras and two 2.5-3.5 m away (zedo_cli/evaluation/clips/cameras.py)"
+                   if adult else ""),
                 "recipe": "benchmarks/calibrate_measures.py --cameras",
                 "folds": sorted(int(f) for f in np.unique(fold)),
+                "sources": sorted({str(x) for x in source_of(kind[fitted])}),
                 "cases": int((fitted & np.isfinite(cases["symmetry_thigh_deg|raw"])).sum()),
                 "cases_filled": int((fitted & np.isfinite(cases["symmetry_thigh_deg|filled_raw"])).sum()),
                 "bins": BINS[mode],
@@ -684,11 +778,71 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
                                          "clips": NEAR_CLIP_COUNT}} if near else {})},
                 "clips": CAMERA_CLIPS,
                 "cross_fitted": report[mode],
+                "held_out_by_source": by_source,
+                "held_out_by_source_coverage_90": {s: r["families"] for s, r in by_source.items()},
             }  # fmt: skip
             out.append(MeasureCalibration(shipped.sha256, settings, mode, ("cli", "file"), shipped.skeleton.joints,
                                           models, provenance, domain, filled_models))  # fmt: skip
     report["pseudo"] = pseudo_share_figures(args)
     args.camera_report = report
+    return out
+
+
+def camera_by_source(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray, mode: str,
+                     threshold: float, fps: float) -> dict[str, Any]:  # fmt: skip
+    """Each source's cases scored by models fitted on the other source's only (per depth range as shipped): pooled
+    symmetry and joint-angle figures, per depth and focal bin, and the clip shares asymmetric."""
+    every = range_cases(cases["lifted_depth"], kind, mode)
+    src = source_of(kind)
+    out: dict[str, Any] = {}
+    for s in np.unique(src):
+        pairs = [(fit_all(cases, m & (src != s), BINS[mode]), m & (src == s)) for m in every]
+        filled = [(fit_filled(cases, m & (src != s)), m & (src == s)) for m in every]
+        rows = scored(pairs, cases, np.full(len(kind), s), threshold)[s]
+        row = {"all": pooled(rows), "families": family_coverage(rows)}
+        for by, labels in (("depth", bin_labels(cases["lifted_depth"], DEPTH_EDGES_REPORT, "m")),
+                           ("focal", bin_labels(cases["focal"], FOCAL_EDGES, "px"))):  # fmt: skip
+            row[by] = {k: pooled(v) for k, v in scored(pairs, cases, labels, threshold).items()
+                       if any(n in v for n in SYMMETRY_NAMES)}  # fmt: skip
+        clips = np.char.startswith(kind.astype(str), "clips")
+        row["shares"] = share_figures([(m, k & clips) for m, k in pairs], cases, fold, kind, group, threshold, fps,
+                                      filled=[(m, k & clips) for m, k in filled])  # fmt: skip
+        out[str(s)] = row
+        print_by_source(f"known intrinsics, {mode}", str(s), row)
+    return out
+
+
+def print_by_source(title: str, source: str, row: dict[str, Any]) -> None:
+    r = row["all"]
+    print(f"\n{title}, {source} left out (fitted on the other source): symmetry 90 % coverage "
+          f"{100 * r['coverage']:.1f} % (pairs {' / '.join(f'{100 * c:.1f}' for c in r['coverage_pairs'])}), decisive "
+          f"at 0.8 {100 * r['decisive']:.1f} % ({100 * r['agreement']:.1f} %), joint angles "
+          f"{100 * r['angles_coverage'][0]:.1f}-{100 * r['angles_coverage'][1]:.1f} %, MAE {r['mae_raw']:.1f} -> "
+          f"{r['mae_est']:.1f}; clip shares: {100 * row['shares']['coverage']:.1f} % of "
+          f"{row['shares']['clip_pairs']} (clip, pair), median width {row['shares']['median_width']:.2f}")  # fmt: skip
+    for by in ("depth", "focal"):
+        for label, b in row.get(by, {}).items():
+            print(f"  {by} {label}: {b['pair_cases']} pair-cases, coverage {100 * b['coverage']:.1f} %, joint angles "
+                  f"{100 * b['angles_coverage'][0]:.1f}-{100 * b['angles_coverage'][1]:.1f} %")  # fmt: skip
+
+
+def pseudo_by_source(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray, mode: str,
+                     threshold: float) -> dict[str, Any]:  # fmt: skip
+    """The pseudo camera's calibration of `mode` held out by source: each source's cases scored by a fit on the
+    other's, pooled figures and (clips) the clip shares asymmetric."""
+    src = source_of(kind)
+    out: dict[str, Any] = {}
+    for s in np.unique(src):
+        pairs = [(fit_all(cases, src != s, BINS[mode]), src == s)]
+        rows = scored(pairs, cases, np.full(len(kind), s), threshold)[s]
+        row: dict[str, Any] = {"all": pooled(rows), "families": family_coverage(rows)}
+        no_shares = {"coverage": float("nan"), "clip_pairs": 0, "median_width": 0.0}  # images are no clips
+        fps = float(CLIP_SETTINGS["fps"])
+        row["shares"] = (
+            share_figures(pairs, cases, fold, kind, group, threshold, fps) if mode == "smooth" else no_shares
+        )
+        out[str(s)] = row
+        print_by_source(f"pseudo camera, {mode}", str(s), row)
     return out
 
 
@@ -745,6 +899,13 @@ def main() -> int:
     ap.add_argument("--camera-kinds", nargs="+", choices=("base", "near"), default=["base", "near"],
                     help="--cameras --lift: the CAMERAS, F1000 and pseudo cases (base), NEAR's (near)")  # fmt: skip
     ap.add_argument("--fold-ids", type=int, nargs="+", default=None, help="--lift: these folds only (default all)")
+    ap.add_argument(
+        "--sources",
+        nargs="+",
+        choices=SOURCES,
+        default=list(SOURCES),
+        help="--lift: the clip sources lifted (SyRIP poses; the adult motion made infant-like)",
+    )
     ap.add_argument("--write", action="store_true", help="write the calibrations for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="calibration file (default: the package's)")
     ap.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD_DEG)
@@ -765,8 +926,10 @@ def main() -> int:
         bins = BINS[mode]
         figures = cross_fitted(cases, fold, kind, group, args.threshold, bins)
         print_table(figures, mode)
+        sources = sorted({str(x) for x in source_of(kind)})
+        by_source = pseudo_by_source(cases, fold, kind, group, mode, args.threshold) if len(sources) > 1 else {}
         if mode != "none":
-            figures["clip_medians"] = clip_median_coverage(cases, fold, group, bins)
+            figures["clip_medians"] = clip_median_coverage(cases, fold, kind, group, bins)
             print("\nclip medians inside the median of the frames' 90 % interval ends:", figures["clip_medians"])
         models = fit_all(cases, np.ones(len(fold), bool), bins)
         # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
@@ -774,15 +937,26 @@ def main() -> int:
         provenance = {
             "data": "SyRIP training poses held out of fold priors (benchmarks/folds.py), GT and FiDIP 2D"
             + (", as synthetic 30 fps clips" if mode != "none" else "")
-            + "; never Test100 or the synthetic rows",
+            + "; never Test100 or the synthetic rows"
+            + (
+                f"; and the adult motion made infant-like (benchmarks/lib/adult_cases.py: {ADULT_CLIPS['count']} clips "
+                f"of {ADULT_CLIPS['seconds']:g} s a fold, 3 px jitter"
+                + (f", every {ADULT_IMAGE_STRIDE}th frame lifted frame by frame" if mode == "none" else "")
+                + ")"
+                if by_source
+                else ""
+            ),
             "recipe": "benchmarks/calibrate_measures.py",
             "folds": sorted(int(f) for f in np.unique(fold)),
+            "sources": sources,
             "cases": int(len(fold)),
             "bins": bins,
             "clips": CLIP_SETTINGS if mode != "none" else None,
             "cross_fitted": {
                 kd: {n: {k: round(v, 4) for k, v in r.items()} for n, r in rows.items()} for kd, rows in figures.items()
             },  # fmt: skip
+            "held_out_by_source": by_source,
+            "held_out_by_source_coverage_90": {s: r["families"] for s, r in by_source.items()},
         }
         calibrations.append(MeasureCalibration(shipped.sha256, settings, mode, ("pseudo",), shipped.skeleton.joints,
                                                models, provenance))  # fmt: skip

@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.adult_cases import ADULT_SOURCE, adult_case_clips
 from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.analysis.clip.published_features import published_features
 from zedo_cli.data.skeleton import get_skeleton
@@ -112,43 +113,10 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
             save_case(folder / f"fold{k}-3d-clips-{motion}.npz", clips, prior, args.temporal)
         if args.adult:
             torch.manual_seed(k)
-            clips = adult_case_clips(args.syrip_dir, (1100 if args.cameras else 900) + k, args.cameras)
+            seconds = (CASE_CLIPS["keyposes"] - 1) * float(CLIP_SETTINGS["transition_s"])
+            clips = adult_case_clips(args.syrip_dir, (1100 if args.cameras else 900) + k, args.cameras,
+                                     CASE_CLIPS["count"], seconds)  # fmt: skip
             save_case(folder / f"fold{k}-3d-clips-{ADULT_SOURCE}.npz", clips, prior, args.temporal)
-
-
-ADULT_SOURCE = "adult"  # the motion name of the adult-motion clips' cases
-ADULT_JITTER_PX = 3.0
-
-
-def adult_case_clips(syrip_dir: str | Path, seed: int, known_cameras: bool) -> dict[str, np.ndarray]:
-    """CASE_CLIPS clips of the adult motion made infant-like (`zedo_cli.evaluation.clips`: bones of SyRIP's training
-    infants, supine, 30 fps, 3 px jitter, 3 % of joints dropped: NaN) in the arrays `make_sequences` returns (`rel`,
-    `xy`, `conf`, `k`, `tracks`): before the pseudo camera, or with `known_cameras` before the clinic set-ups and two
-    2.5-3.5 m away (`FAR_CAMERAS`: up to 3000 px)."""
-    from benchmarks.lib.settings import CLIP_SETTINGS
-    from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
-    from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA
-    from zedo_cli.evaluation.clips.habits import DetectorHabits
-    from zedo_cli.lifting.clip import root_relative
-
-    fps = float(CLIP_SETTINGS["fps"])
-    habits = DetectorHabits(jitter_px=ADULT_JITTER_PX, dropout=0.03, swaps_per_min=0, hand_jumps_per_min=0,
-                            losses_per_min=0)  # fmt: skip
-    cameras = (*CLINIC_CAMERAS, *FAR_CAMERAS) if known_cameras else (PSEUDO_CAMERA,)
-    settings = ClipSettings(fps=fps, cameras=cameras, habits=habits)
-    library = load_adult_library(Path(syrip_dir).parent / "adult")
-    seconds = (CASE_CLIPS["keyposes"] - 1) * float(CLIP_SETTINGS["transition_s"])
-    made = adult_infant_clips(library, infant_bodies_from_syrip(syrip_dir), seconds, CASE_CLIPS["count"], seed,
-                              settings)  # fmt: skip
-    parts: dict[str, list[np.ndarray]] = {"rel": [], "xy": [], "conf": [], "k": [], "tracks": []}
-    for track, clip in enumerate(made):
-        missing = ~np.isfinite(clip.xy).all(-1)  # NaN, as zedo's readers give a detector's missing joints
-        parts["rel"].append(root_relative(clip.poses3d, SKELETON)[0])
-        parts["xy"].append(clip.xy)
-        parts["conf"].append(np.where(missing, 0.0, clip.confidence))
-        parts["k"].append(np.broadcast_to(clip.intrinsics.matrix(), (len(clip), 3, 3)))
-        parts["tracks"].append(np.full(len(clip), track))
-    return {key: np.concatenate(v) for key, v in parts.items()}
 
 
 def save_case(path: Path, clips: dict[str, np.ndarray], prior: Any, temporal: str) -> None:

@@ -175,11 +175,11 @@ def test_ranges_that_meet_read_as_one_and_a_near_pose_takes_the_near_range() -> 
                         "focal length 600-2500 px)")  # fmt: skip
 
 
-def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_2_m() -> None:
-    """Each mode's calibrations of known cameras meet end to end over 0.4-2 m and 600-2500 px, each range fitted
-    on its own held-out cases with a model for every symmetry pair, observed and with a filled joint; the pseudo
-    camera's have no range (the target: an interval for every symmetry value of a clip at f = 1000 px about 1 m
-    away)."""
+def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_3_5_m() -> None:
+    """Each mode's calibrations of known cameras meet end to end over 0.4-3.5 m and 600-3000 px (the distances and
+    lenses clinics use), each range fitted on its own held-out cases of both clip sources with a model for every
+    symmetry pair, observed and with a filled joint; the pseudo camera's have no range (the target: an interval for
+    every symmetry value of a clip at f = 1000 px about 1 m away, and of one 3 m away at 3000 px)."""
     from zedo_cli.analysis.uncertainty.calibration import bundled_calibrations, describe_domains
 
     frames = [c for c in bundled_calibrations() if c.scope == "frames"]
@@ -187,8 +187,9 @@ def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_2_m(
     for mode in ("none", "smooth"):
         known = sorted((c for c in frames if c.cameras == ("cli", "file") and c.temporal_mode == mode),
                        key=lambda c: c.domain.root_depth_m)  # fmt: skip
-        assert [c.domain.root_depth_m for c in known] == [(0.4, 0.6), (0.6, 2.0)]
-        assert describe_domains([c.domain for c in known]) == "root depth 0.4-2 m, focal length 600-2500 px"
+        assert [c.domain.root_depth_m for c in known] == [(0.4, 0.6), (0.6, 2.0), (2.0, 3.5)]
+        assert describe_domains([c.domain for c in known]) == "root depth 0.4-3.5 m, focal length 600-3000 px"
+        assert all("adult motion" in c.provenance["sources"] for c in known if c.domain.root_depth_m[0] >= 0.6)
         for c in known:
             assert set(SYMMETRY_NAMES) <= set(c.measures) and set(SYMMETRY_NAMES) <= set(c.filled)
             assert c.provenance["cases"] >= 1000 and c.provenance["cases_filled"] >= 100

@@ -214,11 +214,13 @@ def test_a_lift_given_its_focal_length_gets_the_bundled_camera_calibration(tmp_p
     sym = [r for r in rows if r["measure"].startswith("symmetry_") and r["measure"].endswith("_deg")]
     assert len(sym) == 16 and {r["interval"] for r in sym} == {"calibrated"}
     assert all(float(r["low_90"]) <= float(r["value"]) <= float(r["high_90"]) for r in sym)
-    far = runner.invoke(app, ["lift", str(src), "--focal", "3000", "-q", "-o", str(tmp_path / "far.zedo.json")])
-    assert far.exit_code == 0, far.output
-    table = runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "-o", "-", "-q"]).stdout
-    reasons = {r["interval"] for r in csv.DictReader(io.StringIO(table)) if r["measure"] == "symmetry_thigh_deg"}
-    # 3000 px is outside the known cameras' range: the pseudo camera's calibration stands in, as without --focal
-    assert "calibrated" in reasons and not any(x.startswith("none: camera outside") for x in reasons)
-    doc = json.loads(runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "--json", "-q"]).stdout)
-    assert any("the pseudo camera's calibration stands in" in n for n in doc["notes"])
+    for focal, stand_in in (("3000", False), ("6000", True)):  # 3 m inside the known cameras' range, 6 m beyond it
+        far = runner.invoke(app, ["lift", str(src), "--focal", focal, "-q", "-o", str(tmp_path / "far.zedo.json"),
+                                  "--overwrite"])  # fmt: skip
+        assert far.exit_code == 0, far.output
+        table = runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "-o", "-", "-q"]).stdout
+        reasons = {r["interval"] for r in csv.DictReader(io.StringIO(table)) if r["measure"] == "symmetry_thigh_deg"}
+        # outside the range the pseudo camera's calibration stands in, as without --focal
+        assert "calibrated" in reasons and not any(x.startswith("none: camera outside") for x in reasons)
+        doc = json.loads(runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "--json", "-q"]).stdout)
+        assert any("the pseudo camera's calibration stands in" in n for n in doc["notes"]) == stand_in, focal

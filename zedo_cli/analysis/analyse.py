@@ -326,6 +326,7 @@ def analyse(
                            "are uncertain")  # fmt: skip
         used = assignment.used()
         a.notes.extend(backing_note(c) for c in used)
+        a.notes.extend(dict.fromkeys(held_out_note(c) for c in used))  # ranges of one fit share their figures
         if assignment.stand_in:
             a.notes.append(f"{assignment.stand_in} of {len(index)} poses: the stated camera lies outside the known "
                            "cameras' calibrated range, so the pseudo camera's calibration stands in (docs/clinical.md, "

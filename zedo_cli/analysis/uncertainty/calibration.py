@@ -480,7 +480,7 @@ def held_out_note(calibration: MeasureCalibration) -> str:
     when the calibration is fitted on the other sources only (its provenance's `held_out_by_source_coverage_90`),
     or, for a calibration of one source, that no other source has checked it."""
     held = calibration.provenance.get("held_out_by_source_coverage_90")
-    what = "the 3d_ features' intervals" if calibration.scope == "clips" else f"{calibration.scope} intervals"
+    what = "the 3d_ features' intervals" if calibration.scope == "clips" else "the frame measures' intervals"
     if not held:
         return (f"{what} were fitted on one clip source; on clips unlike it (real movement) they may hold the truth "
                 "less often than their level says")  # fmt: skip
