@@ -353,3 +353,160 @@ def test_augment_commands_defaults_are_their_models() -> None:
             key = {"out": "output", "license_text": "license"}.get(name, name)
             if key in defaults:
                 assert defaults[key] == param.default, (command.__name__, key)
+
+
+@pytest.fixture
+def no_evaluation_data_read(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Reading a result, ground truth, a prior, a recipe or SyRIP fails the test: the settings are refused before."""
+    import zedo_cli.cli.evaluate
+    import zedo_cli.evaluation.device_benchmark
+    import zedo_cli.evaluation.symmetry_benchmark
+    import zedo_cli.evaluation.syrip_benchmark
+    import zedo_cli.prior.recipes
+    import zedo_cli.prior.weights
+
+    def read(*args: object, **kwargs: object) -> None:
+        raise AssertionError("data read before the settings were checked")
+
+    for module, names in (
+        (zedo_cli.cli.evaluate, ("load_syrip_3d", "load_npz_poses", "read_result_file")),
+        (zedo_cli.prior.weights, ("load_prior",)),
+        (zedo_cli.prior.recipes, ("load_recipe",)),
+        (zedo_cli.evaluation.syrip_benchmark, ("run_syrip_benchmark", "load_throughput_inputs")),
+        (zedo_cli.evaluation.device_benchmark, ("run_device_benchmark",)),
+        (zedo_cli.evaluation.symmetry_benchmark, ("run_symmetry_benchmark",)),
+    ):
+        for name in names:
+            monkeypatch.setattr(module, name, read)
+
+
+def test_evaluate_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[evaluate]\ngt = "truth.npz"\nprotocol = "h36m17"\nsplit = "train"\n')
+    ev = _printed("evaluate", "r.json", "--config", str(config), "--protocol", "syrip12")["evaluate"]
+    assert (ev["gt"], ev["protocol"], ev["split"], ev["json"], ev["quiet"]) == ("truth.npz", "syrip12", "train",
+                                                                                 False, False)  # fmt: skip
+    assert "syrip_dir" not in ev and "output" not in ev  # not set
+    printed = tmp_path / "printed.toml"
+    printed.write_text(runner.invoke(app, ["evaluate", "r.json", "--config", str(config), "--json",
+                                           "--print-config"]).stdout)  # fmt: skip
+    assert _printed("evaluate", "r.json", "--config", str(printed))["evaluate"] == {**ev, "protocol": "h36m17",
+                                                                                     "json": True}  # fmt: skip
+
+
+def test_evaluate_refuses_bad_settings_before_any_data_is_read(tmp_path: Path, no_evaluation_data_read: None) -> None:
+    base = ["evaluate", str(tmp_path / "r.json")]
+    truth = ["--gt", str(tmp_path / "t.npz")]
+    for args, message in (
+        ([*truth, "--split", "bogus"], "--split must be one of train, test, all, got 'bogus'"),
+        ([*truth, "--protocol", "coco"], "--protocol must be one of syrip12, h36m17, got 'coco'"),
+        ([], "give the ground truth as either --syrip-dir or --gt"),
+        ([*truth, "--syrip-dir", str(tmp_path)], "give the ground truth as either --syrip-dir or --gt"),
+        ([*truth, "-o", str(tmp_path / "scores.txt")], f"{tmp_path / 'scores.txt'}: -o/--output writes the figures"),
+    ):
+        _refused([*base, *args], message)
+    config = tmp_path / "study.toml"
+    config.write_text('[evaluate]\nprotocol = "coco"\n')
+    _refused([*base, *truth, "--config", str(config)],
+             f"{config}: [evaluate] protocol: expected one of syrip12, h36m17, got 'coco'")  # fmt: skip
+
+
+def test_benchmark_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[benchmark]\nsyrip-dir = "syrip"\npreset = ["fast"]\nhypotheses = 4\nthroughput = false\n')
+    bench = _printed("benchmark", "--config", str(config), "--preset", "faithful", "--preset", "fast-fp32",
+                     "--throughput")["benchmark"]  # fmt: skip
+    assert (bench["syrip_dir"], bench["preset"], bench["hypotheses"], bench["throughput"]) == (
+        "syrip", ["faithful", "fast-fp32"], 4, True)  # fmt: skip
+    assert (bench["inputs"], bench["scale"], bench["scale_preset"], bench["agreement_poses"], bench["fit_epochs"],
+            bench["device"]) == ("gt,detected", [], "fast", 100_000, 200, "cpu")  # fmt: skip
+    printed = tmp_path / "printed.toml"
+    printed.write_text(runner.invoke(app, ["benchmark", "--config", str(config), "--scale", "64", "--scale", "128",
+                                           "--print-config"]).stdout)  # fmt: skip
+    again = _printed("benchmark", "--config", str(printed))["benchmark"]
+    assert again == {**bench, "preset": ["fast"], "throughput": False, "scale": [64, 128]}
+
+
+def test_benchmark_refuses_bad_settings_before_any_data_is_read(tmp_path: Path, no_evaluation_data_read: None) -> None:
+    out = tmp_path / "bench.json"
+    base = ["benchmark", "--syrip-dir", str(tmp_path), "-o", str(out)]
+    for args, message in (
+        (["--preset", "fast", "--preset", "quick"], "--preset must be one of faithful, fast, fast-bf16, fast-fp32, "
+                                                    "got 'quick'"),
+        (["--inputs", "gt,x"], "--inputs must list gt and/or detected, got 'gt,x'"),
+        (["--hypotheses", "0"], "--hypotheses must be an integer in [1, 64], got 0"),
+        (["--scale", "10", "--scale", "0"], "--scale must be an integer in [1, 10000000], got 0"),
+        (["--scale", "10", "--agreement-poses", "-1"], "--agreement-poses must be an integer in [0, 10000000], got -1"),
+        (["--scale", "10", "--fit-epochs", "100001"], "--fit-epochs must be 0 (skip) or an integer in [2, 100000], "
+                                                      "got 100001"),
+        (["--scale", "10", "--fit-epochs", "1"], "--fit-epochs must be 0 (skip) or at least 2: the first epoch is not "
+                                                 "timed"),
+        (["--scale", "10", "--chunk-size", "0"], "--chunk-size must be an integer in [1, 1048576], got 0"),
+        (["--scale", "10", "--scale-preset", "nope"], "--scale-preset must be one of faithful, fast, fast-bf16, "
+                                                      "fast-fp32, got 'nope'"),
+        (["--scale", "10", "--fit-recipe", str(tmp_path / "r.toml")], f"--fit-recipe {tmp_path / 'r.toml'}: recipe "
+                                                                      "file not found"),
+    ):  # fmt: skip
+        _refused([*base, *args], message)
+    _refused(["benchmark", "--preset", "fast"], "--syrip-dir is needed (the SyRIP data folder), unless --scale")
+    config = tmp_path / "study.toml"
+    config.write_text("[benchmark]\nhypotheses = 65\n")
+    _refused([*base, "--config", str(config)], f"{config}: [benchmark] hypotheses: expected an integer in [1, 64], "
+                                               "got 65")  # fmt: skip
+    config.write_text("[benchmark]\npreset = []\n")
+    _refused([*base, "--config", str(config)], f"{config}: [benchmark] preset: expected one or more of faithful, "
+                                               "fast, fast-bf16, fast-fp32, got none")  # fmt: skip
+    assert not out.exists()
+
+
+def test_benchmark_symmetry_takes_a_config_and_the_flags_given_win(tmp_path: Path) -> None:
+    config = tmp_path / "study.toml"
+    config.write_text('[benchmark-symmetry]\nsyrip-dir = "syrip"\nsymmetry-threshold = 30.0\nreference = false\n'
+                      'inputs = "gt"\n')  # fmt: skip
+    sym = _printed("benchmark-symmetry", "--config", str(config), "--symmetry-threshold", "20", "--reference")
+    sym = sym["benchmark-symmetry"]  # --syrip-dir, required, from the file
+    assert (sym["syrip_dir"], sym["symmetry_threshold"], sym["reference"], sym["inputs"]) == ("syrip", 20.0, True,
+                                                                                              "gt")  # fmt: skip
+    assert (sym["preset"], sym["device"]) == ("fast", "cpu")
+    printed = tmp_path / "printed.toml"
+    printed.write_text(runner.invoke(app, ["benchmark-symmetry", "--config", str(config), "--preset", "faithful",
+                                           "--print-config"]).stdout)  # fmt: skip
+    again = _printed("benchmark-symmetry", "--config", str(printed))["benchmark-symmetry"]
+    assert again == {**sym, "symmetry_threshold": 30.0, "reference": False, "preset": "faithful"}
+
+
+def test_benchmark_symmetry_refuses_bad_settings_before_any_data_is_read(
+    tmp_path: Path, no_evaluation_data_read: None
+) -> None:
+    out = tmp_path / "sym.json"
+    base = ["benchmark-symmetry", "--syrip-dir", str(tmp_path), "-o", str(out)]
+    for args, message in (
+        (["--preset", "quick"], "--preset must be one of faithful, fast, fast-bf16, fast-fp32, got 'quick'"),
+        (["--inputs", "x"], "--inputs must list gt and/or detected, got 'x'"),
+        (["--symmetry-threshold", "181"], "--symmetry-threshold must be a number in [0, 180], got 181"),
+        (["--symmetry-threshold", "nan"], "--symmetry-threshold must be a number in [0, 180], got nan"),
+    ):
+        _refused([*base, *args], message)
+    config = tmp_path / "study.toml"
+    config.write_text("[benchmark-symmetry]\nsymmetry-threshold = -1.0\n")
+    _refused([*base, "--config", str(config)],
+             f"{config}: [benchmark-symmetry] symmetry_threshold: expected a number in [0, 180], got -1")  # fmt: skip
+    assert not out.exists()
+
+
+def test_evaluation_commands_defaults_are_their_models() -> None:
+    import inspect
+
+    from zedo_cli.cli.analyze import benchmark_symmetry_command
+    from zedo_cli.cli.evaluate import benchmark_command, evaluate_command
+    from zedo_cli.settings.evaluate import BenchmarkOptions, BenchmarkSymmetryOptions, EvaluateOptions
+
+    for command, model in ((evaluate_command, EvaluateOptions), (benchmark_command, BenchmarkOptions),
+                           (benchmark_symmetry_command, BenchmarkSymmetryOptions)):  # fmt: skip
+        params = inspect.signature(command).parameters
+        keys = {{"prior_spec": "prior", "as_json": "json"}.get(name, name): p for name, p in params.items()}
+        assert set(model.keys()) <= set(keys), command.__name__  # every option of the model is the command's
+        for key in model.keys():
+            assert model.help(key), (model.__name__, key)
+            if not model.model_fields[model.keys()[key]].is_required():
+                assert model.default(key) == keys[key].default, (command.__name__, key)

@@ -11,6 +11,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import typer
 
 from zedo_cli.cli import COMMANDS, PANELS, app
@@ -98,6 +99,18 @@ def test_the_summaries_are_the_docstrings_first_lines() -> None:
 def test_option_errors_answer_before_torch_loads(tmp_path: Path) -> None:
     loaded = loaded_modules("lift", str(tmp_path / "x.json"), "--preset", "nonsense")
     assert "torch" not in loaded
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["evaluate", "r.json", "--gt", "t.npz", "--protocol", "coco"],
+        ["benchmark", "--scale", "0"],
+        ["benchmark-symmetry", "--syrip-dir", "syrip", "--preset", "quick"],
+    ],
+)
+def test_the_evaluation_commands_option_errors_answer_before_torch_loads(args: list[str]) -> None:
+    assert "torch" not in loaded_modules(*args)
 
 
 def test_lifting_does_not_load_the_compiler_stack(tmp_path: Path) -> None:

@@ -146,3 +146,35 @@ def test_the_augment_models_read_their_tables_and_train_as_the_recipe(tmp_path: 
     assert AugmentOptions.validated(read_config(path, AugmentOptions, commands).values).count == 5
     with pytest.raises(ConfigError, match="need infant reference poses"):
         AugmentOptions.validated({"bones": "infant"})
+
+
+def test_the_evaluation_models_read_their_tables_and_lift_as_the_presets(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from zedo_cli.lifting.config import PRESETS
+    from zedo_cli.settings.evaluate import (
+        BUNDLED_RECIPE,
+        BenchmarkOptions,
+        BenchmarkSymmetryOptions,
+        EvaluateOptions,
+    )
+
+    commands = (*COMMANDS, "evaluate", "benchmark", "benchmark-symmetry")
+    tables = ('[benchmark]\npreset = ["fast", "faithful", "fast"]\nhypotheses = 3\nchunk-size = 512\n'
+              '[benchmark-symmetry]\nsyrip-dir = "s"\ninputs = "detected"\n[evaluate]\ngt = "t.npz"\n')  # fmt: skip
+    path = _config(tmp_path, tables)
+    config = read_config(path, BenchmarkOptions, commands)
+    assert config.notes == tuple(f"{path}: [{c}] is for zedo {c}; zedo benchmark reads [benchmark]"
+                                 for c in ("benchmark-symmetry", "evaluate"))  # fmt: skip
+    bench = BenchmarkOptions.validated({**config.values, "scale": (64,)})
+    configs = bench.lift_configs()  # each preset once, in order, with --hypotheses
+    assert list(configs) == ["fast", "faithful"] and {c.hypotheses for c in configs.values()} == {3}
+    assert bench.scale_config() == replace(PRESETS["fast"], chunk_size=512) and bench.inputs_2d() == ("gt", "detected")
+    assert bench.recipe_path() == BUNDLED_RECIPE and BUNDLED_RECIPE.is_file()
+    sym = BenchmarkSymmetryOptions.validated(read_config(path, BenchmarkSymmetryOptions, commands).values)
+    assert sym.syrip_dir == Path("s") and sym.inputs_2d() == ("detected",) and sym.preset == "fast"
+    assert EvaluateOptions.validated(read_config(path, EvaluateOptions, commands).values).gt == Path("t.npz")
+    with pytest.raises(ConfigError, match="--syrip-dir is needed"):
+        BenchmarkOptions.validated({})
+    with pytest.raises(ConfigError, match="either --syrip-dir or --gt"):
+        EvaluateOptions.validated({"gt": "t.npz", "syrip_dir": "s"})

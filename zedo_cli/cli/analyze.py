@@ -14,7 +14,6 @@ from rich.table import Table
 from ..analysis.analyse import (
     SYMMETRY_NAMES,
     Analysis,
-    AnalysisSettings,
     poses_counted,
     summary,
 )
@@ -24,14 +23,14 @@ from ..errors import ConfigError, InputFormatError, ZedoError
 from ..files import check_writable, make_output_folder
 from ..formats.readers.openpose import is_openpose_folder
 from ..formats.readers.result import read_result
-from ..lifting.config import DEFAULT_PRESET, PRESETS, get_preset
+from ..lifting.config import get_preset
 from ..pipeline.analyze_result import Reference, analyse_result, read_reference, write_analysis
 from ..settings.analyze import AnalyzeOptions
-from .checks import DEVICE_HELP, check_device
+from ..settings.device import check_device
+from ..settings.evaluate import BenchmarkSymmetryOptions
 from .common import (
     EXIT_PARTIAL,
     EXIT_RUNTIME,
-    REPORT_OUTPUT_HELP,
     check_report_output,
     err_console,
     error_boundary,
@@ -68,6 +67,7 @@ def _result_files(folder: Path) -> list[str]:
 
 
 _opt = partial(model_option, AnalyzeOptions)  # the option `key` of AnalyzeOptions, with the model's help text
+_sym_opt = partial(model_option, BenchmarkSymmetryOptions)  # the option `key` of BenchmarkSymmetryOptions
 
 
 def _D(key: str) -> object:  # noqa: N802  (the option's default, from the model)
@@ -325,21 +325,19 @@ def _pct(values: dict[str, float] | None, key: str) -> str:
 
 @error_boundary
 def benchmark_symmetry_command(
-    syrip_dir: Annotated[Path, typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip).")],
-    prior_spec: Annotated[
-        Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file (syrip12).")
-    ] = None,
-    preset: Annotated[str, typer.Option(help=f"Lifting preset: {', '.join(PRESETS)}.")] = DEFAULT_PRESET,
-    inputs: Annotated[str, typer.Option(help="2D inputs: gt, detected or gt,detected.")] = "gt,detected",
-    symmetry_threshold: Annotated[float, typer.Option(help="Threshold of the calls, degrees.")] = DEFAULT_THRESHOLD_DEG,
-    reference: Annotated[
-        bool, typer.Option(help="Also score HW-HuP's 3D predictions (the weak truth's origin) as a reference.")
-    ] = True,
-    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    as_json: Annotated[bool, typer.Option("--json", help="Print the figures as JSON on stdout.")] = False,
-    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    syrip_dir: Annotated[Path, _sym_opt("syrip_dir")],
+    prior_spec: Annotated[Optional[str], _sym_opt("prior", "--prior")] = None,
+    preset: Annotated[str, _sym_opt("preset")] = BenchmarkSymmetryOptions.default("preset"),
+    inputs: Annotated[str, _sym_opt("inputs")] = BenchmarkSymmetryOptions.default("inputs"),
+    symmetry_threshold: Annotated[float, _sym_opt("symmetry_threshold")] = DEFAULT_THRESHOLD_DEG,
+    reference: Annotated[bool, _sym_opt("reference")] = True,
+    device: Annotated[str, _sym_opt("device")] = "cpu",
+    as_json: Annotated[bool, _sym_opt("json", "--json")] = False,
+    output: Annotated[Optional[str], output_option(BenchmarkSymmetryOptions.help("output"))] = None,
+    overwrite: Annotated[bool, _sym_opt("overwrite")] = False,
+    quiet: Annotated[bool, _sym_opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("benchmark-symmetry")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """How accurate zedo analyze's measures are, on SyRIP Test100.
 
@@ -356,27 +354,25 @@ def benchmark_symmetry_command(
 
       zedo benchmark-symmetry --syrip-dir ../shared/data/syrip
     """
-    chosen = tuple(i.strip() for i in inputs.split(","))
-    if not chosen or any(i not in ("gt", "detected") for i in chosen):
-        raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
-    AnalysisSettings(symmetry_threshold)  # validates the threshold
-    check_report_output(output, overwrite)
-    cfg = get_preset(preset)
+    o: BenchmarkSymmetryOptions = resolve_options(BenchmarkSymmetryOptions).options  # option errors before any work
+    check_report_output(o.output, o.overwrite)
     from ..evaluation.symmetry_benchmark import run_symmetry_benchmark  # torch from here on
     from ..prior.weights import load_prior, resolve_prior_path
 
-    device = check_device(device)  # auto: CUDA when present
-    prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
-    with progress_bar(quiet) as bar:
+    device = check_device(o.device)  # auto: CUDA when present
+    prior = load_prior(resolve_prior_path(o.prior), skeleton="syrip12", device=device)
+    chosen = o.inputs_2d()
+    with progress_bar(o.quiet) as bar:
         tasks = {k: bar.add_task(f"lift {k}", total=1, status="") for k in chosen}
 
         def on_step(key: str, p: LiftProgress) -> None:
             bar.update(tasks[key], completed=p.done, total=p.total)
 
-        bench = run_symmetry_benchmark(syrip_dir, prior, cfg, inputs=chosen, threshold=symmetry_threshold,
-                                       reference=reference, device=device, callback=on_step)  # fmt: skip
-    doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": preset, **asdict(bench)}
-    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
+        bench = run_symmetry_benchmark(o.syrip_dir, prior, get_preset(o.preset), inputs=chosen,
+                                       threshold=o.symmetry_threshold, reference=o.reference, device=device,
+                                       callback=on_step)  # fmt: skip
+    doc = {"prior": prior.path, "prior_sha256": prior.sha256, "preset": o.preset, **asdict(bench)}
+    if report_figures(doc, o.output, o.as_json, overwrite=o.overwrite, quiet=o.quiet):
         return
     console = stdout_console()
     for table in _benchmark_tables(bench):
@@ -385,4 +381,4 @@ def benchmark_symmetry_command(
                   "measure calibration holds; raw err: of the lifted pose's measures); kappa: Cohen's kappa of the "
                   "symmetric / asymmetric calls at the threshold against the truth's; HW-HuP: the image model the "
                   "weak truth was corrected from (reference)", markup=False)  # fmt: skip
-    err_console.print(f"prior {prior.label}; preset {preset}; device {device}", markup=False)
+    err_console.print(f"prior {prior.label}; preset {o.preset}; device {device}", markup=False)

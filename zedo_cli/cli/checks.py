@@ -1,15 +1,13 @@
-"""Option values every command checks before any work: numbers in their documented ranges,
-choices, seeds and devices. A bad value is a ConfigError (exit 2) naming the option."""
+"""Option values checked before any work by the commands without a settings model: numbers in their
+documented ranges and devices. A bad value is a ConfigError (exit 2) naming the option."""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
 
-from ..data.datasets import SYRIP_SPLITS
 from ..errors import ConfigError
-from ..settings.device import check_device  # noqa: F401  (every command's --device)
-from ..settings.limits import DEVICE_HELP, MAX_FPS, MAX_SEED, MAX_SIGMA_FRAMES, MAX_STEPS  # noqa: F401
+from ..settings.device import check_device  # noqa: F401  (re-exported: --device)
+from ..settings.limits import DEVICE_HELP, MAX_STEPS  # noqa: F401  (DEVICE_HELP re-exported)
 
 
 def check_range(
@@ -29,19 +27,5 @@ def _number(x: float) -> str:
     return str(int(x)) if isinstance(x, int) or (math.isfinite(x) and x.is_integer() and abs(x) < 1e16) else f"{x:g}"
 
 
-def check_seed(seed: int | None) -> None:
-    check_range("--seed", seed, 0, MAX_SEED)
-
-
 def check_steps(steps: int | None, option: str = "--steps") -> None:
     check_range(option, steps, 1, MAX_STEPS)
-
-
-def check_choice(option: str, value: str, choices: Iterable[str]) -> None:
-    choices = tuple(choices)
-    if value not in choices:
-        raise ConfigError(f"{option} must be one of {', '.join(choices)}, got {value!r}")
-
-
-def check_syrip_split(split: str, option: str = "--split") -> None:
-    check_choice(option, split, SYRIP_SPLITS)

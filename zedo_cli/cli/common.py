@@ -150,7 +150,6 @@ def print_json_report(doc: dict[str, Any]) -> None:
 
 
 STDOUT = "-"
-REPORT_OUTPUT_HELP = "Also write the figures as JSON to this .json file (- : on stdout, as --json)."
 
 
 def check_report_output(output: str | None, overwrite: bool) -> None:

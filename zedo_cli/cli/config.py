@@ -1,5 +1,5 @@
 """`--config FILE` and `--print-config` of `zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export`,
-`adapt`, `fit-prior`, `fit-augmenter` and `augment`.
+`adapt`, `fit-prior`, `fit-augmenter`, `augment`, `evaluate`, `benchmark` and `benchmark-symmetry`.
 
 Precedence: a command's defaults < its table of the --config file < the flags given on the
 command line. The file is read before click parses the command line (`ZedoCommand.parse_args`)
@@ -43,6 +43,9 @@ MODELS = {
     "fit-prior": ("fit_prior", "FitPriorOptions"),
     "fit-augmenter": ("augment", "FitAugmenterOptions"),
     "augment": ("augment", "AugmentOptions"),
+    "evaluate": ("evaluate", "EvaluateOptions"),
+    "benchmark": ("evaluate", "BenchmarkOptions"),
+    "benchmark-symmetry": ("evaluate", "BenchmarkSymmetryOptions"),
 }
 CONFIG_HELP = (
     "Settings from a TOML file: its [{command}] table, options by their long names ({example}); "
@@ -59,6 +62,9 @@ EXAMPLES = {
     "fit-prior": "epochs = 2000",
     "fit-augmenter": "epochs = 16",
     "augment": "strength = 0.3",
+    "evaluate": 'protocol = "h36m17"',
+    "benchmark": 'preset = ["fast"]',
+    "benchmark-symmetry": "symmetry-threshold = 30.0",
 }
 PRINT_CONFIG_HELP = "Print the settings in effect as TOML (a --config file) and exit."
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Optional
 
@@ -12,11 +12,10 @@ from rich.table import Table
 
 from ..data.datasets import load_npz_poses, load_syrip_3d
 from ..errors import ConfigError
-from ..evaluation.result_scoring import PROTOCOLS, align_to_truth, read_result_file
-from ..lifting.config import MAX_HYPOTHESES, PRESETS, get_preset
-from .checks import DEVICE_HELP, check_device, check_range, check_syrip_split
+from ..evaluation.result_scoring import align_to_truth, read_result_file
+from ..settings.device import check_device
+from ..settings.evaluate import BenchmarkOptions, EvaluateOptions
 from .common import (
-    REPORT_OUTPUT_HELP,
     check_report_output,
     err_console,
     error_boundary,
@@ -26,32 +25,32 @@ from .common import (
     report_figures,
     stdout_console,
 )
+from .config import config_option, model_option, print_config_option, resolve_options
 
 if TYPE_CHECKING:
+    from ..evaluation.device_benchmark import DeviceReport
     from ..evaluation.syrip_benchmark import Score, Throughput
     from ..lifting.solver import LiftProgress
+    from ..prior.weights import Prior
+
+
+_eval_opt = partial(model_option, EvaluateOptions)  # the option `key` of EvaluateOptions, with its help text
+_bench_opt = partial(model_option, BenchmarkOptions)  # the option `key` of BenchmarkOptions, with its help text
 
 
 @error_boundary
 def evaluate_command(
     result: Annotated[Path, typer.Argument(help="A zedo result file (from zedo lift).")],
-    syrip_dir: Annotated[
-        Optional[Path], typer.Option(help="Score against the SyRIP 3D ground truth in this folder.")
-    ] = None,
-    split: Annotated[str, typer.Option(help="SyRIP split holding the images: test, train or all.")] = "test",
-    gt: Annotated[
-        Optional[Path],
-        typer.Option(
-            help="Or: ground truth npz ('poses' (N,J,3) m, 'joint_names', 'names' = file names or image ids)."
-        ),
-    ] = None,
-    protocol: Annotated[
-        str, typer.Option(help=f"Joint set scored, both sides centred on its root: {', '.join(PROTOCOLS)}.")
-    ] = "syrip12",
-    as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
-    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No note on stderr.")] = False,
+    syrip_dir: Annotated[Optional[Path], _eval_opt("syrip_dir")] = None,
+    split: Annotated[str, _eval_opt("split")] = EvaluateOptions.default("split"),
+    gt: Annotated[Optional[Path], _eval_opt("gt")] = None,
+    protocol: Annotated[str, _eval_opt("protocol")] = EvaluateOptions.default("protocol"),
+    as_json: Annotated[bool, _eval_opt("json", "--json")] = False,
+    output: Annotated[Optional[str], output_option(EvaluateOptions.help("output"))] = None,
+    overwrite: Annotated[bool, _eval_opt("overwrite")] = False,
+    quiet: Annotated[bool, _eval_opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("evaluate")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Score lifted poses against 3D ground truth: MPJPE and PA-MPJPE in mm.
 
@@ -61,32 +60,35 @@ def evaluate_command(
 
     Example: zedo evaluate test100.zedo.json --syrip-dir ../shared/data/syrip --split test
     """
-    if (syrip_dir is None) == (gt is None):
-        raise ConfigError("give the ground truth as either --syrip-dir or --gt")
-    check_syrip_split(split)
-    check_report_output(output, overwrite)
-    truth = load_syrip_3d(syrip_dir, split) if syrip_dir is not None else load_npz_poses(gt)  # type: ignore[arg-type]
+    o: EvaluateOptions = resolve_options(EvaluateOptions).options  # option errors before any data is read
+    check_report_output(o.output, o.overwrite)
+    truth = load_syrip_3d(o.syrip_dir, o.split) if o.syrip_dir is not None else load_npz_poses(o.gt)  # type: ignore[arg-type]
     from ..evaluation.syrip_benchmark import score_poses  # heavy imports only once the options are read
 
     pred = read_result_file(result)
-    p, t, skel = align_to_truth(pred, truth, protocol)
+    p, t, skel = align_to_truth(pred, truth, o.protocol)
     mpjpe, pa, per_joint = score_poses(p, t, skel.joints)
     missing = len(truth.names) - len(p)  # e.g. persons the lift refused: not in the result as lifted
-    doc = {"protocol": protocol, "count": len(p), "unmatched_predictions": len(pred.keys) - len(p),
+    doc = {"protocol": o.protocol, "count": len(p), "unmatched_predictions": len(pred.keys) - len(p),
            "ground_truth_without_prediction": missing,
            "mpjpe_mm": round(mpjpe, 2), "pa_mpjpe_mm": round(pa, 2),
            "per_joint_mpjpe_mm": {k: round(v, 2) for k, v in per_joint.items()}}  # fmt: skip
-    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
+    if report_figures(doc, o.output, o.as_json, overwrite=o.overwrite, quiet=o.quiet):
         return
     unscored = f" ({missing} ground-truth poses have no lifted prediction)" if missing else ""
-    table = Table(title=f"{result} vs {truth.source}, protocol {protocol}, {len(p)} poses{unscored}")
+    title = f"{result} vs {truth.source}, protocol {o.protocol}, {len(p)} poses{unscored}"
+    print_table(_evaluate_table(title, per_joint, mpjpe, pa), stdout_console())
+
+
+def _evaluate_table(title: str, per_joint: dict[str, float], mpjpe: float, pa_mpjpe: float) -> Table:
+    table = Table(title=title)
     table.add_column("joint")
     table.add_column("MPJPE (mm)", justify="right")
     for joint, err in per_joint.items():
         table.add_row(joint, f"{err:.1f}")
     table.add_row("[b]mean[/b]", f"[b]{mpjpe:.1f}[/b]")
-    table.add_row("PA-MPJPE", f"{pa:.1f}")
-    print_table(table, stdout_console())
+    table.add_row("PA-MPJPE", f"{pa_mpjpe:.1f}")
+    return table
 
 
 def _benchmark_table(rows: list[tuple[str, Score]]) -> Table:
@@ -130,55 +132,25 @@ def _accuracy_deltas(rows: list[tuple[str, Score]], base: str) -> dict[str, dict
 
 @error_boundary
 def benchmark_command(
-    syrip_dir: Annotated[
-        Optional[Path],
-        typer.Option(help="The SyRIP data folder (e.g. ../shared/data/syrip); with --scale optional (pose source)."),
-    ] = None,
-    prior_spec: Annotated[
-        Optional[str], typer.Option("--prior", help="A bundled prior's name or a weights file.")
-    ] = None,
-    preset: Annotated[
-        list[str],
-        typer.Option(
-            help=f"Lifting preset(s) to run, repeatable; the first is the baseline of the ratios: {', '.join(PRESETS)}."
-        ),
-    ] = ["faithful", "fast"],  # noqa: B006
-    inputs: Annotated[str, typer.Option(help="2D inputs: gt, detected or gt,detected.")] = "gt,detected",
-    throughput: Annotated[
-        bool,
-        typer.Option(help="Also time each preset on all 700 real images x (gt, detected) = 1400 poses in one batch."),
-    ] = True,
-    hypotheses: Annotated[
-        Optional[int], typer.Option(help="Override every preset's hypotheses per instance (zedo lift --hypotheses).")
-    ] = None,
-    device: Annotated[str, typer.Option(help=DEVICE_HELP)] = "cpu",
-    scale: Annotated[
-        list[int],
-        typer.Option(
-            help="Instead of Test100: the device benchmark, lifting this many synthetic poses (repeatable; "
-            "on a GPU: --scale 100000 --scale 1000000), with peak memory, CPU agreement and fit-prior time.",
-            show_default=False,
-        ),
-    ] = [],  # noqa: B006
-    scale_preset: Annotated[str, typer.Option(help="With --scale: the preset lifted.")] = "fast",
-    agreement_poses: Annotated[
-        int,
-        typer.Option(help="With --scale: the first this many poses are lifted on the CPU too and compared (0: skip)."),
-    ] = 100_000,
-    fit_epochs: Annotated[
-        int, typer.Option(help="With --scale: epochs of the bundled recipe's training timed on the device (0: skip).")
-    ] = 200,
-    fit_recipe: Annotated[
-        Optional[Path],
-        typer.Option(help="With --scale: the recipe timed (default: weights_spec/syrip12-scratch.toml)."),
-    ] = None,
-    chunk_size: Annotated[
-        Optional[int], typer.Option(help="With --scale: rows lifted together (the preset's: 4096).")
-    ] = None,
-    as_json: Annotated[bool, typer.Option("--json", help="Print the scores as JSON on stdout.")] = False,
-    output: Annotated[Optional[str], output_option(REPORT_OUTPUT_HELP)] = None,
-    overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+    syrip_dir: Annotated[Optional[Path], _bench_opt("syrip_dir")] = None,
+    prior_spec: Annotated[Optional[str], _bench_opt("prior", "--prior")] = None,
+    preset: Annotated[list[str], _bench_opt("preset")] = BenchmarkOptions.default("preset"),
+    inputs: Annotated[str, _bench_opt("inputs")] = BenchmarkOptions.default("inputs"),
+    throughput: Annotated[bool, _bench_opt("throughput")] = True,
+    hypotheses: Annotated[Optional[int], _bench_opt("hypotheses")] = None,
+    device: Annotated[str, _bench_opt("device")] = "cpu",
+    scale: Annotated[list[int], _bench_opt("scale", show_default=False)] = BenchmarkOptions.default("scale"),
+    scale_preset: Annotated[str, _bench_opt("scale_preset")] = BenchmarkOptions.default("scale_preset"),
+    agreement_poses: Annotated[int, _bench_opt("agreement_poses")] = BenchmarkOptions.default("agreement_poses"),
+    fit_epochs: Annotated[int, _bench_opt("fit_epochs")] = BenchmarkOptions.default("fit_epochs"),
+    fit_recipe: Annotated[Optional[Path], _bench_opt("fit_recipe")] = None,
+    chunk_size: Annotated[Optional[int], _bench_opt("chunk_size")] = None,
+    as_json: Annotated[bool, _bench_opt("json", "--json")] = False,
+    output: Annotated[Optional[str], output_option(BenchmarkOptions.help("output"))] = None,
+    overwrite: Annotated[bool, _bench_opt("overwrite")] = False,
+    quiet: Annotated[bool, _bench_opt("quiet", "--quiet", "-q")] = False,
+    config: Annotated[Optional[Path], config_option("benchmark")] = None,
+    print_config: Annotated[bool, print_config_option()] = False,
 ) -> None:
     """Run the paper's SyRIP Test100 benchmark for one or more presets, side by side.
 
@@ -199,41 +171,17 @@ def benchmark_command(
 
       zedo benchmark --scale 100000 --scale 1000000 --device cuda
     """
-    if scale:
-        _scale_benchmark(prior_spec, scale, scale_preset, agreement_poses, fit_epochs, fit_recipe, chunk_size,
-                         syrip_dir, device, as_json, output, overwrite, quiet)  # fmt: skip
+    o: BenchmarkOptions = resolve_options(BenchmarkOptions).options  # option errors before any data is read
+    if o.scale:
+        _scale_benchmark(o)
         return
-    if syrip_dir is None:
-        raise ConfigError("--syrip-dir is needed (the SyRIP data folder), unless --scale is given")
-    chosen = tuple(i.strip() for i in inputs.split(","))
-    if not chosen or any(i not in ("gt", "detected") for i in chosen):
-        raise ConfigError(f"--inputs must list gt and/or detected, got {inputs!r}")
-    check_range("--hypotheses", hypotheses, 1, MAX_HYPOTHESES)
-    check_report_output(output, overwrite)
-    configs = {name: get_preset(name) for name in dict.fromkeys(preset)}
-    if hypotheses is not None:
-        configs = {name: replace(cfg, hypotheses=hypotheses) for name, cfg in configs.items()}
-    device = check_device(device)  # auto: CUDA when present
-    from ..evaluation.syrip_benchmark import load_throughput_inputs, measure_throughput, run_syrip_benchmark
-    from ..prior.weights import load_prior, resolve_prior_path
+    check_report_output(o.output, o.overwrite)
+    device = check_device(o.device)  # auto: CUDA when present
+    from ..prior.weights import load_prior, resolve_prior_path  # torch from here on
 
-    prior = load_prior(resolve_prior_path(prior_spec), skeleton="syrip12", device=device)
-    rows: list[tuple[str, Score]] = []
-    rates: dict[str, Throughput] = {}
-    speed_inputs = load_throughput_inputs(syrip_dir) if throughput else {}
-    for name, cfg in configs.items():
-        with progress_bar(quiet) as bar:
-            tasks = {k: bar.add_task(f"{name} {k}", total=1, status="") for k in (*chosen, "throughput")}
-
-            def on_step(key: str, p: LiftProgress, tasks: dict = tasks) -> None:
-                bar.update(tasks[key], completed=p.done, total=p.total)
-
-            scores, _ = run_syrip_benchmark(syrip_dir, prior, cfg, inputs=chosen, device=device, callback=on_step)
-            if throughput:
-                rates[name] = measure_throughput(speed_inputs, prior, cfg, device=device,
-                                                 callback=lambda p: on_step("throughput", p))  # fmt: skip
-        rows += [(f"{Path(prior.path).name} / {name}", s) for s in scores]
-    base = next(iter(configs))
+    prior = load_prior(resolve_prior_path(o.prior), skeleton="syrip12", device=device)
+    rows, rates = _test100(o, prior, device)
+    base = o.preset[0]
     deltas = _accuracy_deltas(rows, base)
     doc = {
         "prior": prior.path, "prior_sha256": prior.sha256, "device": device,
@@ -242,7 +190,7 @@ def benchmark_command(
                        for n, r in rates.items()},
         f"mpjpe_minus_{base}_mm": deltas,
     }  # fmt: skip
-    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
+    if report_figures(doc, o.output, o.as_json, overwrite=o.overwrite, quiet=o.quiet):
         return
     console = stdout_console()
     print_table(_benchmark_table(rows), console)
@@ -255,40 +203,45 @@ def benchmark_command(
     err_console.print(f"prior {prior.label}; device {device}", markup=False)
 
 
-# The recipe `--fit-recipe` defaults to: the bundled prior's, in the source tree (not installed with the package).
-BUNDLED_RECIPE = Path(__file__).resolve().parents[2] / "weights_spec" / "syrip12-scratch.toml"
-MAX_SCALE_POSES = 10_000_000
+def _test100(o: BenchmarkOptions, prior: Prior, device: str) -> tuple[list[tuple[str, Score]], dict[str, Throughput]]:
+    """Each preset's Test100 scores per 2D input and, with --throughput, its poses per second."""
+    from ..evaluation.syrip_benchmark import load_throughput_inputs, measure_throughput, run_syrip_benchmark
+
+    assert o.syrip_dir is not None  # BenchmarkOptions.check: needed without --scale
+    chosen = o.inputs_2d()
+    rows: list[tuple[str, Score]] = []
+    rates: dict[str, Throughput] = {}
+    speed_inputs = load_throughput_inputs(o.syrip_dir) if o.throughput else {}
+    for name, cfg in o.lift_configs().items():
+        with progress_bar(o.quiet) as bar:
+            tasks = {k: bar.add_task(f"{name} {k}", total=1, status="") for k in (*chosen, "throughput")}
+
+            def on_step(key: str, p: LiftProgress, tasks: dict = tasks) -> None:
+                bar.update(tasks[key], completed=p.done, total=p.total)
+
+            scores, _ = run_syrip_benchmark(o.syrip_dir, prior, cfg, inputs=chosen, device=device, callback=on_step)
+            if o.throughput:
+                rates[name] = measure_throughput(speed_inputs, prior, cfg, device=device,
+                                                 callback=lambda p: on_step("throughput", p))  # fmt: skip
+        rows += [(f"{Path(prior.path).name} / {name}", s) for s in scores]
+    return rows, rates
 
 
-def _scale_benchmark(
-    prior_spec: str | None, sizes: list[int], preset: str, agreement_poses: int, fit_epochs: int,
-    fit_recipe: Path | None, chunk_size: int | None, syrip_dir: Path | None, device: str, as_json: bool,
-    output: str | None, overwrite: bool, quiet: bool,
-) -> None:  # fmt: skip
+def _scale_benchmark(o: BenchmarkOptions) -> None:
     """`zedo benchmark --scale N ...`: evaluation/device_benchmark.py on one device."""
-    for n in sizes:
-        check_range("--scale", n, 1, MAX_SCALE_POSES)
-    check_range("--agreement-poses", agreement_poses, 0, MAX_SCALE_POSES)
-    check_range("--fit-epochs", fit_epochs, 0, 100_000)
-    check_range("--chunk-size", chunk_size, 1, 1 << 20)
-    if preset not in PRESETS:
-        raise ConfigError(f"--scale-preset must be one of {', '.join(PRESETS)}, got {preset!r}")
-    recipe_path = fit_recipe or BUNDLED_RECIPE
-    if fit_epochs and not recipe_path.is_file():
+    recipe_path = o.recipe_path()
+    if o.fit_epochs and not recipe_path.is_file():
         raise ConfigError(f"--fit-recipe {recipe_path}: recipe file not found (or --fit-epochs 0)")
-    check_report_output(output, overwrite)
-    device = check_device(device)  # the one-line refusal of cuda without a GPU, before anything heavy
+    check_report_output(o.output, o.overwrite)
+    device = check_device(o.device)  # the one-line refusal of cuda without a GPU, before anything heavy
     from ..evaluation.device_benchmark import ScaleSettings, run_device_benchmark
     from ..prior.recipes import load_recipe
     from ..prior.weights import load_prior, resolve_prior_path
 
-    settings = ScaleSettings(tuple(sizes), agreement_poses, fit_epochs)
-    config = get_preset(preset)
-    if chunk_size is not None:
-        config = replace(config, chunk_size=chunk_size)
-    recipe = load_recipe(recipe_path) if fit_epochs else None
-    prior = load_prior(resolve_prior_path(prior_spec), device=device)
-    with progress_bar(quiet) as bar:
+    settings = ScaleSettings(o.scale, o.agreement_poses, o.fit_epochs)
+    recipe = load_recipe(recipe_path) if o.fit_epochs else None
+    prior = load_prior(resolve_prior_path(o.prior), device=device)
+    with progress_bar(o.quiet) as bar:
 
         def on_stage(label: str, poses: int) -> Callable[[LiftProgress], None]:
             task = bar.add_task(label, total=1, status="")
@@ -298,20 +251,26 @@ def _scale_benchmark(
 
             return on_step
 
-        report = run_device_benchmark(prior, config, settings, device=device, preset=preset, syrip_dir=syrip_dir,
-                                      recipe=recipe, on_stage=on_stage)  # fmt: skip
+        report = run_device_benchmark(prior, o.scale_config(), settings, device=device, preset=o.scale_preset,
+                                      syrip_dir=o.syrip_dir, recipe=recipe, on_stage=on_stage)  # fmt: skip
     doc = {
         "prior": prior.path, "prior_sha256": prior.sha256, "device": report.device,
-        "device_name": _device_name(device), "preset": preset, "pose_source": report.pose_source,
+        "device_name": _device_name(device), "preset": o.scale_preset, "pose_source": report.pose_source,
         "lift": [vars(r) for r in report.runs],
         "agreement": None if report.agreement is None else {"reference": "cpu", **vars(report.agreement)},
         "fit_prior": None if report.fit is None else {"recipe": str(recipe_path), **vars(report.fit),
                                                        "extrapolated": True},
     }  # fmt: skip
-    if report_figures(doc, output, as_json, overwrite=overwrite, quiet=quiet):
+    if report_figures(doc, o.output, o.as_json, overwrite=o.overwrite, quiet=o.quiet):
         return
+    _print_scale_report(report, doc["device_name"], o.scale_preset, recipe_path, device)
+    err_console.print(f"prior {prior.label}; device {device}", markup=False)
+
+
+def _print_scale_report(report: DeviceReport, device_name: str, preset: str, recipe_path: Path, device: str) -> None:
+    """The device benchmark's tables and lines on stdout."""
     console = stdout_console()
-    table = Table(title=f"Lifting {preset} on {doc['device_name']}, synthetic poses ({report.pose_source})")
+    table = Table(title=f"Lifting {preset} on {device_name}, synthetic poses ({report.pose_source})")
     for col in ("poses", "lifted", "lift s", "poses/s", "chunk rows", "peak memory MiB", "memory measured"):
         table.add_column(col, justify="left" if col == "memory measured" else "right")
     for r in report.runs:
@@ -340,7 +299,6 @@ def _scale_benchmark(
         console.print(f"fit-prior ({recipe_path.name}, {f.poses} poses): {f.seconds_per_epoch * 1000:.1f} ms per epoch "
                       f"over {f.epochs_run} epochs; the recipe's {f.recipe_epochs} epochs extrapolated: "
                       f"{f.extrapolated_seconds / 60:.1f} min (an estimate, not a full run)", markup=False)  # fmt: skip
-    err_console.print(f"prior {prior.label}; device {device}", markup=False)
 
 
 def _device_name(device: str) -> str:

@@ -11,9 +11,9 @@ from rich.table import Table
 
 from ..data.minirgbd import DEFAULT_DROPPED_JOINT, SIDES, check_stride, get_mapping, protocol_joints, split_sequences
 from ..lifting.config import PRESETS, get_preset
+from ..settings.limits import REPORT_OUTPUT_HELP
 from .checks import DEVICE_HELP, check_device, check_steps
 from .common import (
-    REPORT_OUTPUT_HELP,
     check_report_output,
     err_console,
     error_boundary,

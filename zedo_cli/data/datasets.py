@@ -25,6 +25,8 @@ SYRIP_TEST100 = "keypoints2d_gt_test100.json"
 SYRIP_REAL700 = "keypoints2d_gt_real700.json"
 SYRIP_FIDIP = "keypoints2d_fidip_real700.json"
 SYRIP_SPLITS = ("train", "test", "all")
+# protocol -> joint set scored (`zedo evaluate --protocol`); both sides are converted to it and centred on its root
+SCORING_PROTOCOLS: dict[str, str] = {"syrip12": "syrip12", "h36m17": "h36m17"}
 
 
 @dataclass

@@ -7,13 +7,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..data.datasets import PoseSet
+from ..data.datasets import SCORING_PROTOCOLS, PoseSet
 from ..data.skeleton import Skeleton, center_on_root, convert_points, get_skeleton
 from ..errors import ConfigError, InputFormatError
 from ..formats.readers.result import read_result
-
-# protocol -> joint set scored; both sides are converted to it and centred on its root
-PROTOCOLS: dict[str, str] = {"syrip12": "syrip12", "h36m17": "h36m17"}
 
 
 @dataclass
@@ -42,9 +39,9 @@ def _all_observed(poses: np.ndarray, src: Skeleton, dst: Skeleton) -> tuple[np.n
 
 def align_to_truth(pred: PredictedPoses, truth: PoseSet, protocol: str) -> tuple[np.ndarray, np.ndarray, Skeleton]:
     """Prediction and truth of the images both have, in the protocol's joint set, root-centred."""
-    if protocol not in PROTOCOLS:
-        raise ConfigError(f"unknown protocol {protocol!r}; protocols: {', '.join(PROTOCOLS)}")
-    dst = get_skeleton(PROTOCOLS[protocol])
+    if protocol not in SCORING_PROTOCOLS:
+        raise ConfigError(f"unknown protocol {protocol!r}; protocols: {', '.join(SCORING_PROTOCOLS)}")
+    dst = get_skeleton(SCORING_PROTOCOLS[protocol])
     index = {k: i for i, k in enumerate(pred.keys)}
     common = [(index[n], t) for t, n in enumerate(truth.names) if n in index]
     if not common:

@@ -12,7 +12,7 @@ from ..analysis.norms.norms import MAX_AGE_WEEKS, check_age_weeks
 from ..analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG
 from ..analysis.uncertainty.calibration import DEFAULT_CALL_LEVEL, DEFAULT_LEVEL, LEVELS
 from ..errors import ConfigError
-from .limits import MAX_FPS
+from .limits import MAX_FPS, MAX_SYMMETRY_THRESHOLD_DEG
 from .model import Options, option_name
 
 PathOption = Annotated[Optional[Path], Field(strict=False)]
@@ -42,7 +42,7 @@ class AnalyzeOptions(Options):
     symmetry_threshold: float = Field(
         DEFAULT_THRESHOLD_DEG,
         ge=0,
-        le=180,
+        le=MAX_SYMMETRY_THRESHOLD_DEG,
         description="Symmetric when the symmetry angle is at most this many degrees (the paper's 3D value).",
     )
     fps: Optional[float] = Field(

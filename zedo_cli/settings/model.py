@@ -1,5 +1,5 @@
 """The base of every command's settings model (`zedo lift`, `analyze`, `render`, `calibrate`, `norms`, `export`,
-`adapt`, `fit-prior`, `fit-augmenter`, `augment`).
+`adapt`, `fit-prior`, `fit-augmenter`, `augment`, `evaluate`, `benchmark`, `benchmark-symmetry`).
 
 One field per long option, named as the option with underscores (`--min-confidence` ->
 `min_confidence`), with its type, bounds, default and help. The command line, a `--config`
@@ -38,7 +38,7 @@ def show(value: Any) -> str:
     if isinstance(value, float):
         return str(int(value)) if math.isfinite(value) and value.is_integer() and abs(value) < 1e16 else f"{value:g}"
     if isinstance(value, (list, tuple)):
-        return " ".join(show(v) for v in value)
+        return " ".join(show(v) for v in value) or "none"
     return repr(str(value)) if isinstance(value, Path) else repr(value)
 
 
