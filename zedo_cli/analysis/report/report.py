@@ -226,9 +226,10 @@ def call_rule(a: Analysis) -> str:
             "camera and their depth is the prior's guess. Uncertain cases are for a person to look at (the "
             "footage, another view); they are not evidence either way.</p>"
             f"<p class=meta>The interval printed beside each call in this report is that {level} interval. Each of "
-            f"its ends missed the true angle at most {miss} of the time on infants the calibration never saw, and "
-            "such calls agreed with the reference call 88-95 % of the time on held-out infants and on SyRIP "
-            "Test100 (docs/clinical.md).</p>")  # fmt: skip
+            f"its ends missed the true angle at most {miss} of the time on held-out poses like the calibration's, and "
+            "such calls agreed with the true call 79-97 % of the time on held-out poses of the calibration's two "
+            "sources (least on single images of SyRIP's poses) and 88-91 % on SyRIP Test100 "
+            "(docs/clinical.md).</p>")  # fmt: skip
 
 
 def _case_list(a: Analysis) -> str:
