@@ -26,6 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -54,7 +55,8 @@ from zedo_cli.analysis.uncertainty.calibration import (
 from zedo_cli.data.skeleton import get_skeleton
 
 SKELETON = get_skeleton("syrip12")
-BINS = {"none": 2, "smooth": 4}  # bins of the measured value per measure (images: ~300 cases a fold, clips: ~2400)
+BINS = {"none": 2, "smooth": 4, "clip": 4}  # bins of the measured value per measure (images: ~300 a fold, clips: ~2400)
+MODES = ("none", "smooth", "clip")  # the temporal modes calibrated: frame by frame, --temporal smooth, --temporal clip
 # The second source, the adult motion made infant-like (benchmarks/lib/adult_cases.py), in about as many cases a fold
 # as the SyRIP poses give, so that neither source outweighs the other in the shipped fit: before the pseudo camera
 # 16 clips of 5 s (2400 frames, as the SyRIP clips), frame by frame every 8th of their frames (300, as the SyRIP
@@ -107,7 +109,7 @@ def lift_cases(args: argparse.Namespace) -> None:
             lift_adult_cases(args, k, prior)
         if "syrip" not in args.sources:
             continue
-        for key, kp in inputs.items():
+        for key, kp in inputs.items() if "none" in args.temporal_modes else ():
             kp = kp.to_skeleton(prior.skeleton)
             mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
             res = lift(kp.xy, kp.confidence, mats, prior, cfg, seed=0)
@@ -116,15 +118,17 @@ def lift_cases(args: argparse.Namespace) -> None:
             print(f"fold {k} {key}: {int(res.lifted.sum())}/{len(kp)} lifted")
         torch.manual_seed(k)
         clips = make_sequences(truth.poses, np.random.default_rng(100 + k), **CLIP_SETTINGS)
-        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode="smooth", tracks=clips["tracks"])
-        arrays = case_arrays(res.poses_root_relative, res.observed, res.lifted, clips["rel"])
-        np.savez(args.cases / f"fold{k}-smooth-clips.npz", group=clips["tracks"], **arrays)
-        print(f"fold {k} clips: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
+        for mode in (m for m in ("smooth", "clip") if m in args.temporal_modes):
+            res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=mode, tracks=clips["tracks"])
+            arrays = case_arrays(res.poses_root_relative, res.observed, res.lifted, clips["rel"])
+            np.savez(args.cases / f"fold{k}-{mode}-clips.npz", group=clips["tracks"], **arrays)
+            print(f"fold {k} clips, {mode}: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
 
 
 def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
-    """The adult source's cases of fold `k` before the pseudo camera (ADULT_CLIPS): `--temporal smooth`
-    (`fold<k>-smooth-adult.npz`) and frame by frame, every ADULT_IMAGE_STRIDE-th frame (`fold<k>-none-adult.npz`)."""
+    """The adult source's cases of fold `k` before the pseudo camera (ADULT_CLIPS): `--temporal smooth` and `clip`
+    (`fold<k>-<mode>-adult.npz`) and frame by frame, every ADULT_IMAGE_STRIDE-th frame (`fold<k>-none-adult.npz`);
+    the modes of `--temporal-modes`."""
     import torch
 
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
@@ -132,7 +136,9 @@ def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
 
     torch.manual_seed(k)
     clips = adult_case_clips(args.syrip_dir, 1300 + k, False, **ADULT_CLIPS)
-    for mode, keep in (("smooth", slice(None)), ("none", slice(None, None, ADULT_IMAGE_STRIDE))):
+    every, stride = slice(None), slice(None, None, ADULT_IMAGE_STRIDE)
+    for mode, keep in ((m, k) for m, k in (("smooth", every), ("none", stride), ("clip", every))
+                       if m in args.temporal_modes):  # fmt: skip
         res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
                             tracks=clips["tracks"])  # fmt: skip
         arrays = case_arrays(res.poses_root_relative[keep], res.observed[keep], res.lifted[keep], clips["rel"][keep])
@@ -154,7 +160,8 @@ NEAR_DRAWS, NEAR_CLIP_COUNT = 12, 48  # per held-out pose and 2D input; clips pe
 CAMERA_CLIPS = {"count": 16, "keyposes": 8, "transition_s": 1.0, "fps": 30.0, "noise_px": 0.0, "drop": 0.03,
                 "gap": 3, "noise_rel": 0.0125}  # fmt: skip
 # clips per camera kind: (kind, cameras drawn (None: the pseudo camera), temporal modes lifted)
-CLIP_KINDS = (("intrinsics", CAMERAS, ("smooth", "none")), ("f1000", F1000, ("smooth",)), ("pseudo", None, ("none",)))
+CLIP_KINDS = (("intrinsics", CAMERAS, ("smooth", "none", "clip")), ("f1000", F1000, ("smooth",)),
+              ("pseudo", None, ("none",)))  # fmt: skip
 YAW, ROLL = 0.4, 0.2  # rad: the images turn as the clips do (temporal.make_sequences)
 
 
@@ -232,7 +239,7 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
         if "syrip" not in args.sources:
             continue
         if "near" in args.camera_kinds:
-            lift_near_cases(out, k, prior, truth.poses, kp, errors)
+            lift_near_cases(out, k, prior, truth.poses, kp, errors, args.temporal_modes)
         if "base" not in args.camera_kinds:
             print(f"fold {k}: near camera cases lifted in {time.perf_counter() - start:.0f} s")
             continue
@@ -241,15 +248,16 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
             detected = key == "detected"
             data = camera_images(truth.poses, errors if detected else None, kp[key].confidence if detected else None,
                                  rng, CAMERA_DRAWS, CAMERAS)  # fmt: skip
-            res = lift(data["xy"], data["conf"], data["k"], prior, cfg, seed=0)
-            np.savez(out / f"fold{k}-intrinsics-none-{key}.npz", group=data["group"], **camera_cases(res, data))
+            if "none" in args.temporal_modes:  # drawn either way: the clips below come next in the stream
+                res = lift(data["xy"], data["conf"], data["k"], prior, cfg, seed=0)
+                np.savez(out / f"fold{k}-intrinsics-none-{key}.npz", group=data["group"], **camera_cases(res, data))
         for kind, cams, modes in CLIP_KINDS:
             for key in ("gt", "detected"):
                 torch.manual_seed(k)
                 clips = make_sequences(truth.poses, rng, **CAMERA_CLIPS,
                                        place=None if cams is None else lambda r, p, d, c=cams: place_camera(r, p, d, c),
                                        key_noise=errors if key == "detected" else None)  # fmt: skip
-                for mode in modes:
+                for mode in (m for m in modes if m in args.temporal_modes):
                     res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=mode,
                                         tracks=clips["tracks"])  # fmt: skip
                     np.savez(out / f"fold{k}-{kind}-{mode}-clips_{key}.npz", group=clips["tracks"],
@@ -259,7 +267,8 @@ def lift_camera_cases(args: argparse.Namespace) -> None:
 
 def lift_adult_camera_cases(args: argparse.Namespace, out: Path, k: int, prior: Any) -> None:
     """The adult source's cases of fold `k` before the clinic cameras and two far ones (ADULT_CAMERA_CLIPS), lifted
-    with their true K in `--temporal smooth` and frame by frame (`fold<k>-intrinsics-<mode>-clips_adult.npz`)."""
+    with their true K frame by frame, in `--temporal smooth` and `clip` (`fold<k>-intrinsics-<mode>-clips_adult.npz`;
+    the modes of `--temporal-modes`)."""
     import torch
 
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
@@ -267,7 +276,7 @@ def lift_adult_camera_cases(args: argparse.Namespace, out: Path, k: int, prior: 
 
     torch.manual_seed(k)
     clips = adult_case_clips(args.syrip_dir, 1500 + k, True, **ADULT_CAMERA_CLIPS)
-    for mode in ("smooth", "none"):
+    for mode in (m for m in ("smooth", "none", "clip") if m in args.temporal_modes):
         res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
                             tracks=clips["tracks"])  # fmt: skip
         np.savez(out / f"fold{k}-intrinsics-{mode}-clips_{ADULT_SOURCE}.npz", group=clips["tracks"],
@@ -276,10 +285,11 @@ def lift_adult_camera_cases(args: argparse.Namespace, out: Path, k: int, prior: 
               flush=True)  # fmt: skip
 
 
-def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, errors: np.ndarray) -> None:
+def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, errors: np.ndarray,
+                    modes: Sequence[str] = MODES) -> None:  # fmt: skip
     """The near draws (`NEAR`) of fold `k`'s held-out `poses (P, J, 3)`: images from GT and FiDIP 2D, and clips in
-    `--temporal smooth` and frame by frame, saved as the kinds `near_<input>` of the intrinsics cases. Their own
-    random stream, so the other camera cases are the same with or without them."""
+    `--temporal smooth`, `clip` and frame by frame (those of `modes`), saved as the kinds `near_<input>` of the
+    intrinsics cases. Their own random stream, so the other camera cases are the same with or without them."""
     import torch
 
     from zedo_cli.evaluation.clips.eased import make_sequences
@@ -293,14 +303,15 @@ def lift_near_cases(out: Path, k: int, prior: Any, poses: np.ndarray, kp: dict, 
         detected = key == "detected"
         data = camera_images(poses, errors if detected else None, kp[key].confidence if detected else None, rng,
                              NEAR_DRAWS, NEAR)  # fmt: skip
-        res = lift(data["xy"], data["conf"], data["k"], prior, cfg, seed=0)
-        np.savez(out / f"fold{k}-intrinsics-none-near_{key}.npz", group=data["group"], **camera_cases(res, data))
+        if "none" in modes:  # drawn either way: the clips below come next in the stream
+            res = lift(data["xy"], data["conf"], data["k"], prior, cfg, seed=0)
+            np.savez(out / f"fold{k}-intrinsics-none-near_{key}.npz", group=data["group"], **camera_cases(res, data))
     for key in ("gt", "detected"):
         torch.manual_seed(k)
         clips = make_sequences(poses, rng, **{**CAMERA_CLIPS, "count": NEAR_CLIP_COUNT},
                                place=lambda r, p, d: place_camera(r, p, d, NEAR),
                                key_noise=errors if key == "detected" else None)  # fmt: skip
-        for mode in ("smooth", "none"):
+        for mode in (m for m in ("smooth", "none", "clip") if m in modes):
             res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=mode, tracks=clips["tracks"])
             np.savez(out / f"fold{k}-intrinsics-{mode}-near_clips_{key}.npz", group=clips["tracks"],
                      **camera_cases(res, clips))  # fmt: skip
@@ -456,7 +467,8 @@ DEPTH_EDGES_REPORT = (0.0, 0.4, 0.5, 0.6, 0.9, 1.2, 1.6, 2.0, 2.5, 3.5, 9.0)  # 
 SIZE_EDGES = (0.0, 60.0, 120.0, 1e9)  # px: the body's 2D size (RMS distance of the joints from their mean)
 # what each mode is fitted on: frame by frame, images and clips' frames; --temporal smooth, clips
 CAMERA_FITS = {"none": ("gt", "detected", "clips_gt", "clips_detected", f"clips_{ADULT_SOURCE}"),
-               "smooth": ("clips_gt", "clips_detected", f"clips_{ADULT_SOURCE}")}  # fmt: skip
+               "smooth": ("clips_gt", "clips_detected", f"clips_{ADULT_SOURCE}"),
+               "clip": ("clips_gt", "clips_detected", f"clips_{ADULT_SOURCE}")}  # fmt: skip
 # the near draws' kinds (lift_near_cases), fitted and scored only in the ranges below NEAR_BELOW_M
 NEAR_FITS = {mode: tuple(f"near_{k}" for k in kinds) for mode, kinds in CAMERA_FITS.items()}
 
@@ -690,7 +702,7 @@ def camera_calibrations(args: argparse.Namespace, shipped: Any, settings: dict[s
     fps = CAMERA_CLIPS["fps"]
     out = []
     report: dict[str, Any] = {}
-    for mode in ("none", "smooth"):
+    for mode in (m for m in MODES if any(folder.glob(f"fold*-intrinsics-{m}-*.npz"))):
         cases, fold, kind, group = load_cases(folder, f"intrinsics-{mode}")
         held, final = camera_fits(cases, fold, kind, group, mode)
         adult = bool(np.isin(kind, f"clips_{ADULT_SOURCE}").any())
@@ -838,9 +850,7 @@ def pseudo_by_source(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.nd
         row: dict[str, Any] = {"all": pooled(rows), "families": family_coverage(rows)}
         no_shares = {"coverage": float("nan"), "clip_pairs": 0, "median_width": 0.0}  # images are no clips
         fps = float(CLIP_SETTINGS["fps"])
-        row["shares"] = (
-            share_figures(pairs, cases, fold, kind, group, threshold, fps) if mode == "smooth" else no_shares
-        )
+        row["shares"] = share_figures(pairs, cases, fold, kind, group, threshold, fps) if mode != "none" else no_shares
         out[str(s)] = row
         print_by_source(f"pseudo camera, {mode}", str(s), row)
     return out
@@ -899,6 +909,8 @@ def main() -> int:
     ap.add_argument("--camera-kinds", nargs="+", choices=("base", "near"), default=["base", "near"],
                     help="--cameras --lift: the CAMERAS, F1000 and pseudo cases (base), NEAR's (near)")  # fmt: skip
     ap.add_argument("--fold-ids", type=int, nargs="+", default=None, help="--lift: these folds only (default all)")
+    ap.add_argument("--temporal-modes", nargs="+", choices=MODES, default=list(MODES),
+                    help="--lift: the temporal modes lifted (frame by frame, smooth, clip)")  # fmt: skip
     ap.add_argument(
         "--sources",
         nargs="+",
@@ -921,7 +933,7 @@ def main() -> int:
     shipped = load_prior(resolve_prior_path(None))
     settings = calibration_settings(get_preset(DEFAULT_PRESET))
     calibrations = camera_calibrations(args, shipped, settings) if args.cameras else []
-    for mode in () if args.cameras else ("none", "smooth"):
+    for mode in () if args.cameras else (m for m in MODES if any(args.cases.glob(f"fold*-{m}-*.npz"))):
         cases, fold, kind, group = load_cases(args.cases, mode)
         bins = BINS[mode]
         figures = cross_fitted(cases, fold, kind, group, args.threshold, bins)

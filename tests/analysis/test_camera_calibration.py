@@ -184,7 +184,9 @@ def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_3_5_
 
     frames = [c for c in bundled_calibrations() if c.scope == "frames"]
     assert all(c.domain is None for c in frames if c.cameras == ("pseudo",))
-    for mode in ("none", "smooth"):
+    for mode in ("none", "smooth", "clip"):  # frame by frame, --temporal smooth and --temporal clip
+        pseudo = [c for c in frames if c.cameras == ("pseudo",) and c.temporal_mode == mode]
+        assert len(pseudo) == 1 and pseudo[0].provenance["sources"] == ["SyRIP poses", "adult motion"]
         known = sorted((c for c in frames if c.cameras == ("cli", "file") and c.temporal_mode == mode),
                        key=lambda c: c.domain.root_depth_m)  # fmt: skip
         assert [c.domain.root_depth_m for c in known] == [(0.4, 0.6), (0.6, 2.0), (2.0, 3.5)]
