@@ -181,3 +181,37 @@ def test_with_a_reference_the_summary_says_what_share_asymmetric_is_typical(clip
         in summary
     )
     assert summary.count("(not in the reference)") == 3  # the other pairs' shares are not in this reference
+
+
+def test_epochs_summarise_each_epoch_as_a_loop_over_epochs_would() -> None:
+    from zedo_cli.analysis.report.epochs import Epochs
+
+    rng = np.random.default_rng(0)
+    epoch = np.sort(rng.choice([0, 1, 3, 4], 200))  # epoch 2 has no frames: a gap in the track
+    values = rng.normal(50.0, 20.0, 200)
+    values[rng.random(200) < 0.1] = np.nan
+    pos = rng.permutation(200)  # the track's frames, in time order, at these positions of the analysis
+    ep = Epochs(pos, epoch, np.arange(5) * 10.0 + 5.0, 10.0)
+    got = ep.quartiles(values)
+    for e in range(5):
+        mine = values[pos[epoch == e]]
+        want = np.nanpercentile(mine, [25, 50, 75]) if np.isfinite(mine).any() else np.full(3, np.nan)
+        np.testing.assert_allclose(got[:, e], want, equal_nan=True)
+    flag = values > 50
+    share = ep.share(flag)
+    assert np.isnan(share[2]) and share[0] == pytest.approx(flag[pos[epoch == 0]].mean())
+
+
+def test_a_long_track_is_drawn_by_epochs_and_a_short_one_frame_by_frame(tmp_path: Path) -> None:
+    from zedo_cli.analysis.report.clip_report import time_series_section
+    from zedo_cli.analysis.report.epochs import SUMMARY_OVER_S, epochs_of
+
+    long = analyse(read_result(write_document(tmp_path / "long.zedo.json",
+                                              result_document(kicking_poses(400), fps=1.0))))  # fmt: skip
+    ep = epochs_of(long, 0)
+    assert ep is not None and ep.seconds == 10.0 and len(ep.t) == 40  # 399 s by epochs of 10 s
+    assert "drawn by epochs of 10 s" in time_series_section(long) and "<svg" in time_series_section(long)
+    short = analyse(read_result(write_document(tmp_path / "short.zedo.json",
+                                               result_document(kicking_poses(60), fps=30.0))))  # fmt: skip
+    assert epochs_of(short, 0) is None and SUMMARY_OVER_S > 2.0
+    assert "drawn by epochs" not in time_series_section(short)

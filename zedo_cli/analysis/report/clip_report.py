@@ -20,6 +20,7 @@ from ..analyse import SYMMETRY_NAMES, Analysis, Row
 from ..compare import furthest_from_typical
 from ..pose.head import TURN_CALLS
 from ..pose.joint_angles import ANGLE_BASES, SIDES, angle_name
+from .epochs import Epochs, epochs_of
 from .figures import figure, svg
 from .markup import escape
 from .plain_words import describe, has_words
@@ -30,6 +31,7 @@ FLAG_SHADE = "#f4a6a6"  # frames flagged too fast
 AMBIGUOUS_SHADE = "#b9c8f0"  # frames with a limb whose depth side the 2D cannot tell (`--temporal clip`)
 _TURN_COLOURS = {"left": LEFT_HEX, "right": RIGHT_HEX, "midline": "#9e9e9e"}
 EPOCH_S = 60.0  # the report's epochs of a long clip
+SHADE_SHARE = 0.05  # a long track's epoch is shaded where over this share of its frames carry the flag
 
 
 def _pct(value: float) -> str:
@@ -252,14 +254,81 @@ def _empty(ax, text: str) -> None:  # noqa: ANN001
     ax.set_yticks([])
 
 
-def time_series_figure(a: Analysis, person: int) -> str:
-    """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
-    turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red."""
-    d = decimate(a, person)
+def _panels():  # noqa: ANN202 (matplotlib Figure and Axes, imported lazily)
+    """The time series' figure: six joint-angle panels, head tilt and turn, and the uncertain calls' strip."""
     fig = figure(11.5, 11.5)
     grid = fig.add_gridspec(5, 2, height_ratios=[1, 1, 1, 0.8, 0.45])
     axes = [fig.add_subplot(grid[r, c]) for r in range(4) for c in range(2)]
     axes.append(fig.add_subplot(grid[4, :]))
+    return fig, axes
+
+
+def _finish_panels(axes: list, t: np.ndarray, unit: str) -> None:
+    axes[6].set_title("head tilt (deg)", fontsize=10)
+    axes[7].set_title("head turn (white: no call)", fontsize=10)
+    axes[8].set_ylim(0, 4)
+    axes[8].set_yticks([0, 2, 4])
+    axes[8].set_title("symmetry calls uncertain in the frame (of 4: upper arm, forearm, thigh, shank)", fontsize=10)
+    for ax in axes:
+        ax.grid(True, lw=0.4, alpha=0.5)
+        ax.set_xlim(t[0], t[-1]) if len(t) > 1 else None
+    for ax in axes[6:]:
+        ax.set_xlabel(f"time ({unit})", fontsize=9)
+
+
+def epoch_summary_figure(a: Analysis, ep: Epochs) -> str:
+    """Inline SVG of a long track by epochs: per joint angle and side the median of each epoch (line) and its
+    middle half (band), the head's tilt (median) and turn (each call's share), the uncertain calls (mean); epochs
+    with over SHADE_SHARE of their frames flagged too fast or depth-ambiguous shaded."""
+    fig, axes = _panels()
+    minutes = ep.t / 60.0
+    shades = ((ep.share(depth_ambiguous(a)) > SHADE_SHARE, AMBIGUOUS_SHADE), (ep.share(too_fast(a)) > SHADE_SHARE,
+              FLAG_SHADE))  # fmt: skip
+    for ax in axes[:7]:
+        for where, colour in shades:
+            if where.any():
+                ax.fill_between(minutes, 0, 1, where=where, step="mid", color=colour, alpha=0.6, lw=0,
+                                transform=ax.get_xaxis_transform())  # fmt: skip
+    for ax, base in zip(axes[:6], ANGLE_BASES, strict=True):
+        for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
+            low, mid, high = ep.quartiles(a.values[angle_name(side, base)])
+            ax.fill_between(minutes, low, high, color=colour, alpha=0.2, lw=0)
+            ax.plot(minutes, mid, color=colour, lw=1.2, marker=".", ms=3, label=side)
+        ax.set_title(base.replace("_", " ") + f" (deg; median of each {ep.seconds:g} s, band: middle half)",
+                     fontsize=10)  # fmt: skip
+        ax.legend(fontsize=8, loc="upper right")
+    tilt = ep.quartiles(a.head.tilt_deg)[1] if a.head is not None else np.full(len(ep.t), np.nan)
+    if np.isfinite(tilt).any():
+        axes[6].plot(minutes, tilt, color="#444444", lw=1.1, marker=".", ms=3)
+    else:
+        _empty(axes[6], "no head tilt: the input has no usable face points")
+    calls = a.head.turn_call.astype(str) if a.head is not None else np.full(len(a.index), "")
+    if (calls != "").any():
+        below = np.zeros(len(ep.t))
+        for c in TURN_CALLS:
+            share = np.nan_to_num(ep.share(calls == c))
+            axes[7].fill_between(minutes, below, below + share, step="mid", color=_TURN_COLOURS[c], lw=0, label=c)
+            below = below + share
+        axes[7].legend(fontsize=8, loc="upper right", ncol=3)
+        axes[7].set_ylim(0, 1.35)
+        axes[7].set_yticks([])
+    else:
+        _empty(axes[7], "no head turn: the input has no usable face points")
+    axes[8].fill_between(minutes, 0, np.nan_to_num(np.nanmean(ep.matrix(uncertain(a)), axis=1)), step="mid",
+                         color="#e0b000", alpha=0.7, lw=0)  # fmt: skip
+    _finish_panels(axes, minutes, "min")
+    return svg(fig)
+
+
+def time_series_figure(a: Analysis, person: int) -> str:
+    """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
+    turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red. A track
+    over SUMMARY_OVER_S is drawn by epochs instead (`epoch_summary_figure`)."""
+    ep = epochs_of(a, person)
+    if ep is not None:
+        return epoch_summary_figure(a, ep)
+    d = decimate(a, person)
+    fig, axes = _panels()
     for ax, base in zip(axes[:6], ANGLE_BASES, strict=True):
         _shade(ax, d)
         for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
@@ -285,17 +354,8 @@ def time_series_figure(a: Analysis, person: int) -> str:
         turn_ax.set_yticks([])
     else:
         _empty(turn_ax, "no head turn: the input has no usable face points")
-    tilt_ax.set_title("head tilt (deg)", fontsize=10)
-    turn_ax.set_title("head turn (white: no call)", fontsize=10)
     calls_ax.fill_between(d.t, 0, uncertain(a)[d.take], step="mid", color="#e0b000", alpha=0.7, lw=0)
-    calls_ax.set_ylim(0, 4)
-    calls_ax.set_yticks([0, 2, 4])
-    calls_ax.set_title("symmetry calls uncertain in the frame (of 4: upper arm, forearm, thigh, shank)", fontsize=10)
-    for ax in axes:
-        ax.grid(True, lw=0.4, alpha=0.5)
-        ax.set_xlim(d.t[0], d.t[-1]) if len(d.t) > 1 else None
-    for ax in axes[6:]:
-        ax.set_xlabel("time (s)", fontsize=9)
+    _finish_panels(axes, d.t, "s")
     return svg(fig)
 
 
@@ -307,11 +367,21 @@ def time_series_section(a: Analysis) -> str:
     step = max(1, -(-n // MAX_POINTS))
     which = f" Person {person}, the longest track." if len(people) > 1 else ""
     thin = f" Every {step}th frame is drawn (shading covers every frame)." if step > 1 else ""
+    bound = a.settings.max_velocity_deg_s
+    flagged = (f"frames <b style='background:{FLAG_SHADE}'>flagged too fast</b> (a joint angle changing faster "
+               f"than {bound:g} deg/s, likely a detection error){_ambiguous_words(a)}")  # fmt: skip
+    ep = epochs_of(a, person)
+    if ep is not None:
+        return ("<h2>Over time</h2><p class=meta>The track lasts "
+                f"{(ep.t[-1] - ep.t[0] + ep.seconds) / 60:.0f} minutes, so it is drawn by epochs of {ep.seconds:g} s: "
+                "per joint angle, left (blue) and right (orange), the median of each epoch (line) and the middle half "
+                f"of its frames' values (band); shaded: epochs with over {SHADE_SHARE:.0%} of their {flagged}. The "
+                "bottom strip is the mean number of uncertain symmetry calls per frame in each epoch; the minute-by-"
+                f"minute shares above and the frames to review below go with it.{which}</p>"
+                f"<div class=figs>{epoch_summary_figure(a, ep)}</div>")  # fmt: skip
     return ("<h2>Over time</h2><p class=meta>Joint angles left (blue) and right (orange), each with its interval "
-            f"as a band; shaded: frames <b style='background:{FLAG_SHADE}'>flagged too fast</b> (a joint angle "
-            f"changing faster than {a.settings.max_velocity_deg_s:g} deg/s, likely a detection error)"
-            f"{_ambiguous_words(a)}. The bottom strip counts the frame's uncertain symmetry calls: where it is high, "
-            f"the 2D view leaves the posture open (the frames to review, below).{which}{thin}</p>"
+            f"as a band; shaded: {flagged}. The bottom strip counts the frame's uncertain symmetry calls: where it is "
+            f"high, the 2D view leaves the posture open (the frames to review, below).{which}{thin}</p>"
             f"<div class=figs>{time_series_figure(a, person)}</div>")  # fmt: skip
 
 

@@ -31,6 +31,7 @@ from ..pose.geometry import joint, reflect, unit
 from ..pose.joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
 from ..pose.symmetry import BAND_EDGES_DEG, PAIRS
 from .clip_report import MAX_POINTS, Review, review_picks, review_section, summary_section, time_series_section
+from .epochs import Epochs, epochs_of
 from .figures import figure, svg
 from .markup import escape
 
@@ -141,7 +142,7 @@ def _short(name: str) -> str:
 
 def time_series(a: Analysis) -> str:
     """Inline SVG: the symmetry angles over time (threshold dashed), then each joint angle,
-    left and right, per person track."""
+    left and right, per person track (a track over SUMMARY_OVER_S by its epochs' medians)."""
     res = a.result
     fig = figure(11.5, 9.0)
     axes = fig.subplots(4, 2).ravel()
@@ -153,13 +154,18 @@ def time_series(a: Analysis) -> str:
     tracks = sorted(set(people.tolist()))
     for p, style in zip(tracks, ["-", "--", ":", "-."] * len(tracks), strict=False):
         sel = (people == p) & thin
-        suffix = f" (person {p})" if len(tracks) > 1 else ""
+        ep = epochs_of(a, p)
+        suffix = (f" (person {p})" if len(tracks) > 1 else "") + (f", median of each {ep.seconds:g} s" if ep else "")
+
+        def series(values: np.ndarray, sel: np.ndarray = sel, ep: Epochs | None = ep) -> tuple[np.ndarray, np.ndarray]:
+            return (ep.t, ep.quartiles(values)[1]) if ep is not None else (t_of[sel], values[sel])
+
         for k, n in enumerate(SYMMETRY_NAMES):
-            axes[k // 2].plot(t_of[sel], a.values[n][sel], color=PAIR_COLOURS[k % 2], ls=style, lw=1.3,
+            axes[k // 2].plot(*series(a.values[n]), color=PAIR_COLOURS[k % 2], ls=style, lw=1.3,
                               label=_short(n) + suffix)  # fmt: skip
         for ax, base in zip(axes[2:], ANGLE_BASES, strict=True):
             for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
-                ax.plot(t_of[sel], a.values[angle_name(side, base)][sel], color=colour, ls=style, lw=1.2,
+                ax.plot(*series(a.values[angle_name(side, base)]), color=colour, ls=style, lw=1.2,
                         label=side + suffix)  # fmt: skip
             ax.set_title(base.replace("_", " ") + " (deg)", fontsize=10)
     for ax, title in zip(axes[:2], ("symmetry angle, arms (deg)", "symmetry angle, legs (deg)"), strict=True):
