@@ -53,8 +53,8 @@ def test_a_quantile_of_too_few_cases_is_null_in_the_file_and_nan_when_read(tmp_p
     [
         ("measures.json", lambda d: d["calibrations"][1].update(prior_sha256=1),
          r"unreadable measure calibration \(calibrations\[1\]\.prior_sha256: Input should be a valid string\)"),
-        ("measures.json", lambda d: d["calibrations"][2]["domain"].update(focal_px=[600.0]),
-         r"\(calibrations\[2\]\.domain\.focal_px: List should have at least 2 items"),
+        ("measures.json", lambda d: d["calibrations"][3]["domain"].update(focal_px=[600.0]),
+         r"\(calibrations\[3\]\.domain\.focal_px: List should have at least 2 items"),
         ("measures.json", lambda d: d["calibrations"][0].update(scope="poses"), r"\(calibrations\[0\]\.scope: "),
         ("measures.json", lambda d: d["calibrations"][0].update(weights=1),
          r"\(calibrations\[0\]\.weights: Extra inputs are not permitted\)"),
