@@ -92,6 +92,37 @@ def case_arrays(lifted: np.ndarray, observed: np.ndarray, ok: np.ndarray, truth:
     return out
 
 
+DIFFICULTY = "reprojection_px"  # the key of each case's difficulty: its lift's mean reprojection error (px)
+
+
+def lift_arrays(res: Any, truth: np.ndarray, keep: slice = slice(None)) -> dict[str, np.ndarray]:
+    """`case_arrays` of a lift `res` (a LiftResult) against the true poses `truth` (of the kept cases), with each
+    case's difficulty: the mean reprojection error of its observed joints, what the lift knows of its own fit."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a pose not lifted: NaN
+        difficulty = np.nanmean(res.reprojection_error_px[keep], axis=1)
+    return {**case_arrays(res.poses_root_relative[keep], res.observed[keep], res.lifted[keep], truth),
+            DIFFICULTY: difficulty}  # fmt: skip
+
+
+def difficulty_terciles(cases: dict[str, np.ndarray], kind: np.ndarray) -> np.ndarray:
+    """Per case `(n,)` its source and tercile of the difficulty within that source (`<source>, easiest third`,
+    ...; `<source>, unknown` where no difficulty was saved or the pose was not lifted)."""
+    src = source_of(kind)
+    d = cases.get(DIFFICULTY, np.full(len(kind), np.nan))
+    label = np.char.add(src.astype(str), ", unknown").astype(object)
+    for s in np.unique(src):
+        mine = (src == s) & np.isfinite(d)
+        if mine.sum() < 3:
+            continue
+        edges = np.quantile(d[mine], [1 / 3, 2 / 3])
+        third = np.searchsorted(edges, d[mine], side="right")
+        label[mine] = [f"{s}, {('easiest', 'middle', 'hardest')[t]} third" for t in third]
+    return label.astype(str)
+
+
 def lift_cases(args: argparse.Namespace) -> None:
     import torch
 
@@ -113,14 +144,14 @@ def lift_cases(args: argparse.Namespace) -> None:
             kp = kp.to_skeleton(prior.skeleton)
             mats, _ = resolve_intrinsics(kp.image_sizes, kp.image_ids, kp.file_names)
             res = lift(kp.xy, kp.confidence, mats, prior, cfg, seed=0)
-            arrays = case_arrays(res.poses_root_relative, res.observed, res.lifted, truth.poses)
+            arrays = lift_arrays(res, truth.poses)
             np.savez(args.cases / f"fold{k}-none-{key}.npz", group=np.arange(len(kp)), **arrays)
             print(f"fold {k} {key}: {int(res.lifted.sum())}/{len(kp)} lifted")
         torch.manual_seed(k)
         clips = make_sequences(truth.poses, np.random.default_rng(100 + k), **CLIP_SETTINGS)
         for mode in (m for m in ("smooth", "clip") if m in args.temporal_modes):
             res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=mode, tracks=clips["tracks"])
-            arrays = case_arrays(res.poses_root_relative, res.observed, res.lifted, clips["rel"])
+            arrays = lift_arrays(res, clips["rel"])
             np.savez(args.cases / f"fold{k}-{mode}-clips.npz", group=clips["tracks"], **arrays)
             print(f"fold {k} clips, {mode}: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
 
@@ -141,7 +172,7 @@ def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
                        if m in args.temporal_modes):  # fmt: skip
         res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
                             tracks=clips["tracks"])  # fmt: skip
-        arrays = case_arrays(res.poses_root_relative[keep], res.observed[keep], res.lifted[keep], clips["rel"][keep])
+        arrays = lift_arrays(res, clips["rel"][keep], keep)
         np.savez(args.cases / f"fold{k}-{mode}-{ADULT_SOURCE}.npz", group=clips["tracks"][keep], **arrays)
         print(f"fold {k} {ADULT_SOURCE} {mode}: {int(res.lifted[keep].sum())}/{len(arrays[next(iter(arrays))])} "
               "frames lifted", flush=True)  # fmt: skip
@@ -200,7 +231,7 @@ def camera_cases(res: Any, data: dict[str, np.ndarray]) -> dict[str, np.ndarray]
     depth (m), the body's 2D size (px) and frame width."""
     from zedo_cli.lifting.detections import pose_size
 
-    return {**case_arrays(res.poses_root_relative, res.observed, res.lifted, data["rel"]),
+    return {**lift_arrays(res, data["rel"]),
             "focal": data["k"][:, 0, 0], "depth": root_depth(data),
             "lifted_depth": res.root_translation[:, 2], "size_px": pose_size(data["xy"]),
             "width": 2 * data["k"][:, 0, 2]}  # fmt: skip
@@ -838,6 +869,20 @@ def print_by_source(title: str, source: str, row: dict[str, Any]) -> None:
                   f"{100 * b['angles_coverage'][0]:.1f}-{100 * b['angles_coverage'][1]:.1f} %")  # fmt: skip
 
 
+def difficulty_coverage(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray,
+                        threshold: float, bins: int) -> dict[str, dict[str, float]]:  # fmt: skip
+    """Cross-fitted coverage of the 90 % intervals per source and tercile of the lift's difficulty (its mean
+    reprojection error; `difficulty_terciles`), by family; printed as a table."""
+    held = [(fit_all(cases, fit, bins), evaluate) for fit, evaluate in splits(fold, group)]
+    figures = scored(held, cases, difficulty_terciles(cases, kind), threshold)
+    out = {label: family_coverage(rows) for label, rows in sorted(figures.items())}
+    print("\n| source, tercile of the reprojection error | all | symmetry | joint angles |\n| --- | --- | --- | --- |")
+    for label, cov in out.items():
+        print(f"| {label} | " + " | ".join(f"{100 * cov.get(f, np.nan):.1f} %" for f in ("all", "symmetry",
+              "joint_angles")) + " |")  # fmt: skip
+    return out
+
+
 def pseudo_by_source(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray, mode: str,
                      threshold: float) -> dict[str, Any]:  # fmt: skip
     """The pseudo camera's calibration of `mode` held out by source: each source's cases scored by a fit on the
@@ -939,6 +984,7 @@ def main() -> int:
         figures = cross_fitted(cases, fold, kind, group, args.threshold, bins)
         print_table(figures, mode)
         sources = sorted({str(x) for x in source_of(kind)})
+        by_difficulty = difficulty_coverage(cases, fold, kind, group, args.threshold, bins)
         by_source = pseudo_by_source(cases, fold, kind, group, mode, args.threshold) if len(sources) > 1 else {}
         if mode != "none":
             figures["clip_medians"] = clip_median_coverage(cases, fold, kind, group, bins)
@@ -969,6 +1015,7 @@ def main() -> int:
             },  # fmt: skip
             "held_out_by_source": by_source,
             "held_out_by_source_coverage_90": {s: r["families"] for s, r in by_source.items()},
+            "cross_fitted_by_difficulty_coverage_90": by_difficulty,
         }
         calibrations.append(MeasureCalibration(shipped.sha256, settings, mode, ("pseudo",), shipped.skeleton.joints,
                                                models, provenance))  # fmt: skip

@@ -35,3 +35,17 @@ def test_a_source_left_out_is_scored_by_the_other_sources_fit_and_a_biased_one_s
     got, kind = cases(rng, 400, 20.0)
     shifted = recipe.pseudo_by_source(got, fold, kind, group, "none", 28.0)
     assert shifted["adult motion"]["all"]["coverage"] < 0.3 and shifted["SyRIP poses"]["all"]["coverage"] < 0.8
+
+
+def test_cases_are_cut_into_terciles_of_the_lifts_difficulty_within_each_source() -> None:
+    kind = np.array(["gt"] * 6 + [recipe.ADULT_SOURCE] * 3 + ["gt"])
+    difficulty = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 30.0, 10.0, 20.0, np.nan])
+    got = recipe.difficulty_terciles({recipe.DIFFICULTY: difficulty}, kind)
+    assert list(got[:6]) == ["SyRIP poses, easiest third"] * 2 + ["SyRIP poses, middle third"] * 2 + [
+        "SyRIP poses, hardest third"] * 2  # fmt: skip
+    assert list(got[6:9]) == [
+        "adult motion, hardest third",
+        "adult motion, easiest third",
+        "adult motion, middle third",
+    ]
+    assert got[9] == "SyRIP poses, unknown"
