@@ -3,6 +3,7 @@ rows carry, and docs/measures.md is its table."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -30,6 +31,8 @@ def test_every_row_of_a_compared_clip_is_in_the_registry_with_its_unit_and_scope
         for i in range(20)
     ]  # fmt: skip
     add_comparison(a, build_norms(typical, "test"), None)
+    for name in {row.measure for row in a.rows}:  # one family each
+        assert sum(re.fullmatch(m.regex, name) is not None for m in MEASURES) == 1, name
     seen = set()
     for row in a.rows:
         m = measure_of(row.measure)
