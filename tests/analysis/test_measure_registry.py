@@ -51,3 +51,10 @@ def test_an_unknown_name_is_refused_and_each_pattern_is_listed_once() -> None:
 
 def test_docs_measures_md_is_the_registry_table() -> None:
     assert registry_markdown() in DOCS.read_text(encoding="utf-8")
+
+
+def test_every_published_statistic_of_the_registry_has_the_reports_words() -> None:
+    from zedo_cli.analysis import measures
+
+    stats = {*measures._ANGLE_STATS, *measures._POSITION_STATS, "mean_dispersion", "lrCorr_angle", "lrCorr_x"}
+    assert stats == set(measures.STAT_WORDS)

@@ -48,6 +48,30 @@ _POSITION_STATS = {
     "IQRaccy": ("trunk/s^2", "the interquartile range of the vertical acceleration"),
     "meanent": ("nats", "the entropy of the positions over the clip"),
 }
+# The published statistics in plain words, for the report: statistic -> (what a value below the typical infants
+# means, what one above means)
+STAT_WORDS: dict[str, tuple[str, str]] = {
+    "mean_angle": ("held at a smaller angle", "held at a larger angle"),
+    "stdev_angle": ("its angle varies less", "its angle varies more"),
+    "entropy_angle": ("its angles are less varied", "its angles are more varied"),
+    "median_vel_angle": ("moves more slowly", "moves faster"),
+    "IQR_vel_angle": ("its speed varies less", "its speed varies more"),
+    "IQR_acc_angle": ("its acceleration varies less", "its acceleration varies more"),
+    "medianx": ("lies further to the image's left of the body", "lies further to the image's right of the body"),
+    "mediany": ("lies higher relative to the body", "lies lower relative to the body"),
+    "IQRx": ("moves over a narrower range side to side", "moves over a wider range side to side"),
+    "IQRy": ("moves over a narrower range up and down", "moves over a wider range up and down"),
+    "medianvelx": ("moves more slowly side to side", "moves faster side to side"),
+    "medianvely": ("moves more slowly up and down", "moves faster up and down"),
+    "IQRvelx": ("its side-to-side speed varies less", "its side-to-side speed varies more"),
+    "IQRvely": ("its up-and-down speed varies less", "its up-and-down speed varies more"),
+    "IQRaccx": ("its side-to-side acceleration varies less", "its side-to-side acceleration varies more"),
+    "IQRaccy": ("its up-and-down acceleration varies less", "its up-and-down acceleration varies more"),
+    "meanent": ("its positions are less varied", "its positions are more varied"),
+    "mean_dispersion": ("moves about less", "moves about more"),
+    "lrCorr_angle": ("left and right angles move together less", "left and right angles move together more"),
+    "lrCorr_x": ("left and right move together less", "left and right move together more"),
+}
 _PUBLISHED_ANGLE = "interior angle in the image, 180 = straight (published)"
 _PUBLISHED_3D_ANGLE = "published statistic of the 3D angle: elbow and knee interior (180 = straight), hip and " \
     "shoulder flexion and abduction in the trunk's frame"  # fmt: skip

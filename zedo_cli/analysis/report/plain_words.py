@@ -11,6 +11,7 @@ from __future__ import annotations
 import re
 
 from ..clip.features_3d import PREFIX
+from ..measures import STAT_WORDS
 
 _SIDE = {"L": "left ", "R": "right "}
 _PART = {
@@ -18,29 +19,7 @@ _PART = {
     "HipFlexion": "hip flexion", "HipAbduction": "hip abduction", "ShoulderFlexion": "shoulder flexion",
     "ShoulderAbduction": "shoulder abduction",
 }  # fmt: skip
-# statistic -> (what a value below the typical infants means, what one above means)
-_STAT = {
-    "mean_angle": ("held at a smaller angle", "held at a larger angle"),
-    "stdev_angle": ("its angle varies less", "its angle varies more"),
-    "entropy_angle": ("its angles are less varied", "its angles are more varied"),
-    "median_vel_angle": ("moves more slowly", "moves faster"),
-    "IQR_vel_angle": ("its speed varies less", "its speed varies more"),
-    "IQR_acc_angle": ("its acceleration varies less", "its acceleration varies more"),
-    "medianx": ("lies further to the image's left of the body", "lies further to the image's right of the body"),
-    "mediany": ("lies higher relative to the body", "lies lower relative to the body"),
-    "IQRx": ("moves over a narrower range side to side", "moves over a wider range side to side"),
-    "IQRy": ("moves over a narrower range up and down", "moves over a wider range up and down"),
-    "medianvelx": ("moves more slowly side to side", "moves faster side to side"),
-    "medianvely": ("moves more slowly up and down", "moves faster up and down"),
-    "IQRvelx": ("its side-to-side speed varies less", "its side-to-side speed varies more"),
-    "IQRvely": ("its up-and-down speed varies less", "its up-and-down speed varies more"),
-    "IQRaccx": ("its side-to-side acceleration varies less", "its side-to-side acceleration varies more"),
-    "IQRaccy": ("its up-and-down acceleration varies less", "its up-and-down acceleration varies more"),
-    "meanent": ("its positions are less varied", "its positions are more varied"),
-    "mean_dispersion": ("moves about less", "moves about more"),
-    "lrCorr_angle": ("left and right angles move together less", "left and right angles move together more"),
-    "lrCorr_x": ("left and right move together less", "left and right move together more"),
-}
+_STAT = STAT_WORDS
 _STATS = "|".join(sorted(map(re.escape, _STAT), key=len, reverse=True))
 _PARTS = "|".join(sorted(_PART, key=len, reverse=True))
 _PER_SIDE = re.compile(rf"^({_STATS})_([LR]?)({_PARTS})$")  # mean_angle_LKnee, lrCorr_angle_Knee
