@@ -180,5 +180,9 @@ def test_the_analysis_says_how_the_clip_calibration_held_on_sources_left_out(tmp
     note = next(n for n in a.notes if "by a fit on the others" in n)
     assert "91 % (SyRIP poses), 80 % (adult motion) of cases" in note and "approximate" in note  # 80 % < 85 %
     assert "one clip source" in held_out_note(one_source)
+    # the frame calibration of this analysis, checked on no other source, says so too
+    assert any(n.startswith("the frame measures' intervals were fitted on one clip source") for n in a.notes)
+    frames = replace(calibration("smooth"), provenance={"held_out_by_source_coverage_90": {"a": {"all": 0.6}}})
+    assert held_out_note(frames).startswith("the frame measures' intervals were fitted on lifts of 1 source;")
     fine = replace(checked, provenance={"held_out_by_source_coverage_90": {"a": {"all": 0.86}, "b": {"all": 0.9}}})
     assert "approximate" not in held_out_note(fine)

@@ -53,6 +53,7 @@ import numpy as np
 from pydantic import Field, SerializerFunctionWrapHandler, field_validator, model_serializer
 
 from ...data.skeleton import Skeleton
+from ...errors import plural
 from ...formats.readers.result_record import LiftParams
 from ...lifting.config import calibration_settings, settings_match
 from ...stats import conformal_quantile
@@ -488,7 +489,8 @@ def held_out_note(calibration: MeasureCalibration) -> str:
     low = min(fams["all"] for fams in held.values())
     unlike = "both sources" if len(held) == 2 else "every source"
     trust = "" if low >= 0.85 else f"; read them as approximate on clips unlike {unlike}"
-    return (f"{what} were fitted on clips of {len(held)} sources; each source scored by a fit on the others alone, "
+    fitted = f"{'clips' if calibration.scope == 'clips' else 'lifts'} of {plural(len(held), 'source')}"
+    return (f"{what} were fitted on {fitted}; each source scored by a fit on the others alone, "
             f"their 90 % intervals held the truth in {per_source} of cases{trust}")  # fmt: skip
 
 
