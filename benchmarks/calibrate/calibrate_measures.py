@@ -392,11 +392,12 @@ def fit_all(cases: dict[str, np.ndarray], mask: np.ndarray, bins: int) -> dict[s
                            bins=bins) for n in names_of(cases)}  # fmt: skip
 
 
-def cross_fitted(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray,
-                 threshold: float, bins: int) -> dict:  # fmt: skip
-    """Held-out figures of the calibration, pooled over the cross-fitting splits, per input kind."""
-    return scored([(fit_all(cases, fit, bins), evaluate) for fit, evaluate in splits(fold, group)], cases, kind,
-                  threshold)  # fmt: skip
+HeldOutModels = list[tuple[dict[str, MeasureModel], np.ndarray]]  # per split: the models and the cases they never saw
+
+
+def cross_fitted_models(cases: dict[str, np.ndarray], fold: np.ndarray, group: np.ndarray, bins: int) -> HeldOutModels:
+    """The models of every cross-fitting split, each with the mask of the cases it was not fitted on."""
+    return [(fit_all(cases, fit, bins), evaluate) for fit, evaluate in splits(fold, group)]
 
 
 def scored(held_out: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: dict[str, np.ndarray],
@@ -445,14 +446,13 @@ def scored(held_out: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: di
     return out
 
 
-def clip_median_coverage(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray,
-                         bins: int) -> dict:  # fmt: skip
-    """Per symmetry pair, cross-fitted: how often a clip's median of the true angle lies within the
-    median of its frames' 90 % interval ends (the interval `zedo analyze` gives a clip's median)."""
+def clip_median_coverage(held: HeldOutModels, cases: dict[str, np.ndarray], kind: np.ndarray, group: np.ndarray
+                         ) -> dict:  # fmt: skip
+    """Per symmetry pair, cross-fitted (`held`, `cross_fitted_models`): how often a clip's median of the true angle
+    lies within the median of its frames' 90 % interval ends (the interval `zedo analyze` gives a clip's median)."""
     hits: dict[str, list[bool]] = {}
     clip = np.char.add(np.char.add(kind.astype(str), "/"), group.astype(str))  # a clip: its kind and group
-    for fit, evaluate in splits(fold, group):
-        models = fit_all(cases, fit, bins)
+    for models, evaluate in held:
         for n in SYMMETRY_NAMES:
             raw, truth = cases[f"{n}|raw"], cases[f"{n}|truth"]
             for g in np.unique(clip[evaluate]):
@@ -869,11 +869,10 @@ def print_by_source(title: str, source: str, row: dict[str, Any]) -> None:
                   f"{100 * b['angles_coverage'][0]:.1f}-{100 * b['angles_coverage'][1]:.1f} %")  # fmt: skip
 
 
-def difficulty_coverage(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.ndarray, group: np.ndarray,
-                        threshold: float, bins: int) -> dict[str, dict[str, float]]:  # fmt: skip
-    """Cross-fitted coverage of the 90 % intervals per source and tercile of the lift's difficulty (its mean
-    reprojection error; `difficulty_terciles`), by family; printed as a table."""
-    held = [(fit_all(cases, fit, bins), evaluate) for fit, evaluate in splits(fold, group)]
+def difficulty_coverage(held: HeldOutModels, cases: dict[str, np.ndarray], kind: np.ndarray, threshold: float
+                        ) -> dict[str, dict[str, float]]:  # fmt: skip
+    """Cross-fitted (`held`, `cross_fitted_models`) coverage of the 90 % intervals per source and tercile of the
+    lift's difficulty (its mean reprojection error; `difficulty_terciles`), by family; printed as a table."""
     figures = scored(held, cases, difficulty_terciles(cases, kind), threshold)
     out = {label: family_coverage(rows) for label, rows in sorted(figures.items())}
     print("\n| source, tercile of the reprojection error | all | symmetry | joint angles |\n| --- | --- | --- | --- |")
@@ -908,7 +907,7 @@ def pseudo_share_figures(args: argparse.Namespace) -> dict[str, Any]:
     fps = CLIP_SETTINGS["fps"]
     images, ifold, ikind, igroup = load_cases(args.cases, "none")
     clips, cfold, ckind, cgroup = load_cases(args.cases, "smooth")
-    held = [(fit_all(clips, fit, BINS["smooth"]), ev) for fit, ev in splits(cfold, cgroup)]
+    held = cross_fitted_models(clips, cfold, cgroup, BINS["smooth"])
     out["smooth"] = share_figures(held, clips, cfold, ckind, cgroup, args.threshold, fps)
     ext, efold, ekind, egroup = load_cases(args.cases / "cameras", "pseudo-none")
     folds = np.unique(ifold)
@@ -981,13 +980,14 @@ def main() -> int:
     for mode in () if args.cameras else (m for m in MODES if any(args.cases.glob(f"fold*-{m}-*.npz"))):
         cases, fold, kind, group = load_cases(args.cases, mode)
         bins = BINS[mode]
-        figures = cross_fitted(cases, fold, kind, group, args.threshold, bins)
+        held = cross_fitted_models(cases, fold, group, bins)  # fitted once for every held-out figure below
+        figures = scored(held, cases, kind, args.threshold)
         print_table(figures, mode)
         sources = sorted({str(x) for x in source_of(kind)})
-        by_difficulty = difficulty_coverage(cases, fold, kind, group, args.threshold, bins)
+        by_difficulty = difficulty_coverage(held, cases, kind, args.threshold)
         by_source = pseudo_by_source(cases, fold, kind, group, mode, args.threshold) if len(sources) > 1 else {}
         if mode != "none":
-            figures["clip_medians"] = clip_median_coverage(cases, fold, kind, group, bins)
+            figures["clip_medians"] = clip_median_coverage(held, cases, kind, group)
             print("\nclip medians inside the median of the frames' 90 % interval ends:", figures["clip_medians"])
         models = fit_all(cases, np.ones(len(fold), bool), bins)
         # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
