@@ -198,7 +198,7 @@ def test_epochs_summarise_each_epoch_as_a_loop_over_epochs_would() -> None:
         want = np.nanpercentile(mine, [25, 50, 75]) if np.isfinite(mine).any() else np.full(3, np.nan)
         np.testing.assert_allclose(got[:, e], want, equal_nan=True)
     flag = values > 50
-    share = ep.share(flag)
+    share = ep.mean(flag)
     assert np.isnan(share[2]) and share[0] == pytest.approx(flag[pos[epoch == 0]].mean())
 
 

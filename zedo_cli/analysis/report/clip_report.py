@@ -242,10 +242,11 @@ def decimate(a: Analysis, person: int, max_points: int = MAX_POINTS) -> Decimate
     return Decimated(take, t, any_in_step(too_fast(a)), any_in_step(depth_ambiguous(a)))
 
 
-def _shade(ax, d: Decimated) -> None:  # noqa: ANN001 (matplotlib Axes, imported lazily)
-    for where, colour in ((d.ambiguous, AMBIGUOUS_SHADE), (d.flagged, FLAG_SHADE)):
+def _shade(ax, t: np.ndarray, ambiguous: np.ndarray, flagged: np.ndarray) -> None:  # noqa: ANN001 (matplotlib Axes)
+    """Shade the time steps `t (T,)` where a limb's depth side was ambiguous or an angle was flagged too fast."""
+    for where, colour in ((ambiguous, AMBIGUOUS_SHADE), (flagged, FLAG_SHADE)):
         if where.any():
-            ax.fill_between(d.t, 0, 1, where=where, step="mid", color=colour, alpha=0.6, lw=0,
+            ax.fill_between(t, 0, 1, where=where, step="mid", color=colour, alpha=0.6, lw=0,
                             transform=ax.get_xaxis_transform())  # fmt: skip
 
 
@@ -282,13 +283,9 @@ def epoch_summary_figure(a: Analysis, ep: Epochs) -> str:
     with over SHADE_SHARE of their frames flagged too fast or depth-ambiguous shaded."""
     fig, axes = _panels()
     minutes = ep.t / 60.0
-    shades = ((ep.share(depth_ambiguous(a)) > SHADE_SHARE, AMBIGUOUS_SHADE), (ep.share(too_fast(a)) > SHADE_SHARE,
-              FLAG_SHADE))  # fmt: skip
+    ambiguous, flagged = (ep.mean(flags(a)) > SHADE_SHARE for flags in (depth_ambiguous, too_fast))
     for ax in axes[:7]:
-        for where, colour in shades:
-            if where.any():
-                ax.fill_between(minutes, 0, 1, where=where, step="mid", color=colour, alpha=0.6, lw=0,
-                                transform=ax.get_xaxis_transform())  # fmt: skip
+        _shade(ax, minutes, ambiguous, flagged)
     for ax, base in zip(axes[:6], ANGLE_BASES, strict=True):
         for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
             low, mid, high = ep.quartiles(a.values[angle_name(side, base)])
@@ -306,7 +303,7 @@ def epoch_summary_figure(a: Analysis, ep: Epochs) -> str:
     if (calls != "").any():
         below = np.zeros(len(ep.t))
         for c in TURN_CALLS:
-            share = np.nan_to_num(ep.share(calls == c))
+            share = np.nan_to_num(ep.mean(calls == c))
             axes[7].fill_between(minutes, below, below + share, step="mid", color=_TURN_COLOURS[c], lw=0, label=c)
             below = below + share
         axes[7].legend(fontsize=8, loc="upper right", ncol=3)
@@ -314,23 +311,20 @@ def epoch_summary_figure(a: Analysis, ep: Epochs) -> str:
         axes[7].set_yticks([])
     else:
         _empty(axes[7], "no head turn: the input has no usable face points")
-    axes[8].fill_between(minutes, 0, np.nan_to_num(np.nanmean(ep.matrix(uncertain(a)), axis=1)), step="mid",
-                         color="#e0b000", alpha=0.7, lw=0)  # fmt: skip
+    axes[8].fill_between(minutes, 0, np.nan_to_num(ep.mean(uncertain(a))), step="mid", color="#e0b000", alpha=0.7,
+                         lw=0)  # fmt: skip
     _finish_panels(axes, minutes, "min")
     return svg(fig)
 
 
 def time_series_figure(a: Analysis, person: int) -> str:
     """Inline SVG: each joint angle left and right with its interval as a band, the head's tilt, the head
-    turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red. A track
-    over SUMMARY_OVER_S is drawn by epochs instead (`epoch_summary_figure`)."""
-    ep = epochs_of(a, person)
-    if ep is not None:
-        return epoch_summary_figure(a, ep)
+    turn as a strip of colours, and how many symmetry calls are uncertain; frames too fast shaded red (a track
+    over SUMMARY_OVER_S is drawn by `epoch_summary_figure` instead: `time_series_section`)."""
     d = decimate(a, person)
     fig, axes = _panels()
     for ax, base in zip(axes[:6], ANGLE_BASES, strict=True):
-        _shade(ax, d)
+        _shade(ax, d.t, d.ambiguous, d.flagged)
         for side, colour in zip(SIDES, (LEFT_HEX, RIGHT_HEX), strict=True):
             name = angle_name(side, base)
             low, high = (x[d.take] for x in a.intervals[name])
@@ -339,7 +333,7 @@ def time_series_figure(a: Analysis, person: int) -> str:
         ax.set_title(base.replace("_", " ") + " (deg; band: interval)", fontsize=10)
         ax.legend(fontsize=8, loc="upper right")
     tilt_ax, turn_ax, calls_ax = axes[6], axes[7], axes[8]
-    _shade(tilt_ax, d)
+    _shade(tilt_ax, d.t, d.ambiguous, d.flagged)
     tilt = a.head.tilt_deg[d.take] if a.head is not None else np.full(len(d.t), np.nan)
     turn = a.head.turn_call[d.take].astype(str) if a.head is not None else np.full(len(d.t), "")
     if np.isfinite(tilt).any():

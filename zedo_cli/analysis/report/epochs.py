@@ -1,5 +1,5 @@
 """A long track drawn by epochs: its frames cut into consecutive epochs, and per epoch the quartiles of a series or
-the share of frames with a flag, so that a 10-minute clip's plot shows its course instead of 18,000 frames in a
+the mean of a flag or count, so that a 10-minute clip's plot shows its course instead of 18,000 frames in a
 panel's 500 px. Vectorised: each epoch's frames are a row of one NaN-padded matrix."""
 
 from __future__ import annotations
@@ -42,11 +42,12 @@ class Epochs:
             warnings.simplefilter("ignore", RuntimeWarning)  # an epoch without a value: NaN, as meant
             return np.nanpercentile(self.matrix(values), [25, 50, 75], axis=1)
 
-    def share(self, flag: np.ndarray) -> np.ndarray:
-        """`(E,)`: each epoch's share of frames with `flag (M,)` (NaN for an epoch without frames)."""
+    def mean(self, values: np.ndarray) -> np.ndarray:
+        """`(E,)`: each epoch's mean of `values (M,)`, of a flag its share of frames (NaN for an epoch without
+        frames)."""
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            return np.nanmean(self.matrix(np.asarray(flag, float)), axis=1)
+            return np.nanmean(self.matrix(np.asarray(values, float)), axis=1)
 
 
 def epochs_of(a: Analysis, person: int) -> Epochs | None:
