@@ -983,6 +983,10 @@ def main() -> int:
         held = cross_fitted_models(cases, fold, group, bins)  # fitted once for every held-out figure below
         figures = scored(held, cases, kind, args.threshold)
         print_table(figures, mode)
+        held_filled = [(fit_filled(cases, fit), evaluate) for fit, evaluate in splits(fold, group)]
+        figures_filled = scored(held_filled, filled_view(cases), source_of(kind), args.threshold)
+        if figures_filled:
+            print_pooled(f"pseudo camera, {mode}, frame-pairs with a filled joint, per source", figures_filled)
         sources = sorted({str(x) for x in source_of(kind)})
         by_difficulty = difficulty_coverage(held, cases, kind, args.threshold)
         by_source = pseudo_by_source(cases, fold, kind, group, mode, args.threshold) if len(sources) > 1 else {}
@@ -990,6 +994,7 @@ def main() -> int:
             figures["clip_medians"] = clip_median_coverage(held, cases, kind, group)
             print("\nclip medians inside the median of the frames' 90 % interval ends:", figures["clip_medians"])
         models = fit_all(cases, np.ones(len(fold), bool), bins)
+        filled_models = fit_filled(cases, np.ones(len(fold), bool))
         # The provenance names scripts by their paths in the flat benchmarks/ that wrote the shipped file: kept, so
         # that a rerun writes the same file (benchmarks/README.md maps them to today's paths).
         provenance = {
@@ -1008,7 +1013,9 @@ def main() -> int:
             "folds": sorted(int(f) for f in np.unique(fold)),
             "sources": sources,
             "cases": int(len(fold)),
+            "cases_filled": int(np.isfinite(cases["symmetry_thigh_deg|filled_raw"]).sum()),
             "bins": bins,
+            "bins_filled": FILLED_BINS,
             "clips": CLIP_SETTINGS if mode != "none" else None,
             "cross_fitted": {
                 kd: {n: {k: round(v, 4) for k, v in r.items()} for n, r in rows.items()} for kd, rows in figures.items()
@@ -1016,9 +1023,10 @@ def main() -> int:
             "held_out_by_source": by_source,
             "held_out_by_source_coverage_90": {s: r["families"] for s, r in by_source.items()},
             "cross_fitted_by_difficulty_coverage_90": by_difficulty,
+            "cross_fitted_filled_joint": {s: pooled(rows) for s, rows in figures_filled.items()},
         }
         calibrations.append(MeasureCalibration(shipped.sha256, settings, mode, ("pseudo",), shipped.skeleton.joints,
-                                               models, provenance))  # fmt: skip
+                                               models, provenance, None, filled_models))  # fmt: skip
     if args.report is not None and args.cameras:
         args.report.write_text(json.dumps(args.camera_report, indent=1, default=float) + "\n")
     if args.write:

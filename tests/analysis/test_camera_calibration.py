@@ -178,8 +178,9 @@ def test_ranges_that_meet_read_as_one_and_a_near_pose_takes_the_near_range() -> 
 def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_3_5_m() -> None:
     """Each mode's calibrations of known cameras meet end to end over 0.4-3.5 m and 600-3000 px (the distances and
     lenses clinics use), each range fitted on its own held-out cases of both clip sources with a model for every
-    symmetry pair, observed and with a filled joint; the pseudo camera's have no range (the target: an interval for
-    every symmetry value of a clip at f = 1000 px about 1 m away, and of one 3 m away at 3000 px)."""
+    symmetry pair, observed and with a filled joint; the pseudo camera's have no range, and models of filled joints
+    too (the target: an interval for every symmetry value of a clip at f = 1000 px about 1 m away, and of one 3 m
+    away at 3000 px, and for the same values without the camera stated)."""
     from zedo_cli.analysis.uncertainty.calibration import bundled_calibrations, describe_domains
 
     frames = [c for c in bundled_calibrations() if c.scope == "frames"]
@@ -187,6 +188,10 @@ def test_the_bundled_camera_calibrations_cover_lifted_root_depths_of_0_4_to_3_5_
     for mode in ("none", "smooth", "clip"):  # frame by frame, --temporal smooth and --temporal clip
         pseudo = [c for c in frames if c.cameras == ("pseudo",) and c.temporal_mode == mode]
         assert len(pseudo) == 1 and pseudo[0].provenance["sources"] == ["SyRIP poses", "adult motion"]
+        # a frame with a joint the prior filled gets an interval whether the camera is stated or not
+        assert set(SYMMETRY_NAMES) <= set(pseudo[0].filled) and pseudo[0].provenance["cases_filled"] >= 100
+        if mode != "none":
+            assert set(pseudo[0].filled) == set(pseudo[0].measures)
         known = sorted((c for c in frames if c.cameras == ("cli", "file") and c.temporal_mode == mode),
                        key=lambda c: c.domain.root_depth_m)  # fmt: skip
         assert [c.domain.root_depth_m for c in known] == [(0.4, 0.6), (0.6, 2.0), (2.0, 3.5)]
