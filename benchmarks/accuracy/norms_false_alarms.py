@@ -1,12 +1,16 @@
 """How often the comparison with typical infants calls a typical clip atypical, measured on many reference draws,
 and how often it catches clips that are atypical by construction.
 
-Clips: the adult motion made infant-like (`zedo_cli.evaluation.clips`, poses the bundled prior never saw: it was
-trained on SyRIP), 30 fps, the clinic cameras and the pseudo camera, 3 px jitter, 3 % dropped joints, each clip its
-own infant. Lifted as a user lifts a clip, without stating the camera (`--temporal smooth`), and analysed with the
-defaults; the clip features are what `zedo norms` collects (`compare.features_by_person`). Groups:
+Sources (`--source`): the adult motion made infant-like (`zedo_cli.evaluation.clips`, poses the bundled prior never
+saw: it was trained on SyRIP), the clinic cameras and the pseudo camera; SyRIP's training or Test100 poses, or its
+synthetic poses (`benchmarks/lib/pose_sources.py`: outside every fit, for an independent check only), eased 1 s
+apart before the pseudo camera. 30 fps, 3 px jitter, 3 % dropped joints, each clip its own infant. Lifted as a user
+lifts a clip, without stating the camera (`--temporal smooth`), and analysed with the defaults; the clip features
+are what `zedo norms` collects (`compare.features_by_person`). Groups:
 - `typical`: 10 s clips (the pool the references are drawn from and the typical clips tested);
-- `long`: typical clips 6 times as long (60 s), compared with 10 s references;
+- `long`: typical clips 6 times as long (60 s), compared with 10 s references (the feature z and the extended and
+  asymmetry p by their six epochs of 10 s, as `zedo analyze --norms` compares them; the published p on the whole
+  clip);
 - `still_arm`: the left elbow and wrist held at their first frame's place in the trunk's frame (the kind the
   comparison was tuned on); `still_leg`: the left knee and ankle held so (a kind never used in tuning);
 - `retest`: the first typical clips again, lifted with another seed and 1 px more jitter: each feature's
@@ -33,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
+from benchmarks.lib.pose_sources import eased_source_poses
 from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.clip.published_features import PREREGISTERED
 from zedo_cli.analysis.norms.calibrated import RELIABILITY_FILE, RELIABLE_ICC, ReliabilityEntry
@@ -44,7 +49,6 @@ from zedo_cli.analysis.norms.norms import (
     infant_features,
     with_asymmetry,
 )
-from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import (
     ClipSettings,
@@ -68,11 +72,12 @@ GROUPS = {  # name: (seconds, count, held joints, seed offset)
     "still_leg": (10.0, 30, ("left_knee", "left_ankle"), 3000),
 }
 RETEST = 80  # typical clips lifted a second time
-SOURCES = ("adult", "syrip-train", "syrip-test")
+SOURCES = ("adult", "syrip-train", "syrip-test", "syrip-synthetic")
 JOINTS = get_skeleton("syrip12").joints
 SOURCE_WORDS = {"adult": "adult motion made infant-like, clinic and pseudo cameras",
                 "syrip-train": "SyRIP training poses eased 1 s apart, pseudo camera",
-                "syrip-test": "SyRIP Test100 poses eased 1 s apart, pseudo camera"}  # fmt: skip
+                "syrip-test": "SyRIP Test100 poses eased 1 s apart, pseudo camera",
+                "syrip-synthetic": "SyRIP's synthetic poses (HW-HuP) eased 1 s apart, pseudo camera"}  # fmt: skip
 KINDS = ("published", "extended", "asymmetry")
 GROUP_WORDS = {"typical": "typical 10 s", "long": "typical 60 s", "still_arm": "still left arm",
                "still_leg": "still left leg"}  # fmt: skip
@@ -106,7 +111,7 @@ def eased_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
     """The group's clips of SyRIP poses eased one into the next 1 s apart (`zedo_cli.evaluation.clips.eased`: the
     body turning and drifting about 1 m before the pseudo camera), in order."""
     seconds, count, held, offset = GROUPS[group]
-    poses = load_syrip_3d(args.syrip_dir, "test" if args.source == "syrip-test" else "train").poses
+    poses = eased_source_poses(args.syrip_dir, args.source)
     intrinsics = Intrinsics.pseudo(IMAGE_W, IMAGE_H)
     for i in range(count):
         rng = np.random.default_rng([args.seed, offset, i])
@@ -132,13 +137,21 @@ def write_2d(path: Path, xy: np.ndarray, confidence: np.ndarray, image_size: tup
             f.write(json.dumps(record) + "\n")
 
 
-def lift_features(path: Path, seed: int) -> tuple[dict[str, float], float | None]:
+def lift_features(path: Path, seed: int, epoch_s: float | None = None
+                  ) -> tuple[dict[str, float], float | None, list[dict[str, float]]]:  # fmt: skip
+    """The clip's features as `zedo norms` keeps them, its length, and (with `epoch_s`) its epochs' features as
+    `zedo analyze --norms` takes them from a clip longer than the reference's (`compare.epoch_values`)."""
     import zedo_cli
-    from zedo_cli.analysis.compare import features_by_person
+    from zedo_cli.analysis.compare import epoch_values, features_by_person
 
     lifted = zedo_cli.lift_file(str(path), skeleton="syrip12", fps=FPS, temporal="smooth", seed=seed)
-    clip = features_by_person(zedo_cli.analyze(lifted))[0]
-    return clip.values, clip.seconds
+    a = zedo_cli.analyze(lifted)
+    clip = features_by_person(a)[0]
+    return clip.values, clip.seconds, epoch_values(a, clip.person, epoch_s) if epoch_s else []
+
+
+def finite_or_none(values: dict[str, float]) -> dict[str, float | None]:
+    return {k: (v if math.isfinite(v) else None) for k, v in values.items()}
 
 
 def lift(args: argparse.Namespace) -> int:
@@ -148,7 +161,8 @@ def lift(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     for group in args.groups:
         out = folder / f"{group}.jsonl"
-        done = {r["clip"] for r in read_rows(out)}
+        epoch_s = GROUPS["typical"][0] if group == "long" else None  # the references' clips' length
+        done = {r["clip"] for r in read_rows(out) if epoch_s is None or "epochs" in r}
         count = GROUPS[group][1]
         for i, (xy, confidence, size, camera) in enumerate(make(args, group)):
             retest = group == "typical" and i < RETEST and f"{i}r" not in done
@@ -160,13 +174,10 @@ def lift(args: argparse.Namespace) -> int:
             for name, points, seed in runs:
                 path = folder / f"{group}.2d.jsonl"
                 write_2d(path, points, confidence, size)
-                values, length = lift_features(path, seed)
-                row = {
-                    "clip": name,
-                    "camera": camera,
-                    "seconds": length,
-                    "values": {k: (v if math.isfinite(v) else None) for k, v in values.items()},
-                }
+                values, length, epochs = lift_features(path, seed, epoch_s)
+                row = {"clip": name, "camera": camera, "seconds": length, "values": finite_or_none(values)}
+                if epoch_s is not None:
+                    row["epochs"] = [finite_or_none(e) for e in epochs]
                 append_row(out, row)
             print(f"{args.source} {group} {i + 1}/{count} ({time.perf_counter() - t0:.0f} s)", flush=True)
     return 0
@@ -201,11 +212,21 @@ def main() -> int:
     return {"lift": lift, "reliability": reliability, "score": score}[args.command](args)
 
 
+def _known(values: dict[str, float | None]) -> dict[str, float]:
+    return {k: math.nan if v is None else v for k, v in values.items()}
+
+
 def clip_rows(folder: Path, group: str) -> dict[str | int, dict[str, float]]:
-    """The group's clips by name (an int; `<i>r` for a retest), their features as `zedo norms` keeps them."""
+    """The group's clips by name (an int; `<i>r` for a retest), their features as `zedo norms` keeps them (a clip
+    lifted again: its last row)."""
     rows = read_rows(folder / f"{group}.jsonl")
-    known = ({k: math.nan if v is None else v for k, v in r["values"].items()} for r in rows)
-    return {r["clip"]: with_asymmetry(infant_features(v)) for r, v in zip(rows, known, strict=True)}
+    return {r["clip"]: with_asymmetry(infant_features(_known(r["values"]))) for r in rows}
+
+
+def clip_epochs(folder: Path, group: str) -> dict[str | int, list[dict[str, float]]]:
+    """The group's clips' epochs as `zedo analyze --norms` compares a clip longer than the reference's (none where a
+    row has none)."""
+    return {r["clip"]: [_known(e) for e in r.get("epochs", [])] for r in read_rows(folder / f"{group}.jsonl")}
 
 
 def reliability(args: argparse.Namespace) -> int:
@@ -255,6 +276,7 @@ def score(args: argparse.Namespace) -> int:
         others = {
             g: clip_rows(folder, g) for g in ("long", "still_arm", "still_leg") if (folder / f"{g}.jsonl").exists()
         }
+        epochs = {g: clip_epochs(folder, g) for g in others}
         rng = np.random.default_rng(args.seed)
         hits: dict[str, dict[str, list[list[bool]]]] = {}
         for _ in range(args.draws):
@@ -264,7 +286,8 @@ def score(args: argparse.Namespace) -> int:
             for group, clips in tested.items():
                 if not clips:
                     continue
-                found = [compare(values, reference, None) for values in clips.values()]
+                found = [compare(values, reference, None, epochs=epochs.get(group, {}).get(name) or None)
+                         for name, values in clips.items()]  # fmt: skip
                 for kind in KINDS:
                     hits.setdefault(group, {}).setdefault(kind, []).append([getattr(c, kind).p < 0.05 for c in found])
         for group, kinds in hits.items():

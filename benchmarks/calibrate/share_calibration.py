@@ -33,12 +33,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, SOURCE_WORDS, habits, lift_parser, write_2d
+from benchmarks.lib.pose_sources import eased_source_poses
 from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, bootstrap_share
 from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, symmetry_angles
 from zedo_cli.analysis.uncertainty.calibration import LEVELS
 from zedo_cli.analysis.uncertainty.share_calibration import SHARE_FILE, ShareMargin
-from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
@@ -61,7 +61,7 @@ def adult_clips(args: argparse.Namespace, seconds: float, count: int) -> Iterato
 
 
 def eased_clips(args: argparse.Namespace, seconds: float, count: int) -> Iterator[Truth]:
-    poses = load_syrip_3d(args.syrip_dir, "test" if args.source == "syrip-test" else "train").poses
+    poses = eased_source_poses(args.syrip_dir, args.source)
     if int(seconds) + 1 > len(poses):
         print(f"{args.source}: {len(poses)} poses make no {seconds:g} s clip of distinct key poses 1 s apart")
         return

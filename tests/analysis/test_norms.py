@@ -75,34 +75,42 @@ def test_published_surprise_by_hand() -> None:
     assert c.published.features == 38 and c.published.reference_clips == 20
 
 
-def test_extended_sums_per_side_asymmetry_and_3d_features() -> None:
+def _all_reliable(names: list[str]) -> tuple:
+    from zedo_cli.analysis.norms.calibrated import ReliabilityEntry
+
+    return (ReliabilityEntry(source="test", clips=40, temporal_mode="smooth", icc=dict.fromkeys(names, 1.0),
+                             provenance={}),)  # fmt: skip
+
+
+EXTENDED = [*SIDE_FEATURES, "asym_logratio_median_vel_angle_Elbow", "asym_logratio_medianvelx_Wrist",
+            "asym_logratio_3d_median_vel_angle_Knee"]  # fmt: skip
+
+
+def test_the_extended_comparison_is_calibrated_over_per_side_asymmetry_and_3d_features() -> None:
+    """The extended p is the conformal p (calibrated.py) over the reliable per-side, asymmetry and 3D features:
+    neither the published part-level features nor a feature without a retest's agreement take part."""
+    from zedo_cli.analysis.norms.calibrated import calibrated_surprise
+
     clips = _reference()
     norms = build_norms(clips, VERSION)
     new = _clip(np.random.default_rng(7), 7).values
-    c = compare(new, norms, None)
-    names = [*SIDE_FEATURES, "asym_logratio_median_vel_angle_Elbow", "asym_logratio_medianvelx_Wrist",
-             "asym_logratio_3d_median_vel_angle_Knee"]  # fmt: skip
+    names = sorted(EXTENDED)
+    c = compare(new, norms, None, reliability=_all_reliable(names))
     full = [{**cl.values, **asymmetry_indices(cl.values)} for cl in clips]
-
-    def loglik(values: dict[str, float]) -> float:
-        total = 0.0
-        for n in names:
-            x = np.array([f[n] for f in full])
-            total += -(0.5 * math.log(2 * math.pi * x.var()) + (values[n] - x.mean()) ** 2 / (2 * x.var()))
-        return total
-
-    ref = np.array([loglik(f) for f in full])
-    assert c.extended.features == len(names) and c.extended.reference_clips == 20
-    assert c.extended.total == pytest.approx(loglik({**new, **asymmetry_indices(new)}))
-    assert c.extended.z == pytest.approx((c.extended.total - ref.mean()) / ref.std(ddof=1))
+    reference = np.array([[f[n] for n in names] for f in full])
+    expected = calibrated_surprise(np.array([{**new, **asymmetry_indices(new)}[n] for n in names]), reference)
+    assert c.extended == expected and c.extended.features == len(names) and c.extended.reference_clips == 20
+    fewer = compare(new, norms, None, reliability=_all_reliable(names[:3]))  # the others not reliable
+    assert fewer.extended.features == 3
 
 
 def test_a_one_sided_difference_shows_in_the_extended_comparison() -> None:
     norms = build_norms(_reference(), VERSION)
     rng = np.random.default_rng(5)
-    typical = [compare(_clip(rng, i).values, norms, None) for i in range(20)]
-    still_left = compare(_clip(rng, 99, shift=-1.5).values, norms, None)  # the left elbow barely moves
-    assert sum(c.extended.p > 0.05 for c in typical) >= 16  # about 19 in 20 expected
+    reliable = _all_reliable(EXTENDED)
+    typical = [compare(_clip(rng, i).values, norms, None, reliability=reliable) for i in range(20)]
+    still_left = compare(_clip(rng, 99, shift=-1.5).values, norms, None, reliability=reliable)  # a still left elbow
+    assert sum(c.extended.p > 0.05 for c in typical) >= 16  # about 20 in 21 expected
     assert still_left.extended.p < 0.05
     assert still_left.z["median_vel_angle_LElbow"] < -5
     assert still_left.z["asym_logratio_median_vel_angle_Elbow"] < -5
@@ -247,7 +255,7 @@ def test_counts_of_the_lifts_flagged_frames_are_never_compared() -> None:
     odd = {**_reference(1, seed=5)[0].values, "Knee_flexion_frames_too_fast": 400.0}
     c = compare(odd, norms, None)
     assert "Knee_flexion_frames_too_fast" not in c.z
-    assert c.extended.z == compare(_reference(1, seed=5)[0].values, norms, None).extended.z
+    assert c.extended == compare(_reference(1, seed=5)[0].values, norms, None).extended
     older = build_norms(clips, VERSION)  # a reference written before: its fits hold such a count
     older.fits[ALL_AGES]["Knee_flexion_frames_too_fast"] = norms.fits[ALL_AGES]["Knee_mean_angle"]
     assert "Knee_flexion_frames_too_fast" not in compare(odd, older, None).z

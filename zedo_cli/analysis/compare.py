@@ -12,8 +12,11 @@ import numpy as np
 
 from ..formats.readers.result_record import LiftParams
 from ..lifting.config import PRESETS, calibration_settings, settings_match
-from .analyse import Analysis, Row
+from .analyse import SYMMETRY_NAMES, Analysis, Row
+from .clip.clip_features import epoch_features
+from .clip.movement import left_right_correlation, series_features
 from .norms.norms import ClipValues, Comparison, Norms, compare, is_lift_artifact
+from .pose.joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
 
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
@@ -64,19 +67,67 @@ def track_seconds(a: Analysis, person: int) -> float | None:
     return float((frames.max() - frames.min() + 1) / a.fps)
 
 
+def reference_seconds(norms: Norms) -> float | None:
+    """The median length of the reference's clips (None: its clips do not record it)."""
+    known = [c.seconds for c in norms.clips if c.seconds is not None]
+    return float(np.median(known)) if known else None
+
+
+def in_epochs(norms: Norms, seconds: float | None) -> bool:
+    """Whether a clip of `seconds` is compared by its epochs: over LENGTH_RATIO times as long as the reference's."""
+    typical = reference_seconds(norms)
+    return seconds is not None and typical is not None and seconds > LENGTH_RATIO * typical
+
+
 def length_mismatch(norms: Norms, seconds: float | None) -> str | None:
     """A note where the clip lasts over LENGTH_RATIO times as long (or as short) as the reference's clips' median
     (None: alike, or either side does not say)."""
-    known = [c.seconds for c in norms.clips if c.seconds is not None]
-    if seconds is None or not known:
+    typical = reference_seconds(norms)
+    if seconds is None or typical is None:
         return None
-    typical = float(np.median(known))
     ratio = seconds / typical
     if 1 / LENGTH_RATIO <= ratio <= LENGTH_RATIO:
         return None
+    if ratio > LENGTH_RATIO:
+        return (f"this clip's track lasts {seconds:.0f} s, the reference's clips a median {typical:.0f} s ({ratio:.1f} "
+                f"times as long): the feature z and the extended and asymmetry p take its epochs of {typical:.0f} s "
+                "(the median epoch); the published z and p stay on the whole clip, as published, where ranges and "
+                "entropies grow with a clip's length")  # fmt: skip
     return (f"this clip's track lasts {seconds:.0f} s, the reference's clips a median {typical:.0f} s ({ratio:.1f} "
             "times as long): features that grow with a clip's length (ranges, entropies) are compared across lengths; "
             "build a reference of clips as long as the clips compared with it")  # fmt: skip
+
+
+def epoch_values(a: Analysis, person: int, seconds: float) -> list[dict[str, float]]:
+    """The measured clip features of each whole epoch of `seconds` of a person's track (as `features_by_person`
+    gives the whole clip's): the published 2D and `3d_` features, the joint angles' speeds, ranges and left-right
+    correlations, and the symmetry medians."""
+    fps = float(a.fps or 0.0)
+    per = max(1, int(round(seconds * fps)))
+    epochs = epoch_features(a.result, a.index, fps, person, per)
+    res = a.result
+    sel = res.person[a.index] == person
+    first = int(res.frame_index[res.person == person].min())
+    frames = res.frame_index[a.index]
+    epoch_of = (frames - first) // per
+    for k, values in enumerate(epochs):
+        mine = sel & (epoch_of == k)
+        for name in ANGLE_NAMES:
+            keep = mine & ~a.too_fast.get(name, np.zeros(len(mine), bool))
+            feats = series_features(frames[keep], a.values[name][keep], fps)
+            stem = name.removesuffix("_deg")
+            values[f"{stem}_median_abs_velocity_deg_s"] = feats["median_abs_velocity"]
+            values[f"{stem}_abs_velocity_iqr_deg_s"] = feats["abs_velocity_iqr"]
+            values[f"{stem}_range_deg"] = feats["range"]
+        for base in ANGLE_BASES:
+            left, right = (a.values[angle_name(side, base)][mine] for side in SIDES)
+            values[f"{base}_left_right_correlation"] = left_right_correlation(left, right)
+        for name in SYMMETRY_NAMES:
+            measured = a.raw_values[name][mine & np.isfinite(a.values[name])]
+            values[name.removesuffix("_deg") + "_median_deg"] = (
+                float(np.nanmedian(measured)) if np.isfinite(measured).any() else np.nan
+            )
+    return epochs
 
 
 @dataclass(frozen=True)
@@ -88,7 +139,8 @@ class PersonComparison:
 
 def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[PersonComparison]:
     """Compare each person track of the clip `a` with `norms`: per feature its z (`<feature>_norm_z`), and
-    `surprise_published_z` / `_p`, `surprise_extended_z` / `_p` and `surprise_asymmetry_score` / `_p`, appended
+    `surprise_published_z` / `_p`, and the calibrated `surprise_extended_score` / `_p` and
+    `surprise_asymmetry_score` / `_p`, appended
     to `a.rows`; notes say what was left out. Refused for a result without fps (no clip features)."""
     if not a.is_sequence:
         a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
@@ -97,8 +149,10 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
     done = []
     clips = features_by_person(a, age_weeks)
     mismatch = lifting_mismatch(norms, clips[0].lifting) if clips else None  # one result: every track alike
+    typical = reference_seconds(norms)
     for clip in clips:
-        c = compare(clip.values, norms, age_weeks)
+        epochs = epoch_values(a, clip.person, typical) if typical and in_epochs(norms, clip.seconds) else None
+        c = compare(clip.values, norms, age_weeks, epochs=epochs)
         p = clip.person
 
         def add(measure: str, value: float, unit: str, p: int = p) -> None:
@@ -106,13 +160,13 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
 
         for name in sorted(c.z):
             add(f"{name}{Z_SUFFIX}", c.z[name], "z")
-        for kind, s in (("published", c.published), ("extended", c.extended)):
-            add(f"surprise_{kind}_z", s.z, "z")
-            add(f"surprise_{kind}_p", s.p, "p")
-            add(f"surprise_{kind}_features", float(s.features), "features")
-        add("surprise_asymmetry_score", c.asymmetry.score, "mean z^2")
-        add("surprise_asymmetry_p", c.asymmetry.p, "p")
-        add("surprise_asymmetry_features", float(c.asymmetry.features), "features")
+        add("surprise_published_z", c.published.z, "z")
+        add("surprise_published_p", c.published.p, "p")
+        add("surprise_published_features", float(c.published.features), "features")
+        for kind, cal in (("extended", c.extended), ("asymmetry", c.asymmetry)):
+            add(f"surprise_{kind}_score", cal.score, "mean z^2")
+            add(f"surprise_{kind}_p", cal.p, "p")
+            add(f"surprise_{kind}_features", float(cal.features), "features")
         if c.not_compared:
             shown = ", ".join(c.not_compared[:5]) + (", ..." if len(c.not_compared) > 5 else "")
             a.notes.append(f"person {p}: {len(c.not_compared)} reference features have no value in this clip and "

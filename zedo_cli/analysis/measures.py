@@ -177,14 +177,16 @@ def _comparison() -> list[Measure]:
     return [
         Measure("<feature>_norm_z", r"\S+_norm_z", "z", "clip", "comparison", "standard deviations from typical",
                 "the clip feature's z against the reference of typical infants (`--norms`)"),
-        Measure("surprise_<published|extended>_z", "surprise_(published|extended)_z", "z", "clip", "comparison",
-                "standard deviations from typical", "the clip's surprise over the comparison's features"),
+        Measure("surprise_published_z", "surprise_published_z", "z", "clip", "comparison",
+                "standard deviations from typical", "the clip's published surprise (summed log-likelihood) as a z"),
         Measure("surprise_<published|extended|asymmetry>_p", "surprise_(published|extended|asymmetry)_p", "p",
-                "clip", "comparison", "0 to 1", "the p of that surprise (published, extended, or calibrated)"),
+                "clip", "comparison", "0 to 1", "the p of that surprise (published: normal; extended and asymmetry: "
+                "calibrated)"),
         Measure("surprise_<published|extended|asymmetry>_features", "surprise_(published|extended|asymmetry)_features",
                 "features", "clip", "comparison", "a count", "how many features the surprise is over"),
-        Measure("surprise_asymmetry_score", "surprise_asymmetry_score", "mean z^2", "clip", "comparison", ">= 0",
-                "the mean squared robust z of the left-right asymmetry features"),
+        Measure("surprise_<extended|asymmetry>_score", "surprise_(extended|asymmetry)_score", "mean z^2", "clip",
+                "comparison", ">= 0", "the mean squared robust z of the reliable extended (or left-right asymmetry) "
+                "features"),
     ]  # fmt: skip
 
 

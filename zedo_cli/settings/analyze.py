@@ -73,8 +73,9 @@ class AnalyzeOptions(Options):
     norms: PathOption = Field(
         None,
         description="A reference of typical infants (from zedo norms, at least 20 clips): each clip feature's z, the "
-        "published and extended comparisons (surprise_*_z, surprise_*_p) and the calibrated p of the left-right "
-        "asymmetry (surprise_asymmetry_p: p < 0.05 for at most 1 typical clip in 20).",
+        "published comparison (surprise_published_z, _p) and the calibrated p of the extended features and of the "
+        "left-right asymmetry (surprise_extended_p, surprise_asymmetry_p: p < 0.05 for at most 1 typical clip in "
+        "20).",
     )
     age_weeks: Optional[float] = Field(
         None,

@@ -110,6 +110,43 @@ def _calibrated(
                           interval=INTERVAL_CALIBRATED)  # fmt: skip
 
 
+@dataclass(frozen=True)
+class TrackArrays:
+    """One person track on its own frame grid, from its first frame to its last (NaN where a frame lacks it)."""
+
+    first: int  # the track's first frame
+    xy: np.ndarray | None  # (T, J, 2) the input's 2D; None: the result carries no 2D
+    sizes: np.ndarray  # (T, 2) each frame's image width and height
+    poses: np.ndarray  # (T, J, 3) the lifted poses of the analysed rows
+
+
+def track_arrays(result: ResultPoses, index: np.ndarray, person: int) -> TrackArrays:
+    """Person `person`'s track among the analysed rows `index`: its 2D (every row, lifted or not) and lifted poses."""
+    rows = np.flatnonzero(result.person == person)
+    lifted = index[result.person[index] == person]
+    frames = result.frame_index[rows]
+    first, length = int(frames.min()), int(frames.max() - frames.min()) + 1
+    sizes = _track(frames, _image_sizes(result, rows), first, length)  # (T, 2)
+    sizes = np.where(np.isfinite(sizes), sizes, np.nanmedian(sizes, axis=0))  # frames without the person
+    xy = None if result.keypoints_2d is None else _track(frames, result.keypoints_2d[rows], first, length)
+    return TrackArrays(first, xy, sizes, _track(result.frame_index[lifted], result.poses[lifted], first, length))
+
+
+def epoch_features(result: ResultPoses, index: np.ndarray, fps: float, person: int, epoch_frames: int
+                   ) -> list[dict[str, float]]:  # fmt: skip
+    """The measured published 2D and `3d_` features of each whole epoch of `epoch_frames` frames of a person's
+    track, in order (a remainder shorter than an epoch is left out)."""
+    track = track_arrays(result, index, person)
+    out = []
+    for start in range(0, len(track.poses) - epoch_frames + 1, epoch_frames):
+        span = slice(start, start + epoch_frames)
+        values = dict(features_3d(track.poses[span], result.skeleton, fps).values)
+        if track.xy is not None:
+            values.update(published_features(track.xy[span], result.skeleton, fps, track.sizes[span]).values)
+        out.append(values)
+    return out
+
+
 def clip_features(
     result: ResultPoses, index: np.ndarray, fps: float, calibration: MeasureCalibration | None = None,
     why_not: str = "no measure calibration installed", level: float = DEFAULT_LEVEL,
@@ -127,21 +164,15 @@ def clip_features(
     out: list[ClipFeature] = []
     skel = result.skeleton
     for p in sorted(set(result.person[index].tolist())):
-        rows = np.flatnonzero(result.person == p)  # every row of the track: its 2D whether lifted or not
         mine = result.person[index] == p  # (M,): the track's analysed rows
-        lifted = index[mine]
-        frames = result.frame_index[rows]
-        first, length = int(frames.min()), int(frames.max() - frames.min()) + 1
-        if result.keypoints_2d is None:
+        track = track_arrays(result, index, p)
+        if track.xy is None:
             blank = published_features(np.full((1, skel.num_joints, 2), np.nan), skel, fps, np.ones(2))
             why = "none: the result file carries no 2D keypoints"
             out += [ClipFeature(p, name, np.nan, blank.units[name], why) for name in blank.values]
         else:
-            xy = _track(frames, result.keypoints_2d[rows], first, length)  # (T, J, 2)
-            sizes = _track(frames, _image_sizes(result, rows), first, length)  # (T, 2)
-            sizes = np.where(np.isfinite(sizes), sizes, np.nanmedian(sizes, axis=0))  # frames without the person
-            out += _rows(p, published_features(xy, skel, fps, sizes), INTERVAL_PUBLISHED)
-        poses = _track(result.frame_index[lifted], result.poses[lifted], first, length)  # (T, J, 3)
+            out += _rows(p, published_features(track.xy, skel, fps, track.sizes), INTERVAL_PUBLISHED)
+        poses = track.poses
         track_calibration, track_why = calibration, why_not
         if calibration is not None and calibration.domain is not None:
             depth, focal = cameras if cameras is not None else (np.full(len(index), np.nan),) * 2

@@ -37,6 +37,7 @@ class CalibratedSurprise:
     p: float
     features: int
     reference_clips: int
+    epochs: int = 1  # a clip compared by its epochs (`epochs_surprise`): how many
 
 
 def _robust_z(row: np.ndarray, others: np.ndarray) -> np.ndarray:
@@ -75,6 +76,28 @@ def calibrated_surprise(clip: np.ndarray, reference: np.ndarray) -> CalibratedSu
         return CalibratedSurprise(math.nan, math.nan, 0, len(reference))
     p = float(np.mean(scores[np.isfinite(scores)] >= own))
     return CalibratedSurprise(own, p, int(known.sum()), len(reference))
+
+
+def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurprise:
+    """A clip longer than the reference's clips, as its epochs `(k, F)` each as long as them: the median of the
+    epochs' scores against the reference `(n, F)`, ranked among the reference clips' own scores (each against the
+    others). A typical clip's median epoch is less extreme than a typical clip, so p < a happens less often than a
+    (docs/movement.md measures it). Features no epoch has are left out."""
+    known = np.isfinite(epochs).any(axis=0)
+    ref, rows = reference[:, known], epochs[:, known]
+    own_scores = []
+    for row in rows:
+        z = _robust_z(row, ref)
+        z = z[np.isfinite(z)]
+        if len(z):
+            own_scores.append(float(np.mean(z**2)))
+    if not own_scores:
+        return CalibratedSurprise(math.nan, math.nan, 0, len(reference), len(epochs))
+    own = float(np.median(own_scores))
+    others = leave_one_out_scores(ref)
+    others = others[np.isfinite(others)]
+    p = float((1 + np.sum(others >= own)) / (1 + len(others)))
+    return CalibratedSurprise(own, p, int(known.sum()), len(reference), len(epochs))
 
 
 class ReliabilityEntry(PlainEntry):

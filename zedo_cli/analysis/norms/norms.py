@@ -8,10 +8,13 @@ the 38 pre-registered part-level features (left and right averaged); its z is ta
 reference clips' own sums (their mean and sample standard deviation, over every bracket, as
 published), and p is two-sided.
 
-The extended comparison, which no published set has, is the same recipe over the per-side features,
-left-right asymmetry indices (log ratios of the two sides' speeds and spreads, and the clip's median 3D
-symmetry angle of each segment pair) and zedo's `3d_` features: the published set averages the two sides, so a
-one-sided movement disorder can hide in it (docs/movement.md has the measured difference).
+The extended comparison, which no published set has, is over the per-side features, left-right asymmetry indices
+(log ratios of the two sides' speeds and spreads, and the clip's median 3D symmetry angle of each segment pair)
+and zedo's `3d_` features: the published set averages the two sides, so a one-sided movement disorder can hide in
+it (docs/movement.md has the measured difference). Its p is calibrated (calibrated.py: a conformal rank of the
+clip's mean squared robust z among the reference clips', over the features reliable under a retest), so that a
+typical clip gets p < 0.05 at most 1 time in 20 however heavy the features' tails; the calibrated p of the
+left-right asymmetry is the same over the asymmetry features alone.
 
 A reference stores, besides each feature's fit, every reference clip's feature values, so that a clip
 missing a feature (a correlation of a still limb, say) is compared on the features it has, against the
@@ -35,6 +38,7 @@ from .calibrated import (
     ReliabilityEntry,
     bundled_reliability,
     compare_calibrated,
+    epochs_surprise,
     reliable_features,
 )
 
@@ -245,8 +249,8 @@ class Comparison:
     bracket: str
     z: dict[str, float]  # feature -> z against its bracket's fit
     published: Surprise
-    extended: Surprise
-    asymmetry: CalibratedSurprise  # the conformal p over the reliable left-right asymmetry features (calibrated.py)
+    extended: CalibratedSurprise  # the conformal p over the reliable extended features (calibrated.py)
+    asymmetry: CalibratedSurprise  # the same over the reliable left-right asymmetry features
     not_compared: list[str]  # features the clip has no value for (left out of the sums)
 
 
@@ -257,21 +261,39 @@ def _fitted(norms: Norms, bracket: str, names: Sequence[str]) -> tuple[list[str]
 
 
 def compare(values: Mapping[str, float], norms: Norms, age_weeks: float | None,
-            reliability: Sequence[ReliabilityEntry] | None = None) -> Comparison:  # fmt: skip
-    """The clip's z per feature, its published and extended surprise, and its calibrated p over the left-right
-    asymmetry features that `reliability` (default: the bundled file) finds reliable."""
+            reliability: Sequence[ReliabilityEntry] | None = None,
+            epochs: Sequence[Mapping[str, float]] | None = None) -> Comparison:  # fmt: skip
+    """The clip's z per feature, its published surprise, and its calibrated p over the extended features and over
+    the left-right asymmetry features, each those that `reliability` (default: the bundled file) finds reliable.
+    `epochs`: the features of a long clip's epochs, each as long as the reference's clips: the z are then of the
+    epochs' median values and the calibrated p of the median epoch (`epochs_surprise`); the published comparison
+    stays on the whole clip, as published."""
     bracket = age_bracket(age_weeks, norms.with_ages)  # a reference split by age needs the age
     if bracket not in norms.fits:
         raise InputFormatError(f"no reference clips in the age bracket {bracket} (the reference has "
                                f"{', '.join(norms.brackets)}): this clip is outside its age brackets")  # fmt: skip
     values = with_asymmetry(infant_features(values))
+    parts = [with_asymmetry(infant_features(e)) for e in epochs or ()]
+    measured = _epoch_medians(values, parts) if parts else values
     fits = {n: f for n, f in norms.fits[bracket].items() if not is_lift_artifact(n)}  # an older reference has them
-    z = {n: (values[n] - f.mean) / f.sd for n, f in fits.items() if math.isfinite(values.get(n, math.nan))}
+    z = {n: (measured[n] - f.mean) / f.sd for n, f in fits.items() if math.isfinite(measured.get(n, math.nan))}
     published = _published(values, norms, bracket)
-    extended = _extended(values, norms, bracket)
     missing = sorted(n for n in fits if not math.isfinite(values.get(n, math.nan)))
     entries = bundled_reliability() if reliability is None else reliability
-    return Comparison(bracket, z, published, extended, _asymmetry(values, norms, bracket, entries), missing)
+    extended = _calibrated_over(values, norms, bracket, extended_names(values), entries, parts)
+    asymmetry = _calibrated_over(values, norms, bracket, [n for n in values if is_asymmetry_feature(n)], entries,
+                                 parts)  # fmt: skip
+    return Comparison(bracket, z, published, extended, asymmetry, missing)
+
+
+def _epoch_medians(values: Mapping[str, float], epochs: Sequence[Mapping[str, float]]) -> dict[str, float]:
+    """Per feature the median of the epochs' finite values; the whole clip's value for a feature no epoch has."""
+    out = dict(values)
+    for name in set().union(*epochs):
+        x = np.array([e.get(name, math.nan) for e in epochs], float)
+        if np.isfinite(x).any():
+            out[name] = float(np.nanmedian(x))
+    return out
 
 
 def is_asymmetry_feature(name: str) -> bool:
@@ -280,23 +302,23 @@ def is_asymmetry_feature(name: str) -> bool:
     return name.startswith(ASYMMETRY_PREFIX) or bool(_SYMMETRY_MEDIAN.match(name))
 
 
-def _asymmetry(values: Mapping[str, float], norms: Norms, bracket: str,
-               reliability: Sequence[ReliabilityEntry]) -> CalibratedSurprise:  # fmt: skip
-    """The conformal p against the bracket's clips over the reliable left-right asymmetry features."""
-    candidates = sorted(n for n in values if is_asymmetry_feature(n) and math.isfinite(values[n]))
-    names = reliable_features(candidates, reliability)
-    return compare_calibrated(values, norms.clip_matrix(names, bracket), names)
+def _calibrated_over(values: Mapping[str, float], norms: Norms, bracket: str, candidates: Sequence[str],
+                     reliability: Sequence[ReliabilityEntry], epochs: Sequence[Mapping[str, float]] = ()
+                     ) -> CalibratedSurprise:  # fmt: skip
+    """The conformal p against the bracket's clips over the `candidates` the clip has and `reliability` finds
+    reliable; with `epochs`, of the clip's median epoch."""
+    names = reliable_features(sorted(n for n in candidates if math.isfinite(values.get(n, math.nan))), reliability)
+    reference = norms.clip_matrix(names, bracket)
+    if epochs:
+        return epochs_surprise(np.array([[e.get(n, math.nan) for n in names] for e in epochs], float), reference)
+    return compare_calibrated(values, reference, names)
 
 
 def _published(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
-    return _summed(values, norms, bracket, list(PREREGISTERED))
+    return summed_surprise(values, norms, bracket, list(PREREGISTERED))
 
 
-def _extended(values: Mapping[str, float], norms: Norms, bracket: str) -> Surprise:
-    return _summed(values, norms, bracket, extended_names(values))
-
-
-def _summed(values: Mapping[str, float], norms: Norms, bracket: str, names: list[str]) -> Surprise:
+def summed_surprise(values: Mapping[str, float], norms: Norms, bracket: str, names: list[str]) -> Surprise:
     """The clip's log-likelihood summed over `names` under its bracket's fits, against the reference clips' own
     sums (each under its bracket's fit, in sample, as published); a feature the clip lacks is left out of its sum
     and of the reference sums (pandas' sum skips NaN)."""

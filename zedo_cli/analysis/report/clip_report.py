@@ -190,21 +190,21 @@ def comparison_block(a: Analysis) -> str:
     for pc in a.comparisons:
         c = pc.comparison
         who = f" (person {pc.person})" if len(a.comparisons) > 1 else ""
-        kinds = (("published", c.published), ("extended", c.extended))
-        scores = "".join(f"<tr><td class=l>{kind} features ({s.features})</td><td>{s.z:+.2f}</td>"
-                         f"<td>{s.p:.3g}</td></tr>" for kind, s in kinds)  # fmt: skip
-        cal = c.asymmetry
-        scores += (f"<tr><td class=l>left-right asymmetry, calibrated ({cal.features})</td><td>–</td>"
-                   f"<td>{cal.p:.3g}</td></tr>")  # fmt: skip
+        pub, cal = c.published, c.asymmetry
+        scores = f"<tr><td class=l>published features ({pub.features})</td><td>{pub.z:+.2f}</td><td>{pub.p:.3g}</td>"
+        for kind, s in (("extended features", c.extended), ("left-right asymmetry", c.asymmetry)):
+            scores += f"</tr><tr><td class=l>{kind}, calibrated ({s.features})</td><td>–</td><td>{s.p:.3g}</td>"
+        scores += "</tr>"
         far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
                for n, z in furthest_from_typical(c)]  # fmt: skip
         items = "".join(f"<li>{escape(t)}</li>" for t in far)
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
-                   "reference: z compares the clip's summed log-likelihood under the reference with the typical "
-                   "clips' own sums (negative: less typical), p is its two-sided normal p-value (their false alarms "
-                   "depend on the features' tails and the clips' lengths: docs/movement.md). The calibrated p of the "
-                   "left-right asymmetry ranks the clip's distance from the reference among the reference clips' own "
-                   "(each from the others): a typical clip gets p &lt; 0.05 at most 1 time in 20 (with "
+                   "reference. The published z compares the clip's summed log-likelihood under the reference with "
+                   "the typical clips' own sums (negative: less typical), p is its two-sided normal p-value (its false "
+                   "alarms depend on the features' tails and the clips' lengths: docs/movement.md). The calibrated p "
+                   "of the extended features and of the left-right asymmetry ranks the clip's distance from the "
+                   "reference among the reference clips' own (each from the others): a typical clip gets p &lt; 0.05 "
+                   "at most 1 time in 20 (with "
                    f"{cal.reference_clips} reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}). "
                    "A small p says "
                    "the movements differ from the reference, not why.</p>"

@@ -1,0 +1,40 @@
+"""The SyRIP pose sets benchmarks ease into clips, by source name, including the one reserved for independent checks.
+
+- `syrip-train`: the 600 training poses (the bundled prior was trained on them);
+- `syrip-test`: Test100's poses (the final check);
+- `syrip-synthetic`: HW-HuP's 3D poses of SyRIP's 1000 synthetic images (rendered infant body models), rows 300-1299
+  of `poses3d_hwhup.npy`. No prior, calibration or setting of zedo was trained, tuned or validated on them: they are
+  a pose source outside every fit, for independent checks only. Nothing may be chosen by what they show.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from zedo_cli.data.datasets import load_npy, load_syrip_3d
+from zedo_cli.data.skeleton import center_on_root, convert_points, get_skeleton
+
+HWHUP_POSES = "poses3d_hwhup.npy"
+SYNTHETIC_ROWS = slice(300, 1300)
+EASED_SOURCES = ("syrip-train", "syrip-test", "syrip-synthetic")
+
+
+def synthetic_poses(syrip_dir: str | Path) -> np.ndarray:
+    """SyRIP's synthetic rows as `syrip12` poses `(1000, 12, 3)`, metres, centred on the hip midpoint."""
+    raw = load_npy(Path(syrip_dir) / HWHUP_POSES, "fiu").astype(np.float64)[SYNTHETIC_ROWS]
+    if raw.shape[1:] != (14, 3) or not np.abs(raw).sum(axis=(1, 2)).all():
+        raise ValueError(f"{Path(syrip_dir) / HWHUP_POSES}: rows 300-1299 are not 1000 non-zero LSP-14 poses")
+    lsp, dst = get_skeleton("lsp14"), get_skeleton("syrip12")
+    poses, _ = convert_points(raw, np.ones(raw.shape[:2]), lsp, dst)
+    return center_on_root(poses, dst)
+
+
+def eased_source_poses(syrip_dir: str | Path, source: str) -> np.ndarray:
+    """The poses of one of EASED_SOURCES, `(P, 12, 3)`."""
+    if source == "syrip-synthetic":
+        return synthetic_poses(syrip_dir)
+    if source not in EASED_SOURCES:
+        raise ValueError(f"unknown pose source {source!r}; choose one of {', '.join(EASED_SOURCES)}")
+    return load_syrip_3d(syrip_dir, "test" if source == "syrip-test" else "train").poses

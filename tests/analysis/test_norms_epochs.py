@@ -1,0 +1,79 @@
+"""A clip much longer than the reference's clips is compared by its epochs, each as long as the reference's clips:
+the feature z of the epochs' medians and the calibrated p of the median epoch; the published comparison stays on
+the whole clip, as published."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from analysis_results import kicking_poses, write_document
+from test_calibration import calibration, document
+from test_norms import EXTENDED, VERSION, _all_reliable, _clip, _reference
+
+from zedo_cli.analysis.analyse import AnalysisSettings, analyse
+from zedo_cli.analysis.compare import add_comparison, epoch_values, features_by_person, length_mismatch
+from zedo_cli.analysis.norms.calibrated import epochs_surprise, leave_one_out_scores
+from zedo_cli.analysis.norms.norms import build_norms, compare
+from zedo_cli.formats.readers.result import read_result
+
+
+def _analysed(tmp_path: Path, poses: np.ndarray, name: str) -> object:
+    doc = document(poses, fps=30.0, temporal="smooth")
+    return analyse(read_result(write_document(tmp_path / name, doc)), AnalysisSettings(),
+                   calibrations=[calibration("smooth", width=5.0)])  # fmt: skip
+
+
+def test_an_epochs_features_are_those_of_the_same_frames_analysed_alone(tmp_path: Path) -> None:
+    poses = kicking_poses(90)
+    long = _analysed(tmp_path, poses, "long.zedo.json")
+    epochs = epoch_values(long, 0, 1.0)
+    assert len(epochs) == 3
+    alone = features_by_person(_analysed(tmp_path, poses[30:60], "alone.zedo.json"))[0].values
+    rates = {n for n in alone if "_fraction_" in n or n.endswith("_share_asymmetric") or n.startswith("head_")}
+    assert set(epochs[1]) == set(alone) - rates  # shares and fractions are rates already: the whole clip's are used
+    for name, value in epochs[1].items():
+        assert value == pytest.approx(alone[name], nan_ok=True), name
+
+
+def test_the_median_epoch_is_ranked_among_the_reference_clips_scores() -> None:
+    rng = np.random.default_rng(0)
+    reference = rng.normal(size=(20, 6))
+    epochs = rng.normal(size=(5, 6))
+    epochs[:, 0] = np.nan  # a feature no epoch has is left out
+    s = epochs_surprise(epochs, reference)
+    others = leave_one_out_scores(reference[:, 1:])
+    assert s.features == 5 and s.epochs == 5 and s.reference_clips == 20
+    assert s.p == pytest.approx((1 + np.sum(others >= s.score)) / 21)
+    far = epochs_surprise(epochs + 10.0, reference)
+    assert far.p == pytest.approx(1 / 21)
+
+
+def test_a_long_typical_clip_is_typical_and_a_long_still_arm_is_not() -> None:
+    norms = build_norms(_reference(), VERSION)
+    reliable = _all_reliable(EXTENDED)
+    rng = np.random.default_rng(11)
+    typical = [_clip(rng, i).values for i in range(6)]
+    whole = {**typical[0], "medianvelx_LWrist": 50.0}  # a whole-clip value that grew with the length
+    c = compare(whole, norms, None, reliability=reliable, epochs=typical)
+    assert c.extended.epochs == 6 and c.extended.p > 0.05
+    assert c.z["medianvelx_LWrist"] == pytest.approx(
+        (np.median([e["medianvelx_LWrist"] for e in typical]) - norms.fits["all"]["medianvelx_LWrist"].mean)
+        / norms.fits["all"]["medianvelx_LWrist"].sd)  # fmt: skip
+    assert c.published == compare(whole, norms, None, reliability=reliable).published  # as published: whole clip
+    still = [_clip(rng, 50 + i, shift=-1.5).values for i in range(6)]
+    assert compare(still[0], norms, None, reliability=reliable, epochs=still).extended.p < 0.05
+
+
+def test_a_clip_over_twice_the_references_length_says_it_is_compared_by_epochs(tmp_path: Path) -> None:
+    norms = build_norms([replace(c, seconds=1.0) for c in _reference()], VERSION)
+    note = length_mismatch(norms, 3.0)
+    assert note is not None and "take its epochs of 1 s" in note
+    assert "build a reference of clips as long" in length_mismatch(norms, 0.4)
+    assert length_mismatch(norms, 1.5) is None
+    a = _analysed(tmp_path, kicking_poses(90), "k.zedo.json")
+    (pc,) = add_comparison(a, norms, None)
+    assert pc.comparison.extended.epochs == 3 and pc.comparison.asymmetry.epochs == 3
+    assert note in a.notes
