@@ -249,3 +249,21 @@ def test_every_written_value_keeps_six_significant_digits(kick: Path) -> None:
     assert checked > 100
     small = [r for r in a.rows if isinstance(r.value, float) and 0 < abs(r.value) < 0.05]
     assert small  # values below 0.05 exist (speeds, correlations near 0): three decimals would lose them
+
+
+@pytest.mark.parametrize("fps", [None, 30.0])
+def test_text_from_the_input_is_escaped_in_the_report(tmp_path: Path, fps: float | None) -> None:
+    """Every text a result brings (its path, its input's path, its frames' file names) reaches the HTML escaped, in
+    the image report and the clip report alike."""
+    from zedo_cli.analysis.report.report import report_html
+
+    evil = "<script>alert(1)</script>"
+    doc = result_document(kicking_poses(60), fps=fps)
+    doc["input"]["path"] = f"{evil}.json"
+    for frame in doc["frames"]:
+        frame["file_name"] = f"{evil}.png"
+    folder = tmp_path / "<b>clips"
+    folder.mkdir()
+    page = report_html(analyse(read_result(write_document(folder / "<i>k.zedo.json", doc))))
+    assert "<script" not in page and "<b>clips" not in page and "<i>k" not in page
+    assert "&lt;i&gt;k.zedo.json" in page

@@ -17,6 +17,7 @@ from zedo_cli.analysis.analyse import AnalysisSettings, analyse
 from zedo_cli.analysis.compare import add_comparison, epoch_values, features_by_person, length_mismatch
 from zedo_cli.analysis.norms.calibrated import epochs_surprise, leave_one_out_scores
 from zedo_cli.analysis.norms.norms import build_norms, compare
+from zedo_cli.analysis.report.clip_report import comparison_block
 from zedo_cli.formats.readers.result import read_result
 
 
@@ -77,3 +78,5 @@ def test_a_clip_over_twice_the_references_length_says_it_is_compared_by_epochs(t
     (pc,) = add_comparison(a, norms, None)
     assert pc.comparison.extended.epochs == 3 and pc.comparison.asymmetry.epochs == 3
     assert note in a.notes
+    a.comparisons = [pc]
+    assert "of its 3 epochs as long as the reference's clips" in comparison_block(a)

@@ -198,6 +198,9 @@ def comparison_block(a: Analysis) -> str:
         far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
                for n, z in furthest_from_typical(c)]  # fmt: skip
         items = "".join(f"<li>{escape(t)}</li>" for t in far)
+        by_epochs = (f" This clip is longer than the reference's: its calibrated p and each feature's z are of its "
+                     f"{cal.epochs} epochs as long as the reference's clips (the median epoch), the published z and p "
+                     "of the whole clip." if cal.epochs > 1 else "")  # fmt: skip
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
                    "reference. The published z compares the clip's summed log-likelihood under the reference with "
                    "the typical clips' own sums (negative: less typical), p is its two-sided normal p-value (its false "
@@ -206,8 +209,7 @@ def comparison_block(a: Analysis) -> str:
                    "reference among the reference clips' own (each from the others): a typical clip gets p &lt; 0.05 "
                    "at most 1 time in 20 (with "
                    f"{cal.reference_clips} reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}). "
-                   "A small p says "
-                   "the movements differ from the reference, not why.</p>"
+                   f"A small p says the movements differ from the reference, not why.{by_epochs}</p>"
                    f"<table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>{scores}</table>"
                    "<p class=meta>Furthest from typical (the largest |z| of single features):</p>"
                    f"<ul class=far>{items}</ul>")  # fmt: skip
