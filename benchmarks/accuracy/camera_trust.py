@@ -47,6 +47,7 @@ from zedo_cli.formats.readers.result_record import ResultPoses
 SKELETON = get_skeleton("syrip12")
 SOURCES = ("adult", "syrip-synthetic")
 CALL_LEVEL = 0.8  # the level of the decisive calls (docs/clinical.md)
+MIN_FEATURE_CASES = 100  # a single `3d_` feature's coverage is reported from this many intervals
 Clip = tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, int]]  # 3D truth (T, 12, 3), 2D, confidence, image size
 
 
@@ -147,9 +148,10 @@ def joint_balls(result: ResultPoses, truth3d: np.ndarray) -> tuple[np.ndarray, .
     return known.ravel(), np.zeros(error.size), radius.ravel(), error.ravel()
 
 
-def held(path: Path, truth3d: np.ndarray, focal: float | None, temporal: str, families: dict[str, Count]) -> Tally:
+def held(path: Path, truth3d: np.ndarray, focal: float | None, temporal: str, families: dict[str, Count],
+         features: dict[str, Count]) -> Tally:  # fmt: skip
     """The clip's frame symmetry values (with their decisive calls), joint angles and `3d_` clip features against
-    the truth; the features also counted per family into `families`."""
+    the truth; the features also counted per family into `families` and one by one into `features`."""
     import zedo_cli
 
     lifted = zedo_cli.lift_file(str(path), skeleton="syrip12", fps=FPS, temporal=temporal, focal=focal)
@@ -174,6 +176,8 @@ def held(path: Path, truth3d: np.ndarray, focal: float | None, temporal: str, fa
     tally.features.add(np.ones(len(rows), bool), low, high, np.array([true_features[r.measure] for r in rows]))
     for r in rows:
         family = r.measure.removeprefix(PREFIX_3D).rsplit("_", 1)[0]
+        features.setdefault(r.measure, Count()).add(np.ones(1, bool), np.array([r.low_90]), np.array([r.high_90]),
+                                                    np.array([true_features[r.measure]]))  # fmt: skip
         families.setdefault(family, Count()).add(np.ones(1, bool), np.array([r.low_90]), np.array([r.high_90]),
                                                  np.array([true_features[r.measure]]))  # fmt: skip
     return tally
@@ -222,6 +226,7 @@ def main() -> int:
     print(f"source {args.source}, {args.clips} clips of {args.seconds:g} s a set-up, --temporal {args.temporal}\n")
     print(HEADER)
     families: dict[str, Count] = {}
+    features: dict[str, Count] = {}
     every = Tally()
     for camera in (PSEUDO_CAMERA, *CLINIC_CAMERAS, *FAR_CAMERAS):
         if args.setups and camera.name not in args.setups:
@@ -231,7 +236,7 @@ def main() -> int:
             path = args.work / f"{camera.name}{i:02d}.jsonl"
             write_2d(path, xy, confidence, size)
             for way, focal in (("no camera stated", None), ("--focal stated", camera.focal_px)):
-                totals[way].merge(held(path, truth3d, focal, args.temporal, families))
+                totals[way].merge(held(path, truth3d, focal, args.temporal, families, features))
         depth = f"{camera.depth_m[0]:g}-{camera.depth_m[1]:g} m"
         for way, t in totals.items():
             every.merge(t)
@@ -240,6 +245,11 @@ def main() -> int:
     print("\n| `3d_` family, every set-up and way | with an interval | holding the truth |\n| --- | --- | --- |")
     for family, count in sorted(families.items()):
         print(f"| {family} | {count.cells(None)} |")
+    held_out = {n: c.holds / c.with_interval for n, c in features.items() if c.with_interval >= MIN_FEATURE_CASES}
+    worst = sorted(held_out, key=held_out.get)[:8]
+    print(f"\n{len(held_out)} `3d_` features with at least {MIN_FEATURE_CASES} intervals; "
+          f"{sum(v < 0.8 for v in held_out.values())} hold the truth in under 80 %; the least: "
+          + ", ".join(f"{n} {held_out[n]:.1%}" for n in worst))  # fmt: skip
     return 0
 
 
