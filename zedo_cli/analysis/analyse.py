@@ -27,7 +27,7 @@ from ..errors import ConfigError, InputFormatError, plural
 from ..formats.readers.result import ResultPoses
 from ..stats import TOO_FEW_CASES
 from .clip.clip_features import clip_features
-from .clip.movement import MIN_FRAMES, angular_velocity, left_right_correlation, series_features
+from .clip.movement import MIN_FRAMES, angular_velocity, movement_values
 from .pose.geometry import require_joints
 from .pose.head import (
     TILT,
@@ -45,8 +45,6 @@ from .pose.joint_angles import (
     ANGLE_NAMES,
     CIRCULAR_ANGLES,
     FLEXION_RANGE_DEG,
-    SIDES,
-    angle_name,
     joint_angles,
 )
 from .pose.symmetry import (
@@ -502,17 +500,15 @@ def _clip_rows(a: Analysis) -> list[Row]:
                 how: str = INTERVAL_CLIP, p: int = p, raw: float = np.nan) -> None:  # fmt: skip
             rows.append(Row(None, None, None, p, measure, value, unit, low, high, interval=how, raw_value=raw))
 
+        measured = movement_values(frames, sel, fps, estimates=a.values, own=a.raw_values, too_fast=a.too_fast)
         for name in ANGLE_NAMES:
-            keep = sel & ~a.too_fast.get(name, np.zeros(len(sel), bool))
-            feats = series_features(frames[keep], a.values[name][keep], fps)
             stem = name.removesuffix("_deg")
-            add(f"{stem}_median_abs_velocity_deg_s", feats["median_abs_velocity"], "deg/s")
-            add(f"{stem}_abs_velocity_iqr_deg_s", feats["abs_velocity_iqr"], "deg/s")
-            add(f"{stem}_range_deg", feats["range"], "deg")
-            add(f"{stem}_frames_too_fast", float((sel & ~keep).sum()), "frames")
+            for suffix, unit in (("_median_abs_velocity_deg_s", "deg/s"), ("_abs_velocity_iqr_deg_s", "deg/s"),
+                                 ("_range_deg", "deg")):  # fmt: skip
+                add(stem + suffix, measured[stem + suffix], unit)
+            add(f"{stem}_frames_too_fast", float((sel & a.too_fast.get(name, False)).sum()), "frames")
         for base in ANGLE_BASES:
-            left, right = (a.values[angle_name(side, base)][sel] for side in SIDES)
-            add(f"{base}_left_right_correlation", left_right_correlation(left, right), "r")
+            add(f"{base}_left_right_correlation", measured[f"{base}_left_right_correlation"], "r")
         for name in SYMMETRY_NAMES:
             calls = [r.call for r in a.rows if r.measure == name and r.person == p and r.call]
             stem = name.removesuffix("_deg")
@@ -523,8 +519,7 @@ def _clip_rows(a: Analysis) -> list[Row]:
             lows, highs = a.intervals[name][0][sel], a.intervals[name][1][sel]
             known = np.isfinite(v)
             median = float(np.median(v[known])) if known.any() else np.nan
-            measured = a.raw_values[name][sel][known]  # the frames' own angles: `raw_value`, what --norms compares
-            raw = float(np.nanmedian(measured)) if np.isfinite(measured).any() else np.nan
+            raw = measured[f"{stem}_median_deg"]  # the frames' own angles: `raw_value`, what --norms compares
             if known.any() and np.isfinite(lows[known]).all():
                 add(f"{stem}_median_deg", median, "deg", float(np.median(lows[known])), float(np.median(highs[known])),
                     INTERVAL_CLIP_MEDIAN, raw=raw)  # fmt: skip

@@ -12,11 +12,10 @@ import numpy as np
 
 from ..formats.readers.result_record import LiftParams
 from ..lifting.config import PRESETS, calibration_settings, settings_match
-from .analyse import SYMMETRY_NAMES, Analysis, Row
+from .analyse import Analysis, Row
 from .clip.clip_features import epoch_features
-from .clip.movement import left_right_correlation, series_features
+from .clip.movement import movement_values
 from .norms.norms import ClipValues, Comparison, Norms, compare, is_lift_artifact
-from .pose.joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
 
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
@@ -73,9 +72,9 @@ def reference_seconds(norms: Norms) -> float | None:
     return float(np.median(known)) if known else None
 
 
-def in_epochs(norms: Norms, seconds: float | None) -> bool:
-    """Whether a clip of `seconds` is compared by its epochs: over LENGTH_RATIO times as long as the reference's."""
-    typical = reference_seconds(norms)
+def in_epochs(typical: float | None, seconds: float | None) -> bool:
+    """Whether a clip of `seconds` is compared by its epochs: over LENGTH_RATIO times as long as the reference's
+    clips (`typical`, their median length)."""
     return seconds is not None and typical is not None and seconds > LENGTH_RATIO * typical
 
 
@@ -88,7 +87,7 @@ def length_mismatch(norms: Norms, seconds: float | None) -> str | None:
     ratio = seconds / typical
     if 1 / LENGTH_RATIO <= ratio <= LENGTH_RATIO:
         return None
-    if ratio > LENGTH_RATIO:
+    if in_epochs(typical, seconds):
         return (f"this clip's track lasts {seconds:.0f} s, the reference's clips a median {typical:.0f} s ({ratio:.1f} "
                 f"times as long): the feature z and the extended and asymmetry p take its epochs of {typical:.0f} s "
                 "(the median epoch); the published z and p stay on the whole clip, as published, where ranges and "
@@ -100,33 +99,18 @@ def length_mismatch(norms: Norms, seconds: float | None) -> str | None:
 
 def epoch_values(a: Analysis, person: int, seconds: float) -> list[dict[str, float]]:
     """The measured clip features of each whole epoch of `seconds` of a person's track (as `features_by_person`
-    gives the whole clip's): the published 2D and `3d_` features, the joint angles' speeds, ranges and left-right
-    correlations, and the symmetry medians."""
+    gives the whole clip's): the published 2D and `3d_` features and the joint angles' `movement_values`."""
     fps = float(a.fps or 0.0)
     per = max(1, int(round(seconds * fps)))
     epochs = epoch_features(a.result, a.index, fps, person, per)
     res = a.result
-    sel = res.person[a.index] == person
+    mine = res.person[a.index] == person
     first = int(res.frame_index[res.person == person].min())
     frames = res.frame_index[a.index]
     epoch_of = (frames - first) // per
     for k, values in enumerate(epochs):
-        mine = sel & (epoch_of == k)
-        for name in ANGLE_NAMES:
-            keep = mine & ~a.too_fast.get(name, np.zeros(len(mine), bool))
-            feats = series_features(frames[keep], a.values[name][keep], fps)
-            stem = name.removesuffix("_deg")
-            values[f"{stem}_median_abs_velocity_deg_s"] = feats["median_abs_velocity"]
-            values[f"{stem}_abs_velocity_iqr_deg_s"] = feats["abs_velocity_iqr"]
-            values[f"{stem}_range_deg"] = feats["range"]
-        for base in ANGLE_BASES:
-            left, right = (a.values[angle_name(side, base)][mine] for side in SIDES)
-            values[f"{base}_left_right_correlation"] = left_right_correlation(left, right)
-        for name in SYMMETRY_NAMES:
-            measured = a.raw_values[name][mine & np.isfinite(a.values[name])]
-            values[name.removesuffix("_deg") + "_median_deg"] = (
-                float(np.nanmedian(measured)) if np.isfinite(measured).any() else np.nan
-            )
+        values.update(movement_values(frames, mine & (epoch_of == k), fps, estimates=a.values, own=a.raw_values,
+                                      too_fast=a.too_fast))  # fmt: skip
     return epochs
 
 
@@ -151,7 +135,7 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
     mismatch = lifting_mismatch(norms, clips[0].lifting) if clips else None  # one result: every track alike
     typical = reference_seconds(norms)
     for clip in clips:
-        epochs = epoch_values(a, clip.person, typical) if typical and in_epochs(norms, clip.seconds) else None
+        epochs = epoch_values(a, clip.person, typical) if typical and in_epochs(typical, clip.seconds) else None
         c = compare(clip.values, norms, age_weeks, epochs=epochs)
         p = clip.person
 

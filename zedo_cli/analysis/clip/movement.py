@@ -14,14 +14,19 @@ For one person's series `theta_t` (degrees, one value per frame, NaN where unkno
   the frames where both are known (NaN when either is constant or fewer than 3 frames).
 
 Frames are taken as evenly spaced at `fps` by their frame index. A clip needs at least 3 known
-frames; otherwise the features are NaN.
+frames; otherwise the features are NaN. `movement_values` gathers them for the joint angles of one
+person's rows (a whole clip, or an epoch of it), by the names of the analysis rows.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from ...stats import pearson
+from ..pose.joint_angles import ANGLE_BASES, ANGLE_NAMES, SIDES, angle_name
+from ..pose.symmetry import PAIRS, measure_name
 
 MIN_FRAMES = 3
 
@@ -50,3 +55,26 @@ def series_features(frames: np.ndarray, theta: np.ndarray, fps: float) -> dict[s
 def left_right_correlation(left: np.ndarray, right: np.ndarray) -> float:
     """Pearson's r of two series over the frames where both are known."""
     return pearson(left, right, min_count=MIN_FRAMES)
+
+
+def movement_values(frames: np.ndarray, sel: np.ndarray, fps: float, *, estimates: Mapping[str, np.ndarray],
+                    own: Mapping[str, np.ndarray], too_fast: Mapping[str, np.ndarray]) -> dict[str, float]:  # fmt: skip
+    """The measured clip features of the rows `sel` of per-row series `(M,)` at `frames (M,)`, by their analysis
+    row names: each joint angle's median |velocity|, its IQR and range (its `too_fast` rows left out), each angle's
+    left-right correlation, and each symmetry pair's median of the frames' `own` angles where an estimate exists."""
+    out: dict[str, float] = {}
+    for name in ANGLE_NAMES:
+        keep = sel & ~too_fast.get(name, np.zeros(len(sel), bool))
+        feats = series_features(frames[keep], estimates[name][keep], fps)
+        stem = name.removesuffix("_deg")
+        out[f"{stem}_median_abs_velocity_deg_s"] = feats["median_abs_velocity"]
+        out[f"{stem}_abs_velocity_iqr_deg_s"] = feats["abs_velocity_iqr"]
+        out[f"{stem}_range_deg"] = feats["range"]
+    for base in ANGLE_BASES:
+        left, right = (estimates[angle_name(side, base)][sel] for side in SIDES)
+        out[f"{base}_left_right_correlation"] = left_right_correlation(left, right)
+    for name in (measure_name(pair) for pair in PAIRS):
+        values = own[name][sel & np.isfinite(estimates[name])]
+        median = float(np.nanmedian(values)) if np.isfinite(values).any() else np.nan
+        out[name.removesuffix("_deg") + "_median_deg"] = median
+    return out

@@ -56,13 +56,14 @@ def _robust_z(row: np.ndarray, others: np.ndarray) -> np.ndarray:
 def leave_one_out_scores(matrix: np.ndarray) -> np.ndarray:
     """Each row's score `(m,)` against the other rows of `matrix (m, F)`: the mean over its finite robust z of z
     squared (NaN where it has none)."""
-    scores = np.full(len(matrix), np.nan)
-    for j in range(len(matrix)):
-        z = _robust_z(matrix[j], np.delete(matrix, j, axis=0))
-        z = z[np.isfinite(z)]
-        if len(z):
-            scores[j] = float(np.mean(z**2))
-    return scores
+    return np.array([_score(matrix[j], np.delete(matrix, j, axis=0)) for j in range(len(matrix))], float)
+
+
+def _score(row: np.ndarray, others: np.ndarray) -> float:
+    """`row`'s mean squared robust z against `others` over its finite z (NaN where it has none)."""
+    z = _robust_z(row, others)
+    z = z[np.isfinite(z)]
+    return float(np.mean(z**2)) if len(z) else math.nan
 
 
 def calibrated_surprise(clip: np.ndarray, reference: np.ndarray) -> CalibratedSurprise:
@@ -85,13 +86,9 @@ def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurp
     (docs/movement.md measures it). Features no epoch has are left out."""
     known = np.isfinite(epochs).any(axis=0)
     ref, rows = reference[:, known], epochs[:, known]
-    own_scores = []
-    for row in rows:
-        z = _robust_z(row, ref)
-        z = z[np.isfinite(z)]
-        if len(z):
-            own_scores.append(float(np.mean(z**2)))
-    if not own_scores:
+    own_scores = np.array([_score(row, ref) for row in rows], float)
+    own_scores = own_scores[np.isfinite(own_scores)]
+    if not len(own_scores):
         return CalibratedSurprise(math.nan, math.nan, 0, len(reference), len(epochs))
     own = float(np.median(own_scores))
     others = leave_one_out_scores(ref)
