@@ -42,6 +42,7 @@ from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
 from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA, CameraSetup
 from zedo_cli.evaluation.clips.eased import make_sequences
+from zedo_cli.evaluation.metrics import decisive_calls
 from zedo_cli.formats.readers.result_record import ResultPoses
 
 SKELETON = get_skeleton("syrip12")
@@ -91,11 +92,10 @@ class Calls:
     agree: int = 0
 
     def add(self, known: np.ndarray, low: np.ndarray, high: np.ndarray, truth: np.ndarray) -> None:
-        symmetric, asymmetric = high <= DEFAULT_THRESHOLD_DEG, low > DEFAULT_THRESHOLD_DEG
-        called = known & (symmetric | asymmetric)
+        decisive, agree = decisive_calls(low, high, truth, DEFAULT_THRESHOLD_DEG)
         self.values += int(known.sum())
-        self.decisive += int(called.sum())
-        self.agree += int((symmetric == (truth <= DEFAULT_THRESHOLD_DEG))[called].sum())
+        self.decisive += int((known & decisive).sum())
+        self.agree += int((known & agree).sum())
 
     def merge(self, other: Calls) -> None:
         self.values += other.values

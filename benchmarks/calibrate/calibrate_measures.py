@@ -53,6 +53,7 @@ from zedo_cli.analysis.uncertainty.calibration import (
     write_calibrations,
 )
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.metrics import decisive_calls
 
 SKELETON = get_skeleton("syrip12")
 BINS = {"none": 2, "smooth": 4, "clip": 4}  # bins of the measured value per measure (images: ~300 a fold, clips: ~2400)
@@ -436,12 +437,9 @@ def scored(held_out: list[tuple[dict[str, MeasureModel], np.ndarray]], cases: di
             row[f"coverage_{lv}"] = float(inside.mean())
             row[f"width_{lv}"] = float(np.median(hi - lo))
             if n in SYMMETRY_NAMES:
-                lo_c, hi_c = np.clip(lo, 0, 180), np.clip(hi, 0, 180)
-                decisive = (hi_c <= threshold) | (lo_c > threshold)
-                call_sym = hi_c <= threshold
-                agree = call_sym[decisive] == (truth[decisive] <= threshold)
+                decisive, agree = decisive_calls(np.clip(lo, 0, 180), np.clip(hi, 0, 180), truth, threshold)
                 row[f"decisive_{lv}"] = float(decisive.mean())
-                row[f"agreement_{lv}"] = float(agree.mean()) if decisive.any() else float("nan")
+                row[f"agreement_{lv}"] = float(agree.sum() / decisive.sum()) if decisive.any() else float("nan")
         out.setdefault(kd, {})[n] = row
     return out
 

@@ -38,3 +38,13 @@ def cohen_kappa(a: np.ndarray, b: np.ndarray) -> float:
     p_o = float((a == b).mean())
     p_e = float(sum((a == k).mean() * (b == k).mean() for k in labels))
     return (p_o - p_e) / (1.0 - p_e) if p_e < 1.0 else float("nan")
+
+
+def decisive_calls(low: np.ndarray, high: np.ndarray, truth: np.ndarray, threshold: float
+                   ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Symmetry calls from intervals: a call is decisive where the interval lies on one side of the threshold
+    (symmetric: `high <= threshold`; asymmetric: `low > threshold`), and agrees where it is the truth's call
+    (symmetric: `truth <= threshold`). Returns the masks (decisive, decisive and agreeing)."""
+    symmetric = high <= threshold
+    decisive = symmetric | (low > threshold)
+    return decisive, decisive & (symmetric == (truth <= threshold))

@@ -27,7 +27,7 @@ from ..errors import DataError
 from ..lifting.config import LiftConfig
 from ..lifting.solver import LiftProgress
 from ..prior.weights import Prior
-from .metrics import cohen_kappa
+from .metrics import cohen_kappa, decisive_calls
 from .syrip_benchmark import lift_and_score, load_benchmark_inputs
 
 SYRIP_HWHUP = "poses3d_hwhup.npy"
@@ -120,11 +120,9 @@ def calibrated_scores(
     for level, at_level in zip(LEVELS, intervals, strict=True):
         low = np.concatenate([at_level[n][0] for n in names])
         high = np.concatenate([at_level[n][1] for n in names])
-        true_sym = np.concatenate([t[n] <= threshold for n in names])
-        decisive = (high <= threshold) | (low > threshold)
-        agree = (high <= threshold)[decisive] == true_sym[decisive]
-        score.risk_coverage.append({"level": level, "decisive": float(decisive.mean()),
-                                    "agreement": float(agree.mean()) if decisive.any() else float("nan"),
+        decisive, agree = decisive_calls(low, high, np.concatenate([t[n] for n in names]), threshold)
+        agreement = float(agree.sum() / decisive.sum()) if decisive.any() else float("nan")
+        score.risk_coverage.append({"level": level, "decisive": float(decisive.mean()), "agreement": agreement,
                                     "calls": int(decisive.sum())})  # fmt: skip
     return score
 
