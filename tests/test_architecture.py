@@ -15,7 +15,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "zedo_cli"
 
 # Lowest first. A module may import from its own group and from any group of a lower layer.
 LAYERS: list[set[str]] = [
-    {"errors", "version", "lazy", "strict_json"},
+    {"errors", "version", "lazy", "strict_json", "collection"},
     {"files", "rotation", "versioned_json", "stats"},
     {"data", "camera"},
     {"prior"},

@@ -41,15 +41,17 @@ JSON Lines), `result_csv` or `result_npz`; what they return (`ResultPoses`, `Lif
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
+from ...collection import paused_collection
 from ...errors import InputFormatError
 from ...strict_json import loads
 from ..result_schema import SCHEMA
 from .result_common import refuse_keypoints
 from .result_csv import read_csv, read_sidecar
-from .result_json import read_document, read_jsonl
+from .result_json import read_document, read_jsonl, read_streamed
 from .result_npz import read_npz
 from .result_record import LiftParams, LiftRecord, ResultPoses
 from .source import json_error
@@ -73,29 +75,53 @@ def read_result(path: str | Path) -> ResultPoses:
             raise InputFormatError(f"{name}: is a folder, not a result file") from None
         except OSError as exc:
             raise InputFormatError(f"{name}: cannot read ({exc.strerror})") from None
-    return read_result_bytes(data, name, sidecar=None if name == "-" else _sidecar_of(Path(path)))
+    sidecar = None if name == "-" else _sidecar_of(Path(path))
+    with paused_collection():
+        if _blank(data) or data[:4] == _NPZ:
+            return read_result_bytes(data, name, sidecar=sidecar)
+        text = _text_of(data, name)
+        del data  # a long clip's bytes go before its text is parsed
+        return read_result_text(text, name, sidecar=sidecar)
 
 
 def _sidecar_of(path: Path) -> Path:
     return path.with_suffix(".meta.json") if path.suffix.lower() == ".csv" else path.with_name(path.name + ".meta.json")
 
 
+_NPZ = b"PK\x03\x04"
+
+
+def _blank(data: bytes) -> bool:
+    return re.fullmatch(rb"\s*", data) is not None
+
+
+def _text_of(data: bytes, name: str) -> str:
+    try:
+        return data.decode("utf-8-sig")  # a byte-order mark: a CSV that Excel saved as UTF-8
+    except UnicodeDecodeError:
+        raise InputFormatError(f"{name}: not a zedo result (neither UTF-8 text nor a NPZ archive)") from None
+
+
 def read_result_bytes(data: bytes, name: str, *, sidecar: Path | None = None) -> ResultPoses:
     """Parse the bytes of a result; `name` is used in messages, `sidecar` is the CSV's
     `.meta.json` (read when the data is a CSV and the file exists)."""
-    if not data.strip():
+    if _blank(data):
         raise InputFormatError(f"{name}: empty file (expected a zedo result: {', '.join(RESULT_FORMATS)})")
-    if data[:4] == b"PK\x03\x04":
+    if data[:4] == _NPZ:
         return read_npz(data, name)
-    try:
-        text = data.decode("utf-8-sig")  # a byte-order mark: a CSV that Excel saved as UTF-8
-    except UnicodeDecodeError:
-        raise InputFormatError(f"{name}: not a zedo result (neither UTF-8 text nor a NPZ archive)") from None
+    return read_result_text(_text_of(data, name), name, sidecar=sidecar)
+
+
+def read_result_text(text: str, name: str, *, sidecar: Path | None = None) -> ResultPoses:
+    """Parse the text of a result (CSV, a JSON document or JSON Lines)."""
     stripped = text.lstrip()
     if stripped.startswith("frame_index,"):
         meta = read_sidecar(sidecar) if sidecar is not None and sidecar.is_file() else None
         return read_csv(text, name, meta)
     if stripped.startswith("{"):
+        streamed = read_streamed(text, name)
+        if streamed is not None:
+            return streamed
         try:
             doc = loads(text)
         except json.JSONDecodeError:
