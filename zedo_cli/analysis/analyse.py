@@ -54,9 +54,10 @@ from .pose.symmetry import (
     SYMMETRY_JOINTS,
     measure_name,
     symmetry_angles,
-    symmetry_band,
-    symmetry_call,
+    symmetry_bands,
+    symmetry_calls,
 )
+from .table import COLUMNS, Block, Row, rows_block
 from .uncertainty.calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,
@@ -75,8 +76,6 @@ from .uncertainty.clip_share import Share, block_frames, probability_above, shar
 from .uncertainty.domain import outside_calibration, without_outside
 from .uncertainty.share_calibration import calibrated_share
 
-COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
-           "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
 SYMMETRY_NAMES = tuple(measure_name(p) for p in PAIRS)
 # The `interval` column: how low_90 / high_90 were obtained, or why they are empty.
 INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.calibration)
@@ -112,30 +111,6 @@ class AnalysisSettings:
 
 
 @dataclass
-class Row:
-    """One line of the tidy table (see COLUMNS)."""
-
-    frame_index: int | None
-    image_id: int | str | None
-    file_name: str | None
-    person: int
-    measure: str
-    value: float
-    unit: str
-    low_90: float = np.nan
-    high_90: float = np.nan
-    call: str = ""
-    interval: str = ""
-    raw_value: float = np.nan
-    flag: str = ""
-    call_low: float = np.nan
-    call_high: float = np.nan
-
-    def as_list(self) -> list[Any]:
-        return [getattr(self, c) for c in COLUMNS]
-
-
-@dataclass
 class Analysis:
     """The measures of one result: per-instance arrays (rows of `result` that were lifted) and rows."""
 
@@ -151,7 +126,8 @@ class Analysis:
     fps: float | None
     fps_source: str  # "option", "result" or "none"
     too_fast: dict[str, np.ndarray] = field(default_factory=dict)  # angle -> (M,) bool
-    rows: list[Row] = field(default_factory=list)
+    calls: dict[str, np.ndarray] = field(default_factory=dict)  # symmetry measure -> (M,) its call ("": unknown)
+    clip_rows: list[Row] = field(default_factory=list)  # the per-clip rows (movement, features, comparison)
     notes: list[str] = field(default_factory=list)
     comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
     reference: Any = None  # the reference of typical infants compared with (norms.Norms), with --norms
@@ -161,10 +137,24 @@ class Analysis:
     probabilities: dict[str, np.ndarray] = field(default_factory=dict)
     head: HeadFrames | None = None  # the head measures of the analysed poses (from the input's 2D)
 
+    def frame_blocks(self) -> list[Block]:
+        """The frame rows as columns, built from the arrays: the body's measures, then the head's."""
+        return [_frame_block(self)] if self.head is None else [_frame_block(self), _head_block(self)]
+
+    def blocks(self) -> list[Block]:
+        """The tidy table as columns: the frame rows, then the clip rows."""
+        return self.frame_blocks() + ([rows_block(self.clip_rows)] if self.clip_rows else [])
+
+    @property
+    def rows(self) -> list[Row]:
+        """One Row per (frame, person, measure), built when asked for, then the per-clip rows."""
+        return [row for block in self.frame_blocks() for row in block.rows()] + self.clip_rows
+
     def columns(self) -> dict[str, list[Any]]:
         """The tidy table by column (COLUMNS -> one value per row): the CSV's rows, with None and
         NaN where a value is unknown."""
-        return {c: [getattr(r, c) for r in self.rows] for c in COLUMNS}
+        rows = self.rows
+        return {c: [getattr(r, c) for r in rows] for c in COLUMNS}
 
     def to_pandas(self) -> Any:
         """The tidy table as a pandas DataFrame: the CSV's columns, one row per frame, person and
@@ -349,12 +339,11 @@ def analyse(
             a.notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
                            "frame: flagged too_fast and left out of the movement features")  # fmt: skip
     a.probabilities = _probabilities(a)
+    a.calls = {name: symmetry_calls(a.values[name], settings.threshold_deg, *a.call_intervals[name])
+               for name in SYMMETRY_NAMES}  # fmt: skip
     head_why = _measure_head(a)
-    a.rows = _frame_rows(a) + _head_frame_rows(a)
     if fps is not None:
-        a.rows += _clip_rows(a)  # reads the frame rows' calls
-        a.rows += _head_clip_rows(a, head_why)
-        a.rows += _clip_feature_rows(a, models, cameras, outside)
+        a.clip_rows = _clip_rows(a) + _head_clip_rows(a, head_why) + _clip_feature_rows(a, models, cameras, outside)
     return a
 
 
@@ -392,16 +381,15 @@ def _measure_head(a: Analysis) -> str | None:
     return why
 
 
-def _head_frame_rows(a: Analysis) -> list[Row]:
+def _head_block(a: Analysis) -> Block:
     """`head_tilt_deg` and `head_turn` of every analysed pose (after the body's frame rows)."""
-    res, h = a.result, a.head
+    h = a.head
     assert h is not None
-    rows: list[Row] = []
-    for k, i in enumerate(a.index):
-        head = (int(res.frame_index[i]), res.image_ids[i], res.file_names[i], int(res.person[i]))
-        rows.append(Row(*head, TILT, float(h.tilt_deg[k]), "deg", interval=h.tilt_how[k], flag=h.tilt_flag[k]))
-        rows.append(Row(*head, TURN, float(h.turn_deg[k]), "deg", call=h.turn_call[k], interval=h.turn_how[k]))
-    return rows
+    tilt = {"measure": TILT, "value": h.tilt_deg, "unit": "deg", "interval": np.asarray(h.tilt_how, dtype=object),
+            "flag": np.asarray(h.tilt_flag, dtype=object)}  # fmt: skip
+    turn = {"measure": TURN, "value": h.turn_deg, "unit": "deg", "call": np.asarray(h.turn_call, dtype=object),
+            "interval": np.asarray(h.turn_how, dtype=object)}  # fmt: skip
+    return Block(len(a.index), _pose_keys(a), (tilt, turn))
 
 
 def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
@@ -461,28 +449,37 @@ def _probabilities(a: Analysis) -> dict[str, np.ndarray]:
     return out
 
 
-def _frame_rows(a: Analysis) -> list[Row]:
-    res, thr = a.result, a.settings.threshold_deg
-    rows: list[Row] = []
-    for k, i in enumerate(a.index):
-        head = (int(res.frame_index[i]), res.image_ids[i], res.file_names[i], int(res.person[i]))
-        for name in (*SYMMETRY_NAMES, *ANGLE_NAMES):
-            v, raw = float(a.values[name][k]), float(a.raw_values[name][k])
-            low, high = (float(x[k]) for x in a.intervals[name])
-            how = a.interval_how[name][k]
-            flag = FLAG_TOO_FAST if name in a.too_fast and a.too_fast[name][k] else ""
-            call, c_low, c_high = "", np.nan, np.nan
-            if name in SYMMETRY_NAMES and np.isfinite(v):  # no calibrated interval: no decisive call
-                c_low, c_high = (float(x[k]) for x in a.call_intervals[name])
-                call = symmetry_call(v, thr, c_low, c_high) if np.isfinite(c_low) else "uncertain"
-            rows.append(Row(*head, name, v, "deg", low, high, call, how, raw, flag, c_low, c_high))
-            if name in SYMMETRY_NAMES:
-                band = name.replace("_deg", "_band")
-                rows.append(Row(*head, band, symmetry_band(v), "band", symmetry_band(low), symmetry_band(high), "",
-                                how, symmetry_band(raw)))  # fmt: skip
-                rows.append(Row(*head, probability_name(name), float(a.probabilities[name][k]), "probability",
-                                interval=how))  # fmt: skip
-    return rows
+def _pose_keys(a: Analysis) -> dict[str, np.ndarray]:
+    """The shared columns of the frame rows: one value per analysed pose."""
+    res = a.result
+    image_ids, file_names = np.empty(len(a.index), object), np.empty(len(a.index), object)
+    image_ids[:] = [res.image_ids[i] for i in a.index]
+    file_names[:] = [res.file_names[i] for i in a.index]
+    return {"frame_index": res.frame_index[a.index].astype(np.int64), "image_id": image_ids, "file_name": file_names,
+            "person": res.person[a.index].astype(np.int64)}  # fmt: skip
+
+
+def _frame_block(a: Analysis) -> Block:
+    """Per pose: each symmetry angle with its call, band and probability asymmetric, then the joint angles."""
+    cells: list[dict[str, Any]] = []
+    for name in (*SYMMETRY_NAMES, *ANGLE_NAMES):
+        v, raw, (low, high) = a.values[name], a.raw_values[name], a.intervals[name]
+        how = np.array(a.interval_how[name], dtype=object)
+        cell = {"measure": name, "value": v, "unit": "deg", "low_90": low, "high_90": high, "interval": how,
+                "raw_value": raw}  # fmt: skip
+        if name in a.too_fast:
+            cell["flag"] = np.where(a.too_fast[name], FLAG_TOO_FAST, "").astype(object)
+        cells.append(cell)
+        if name in SYMMETRY_NAMES:
+            known = np.isfinite(v)
+            c_low, c_high = (np.where(known, x, np.nan) for x in a.call_intervals[name])
+            cell.update(call=a.calls[name], call_low=c_low, call_high=c_high)
+            cells.append({"measure": name.replace("_deg", "_band"), "value": symmetry_bands(v), "unit": "band",
+                          "low_90": symmetry_bands(low), "high_90": symmetry_bands(high), "interval": how,
+                          "raw_value": symmetry_bands(raw)})  # fmt: skip
+            cells.append({"measure": probability_name(name), "value": a.probabilities[name], "unit": "probability",
+                          "interval": how})  # fmt: skip
+    return Block(len(a.index), _pose_keys(a), tuple(cells))
 
 
 def _clip_rows(a: Analysis) -> list[Row]:
@@ -510,10 +507,11 @@ def _clip_rows(a: Analysis) -> list[Row]:
         for base in ANGLE_BASES:
             add(f"{base}_left_right_correlation", measured[f"{base}_left_right_correlation"], "r")
         for name in SYMMETRY_NAMES:
-            calls = [r.call for r in a.rows if r.measure == name and r.person == p and r.call]
+            calls = a.calls[name][sel]
+            calls = calls[calls != ""]
             stem = name.removesuffix("_deg")
             for call in CALLS:
-                share = calls.count(call) / len(calls) if calls else np.nan
+                share = float((calls == call).sum()) / len(calls) if len(calls) else np.nan
                 add(f"{stem}_fraction_{call}", share, "fraction")
             v = a.values[name][sel]
             lows, highs = a.intervals[name][0][sel], a.intervals[name][1][sel]
@@ -559,10 +557,9 @@ def summary(a: Analysis) -> dict[str, dict[str, float | int]]:
         if len(v):
             stats.update(mean=float(v.mean()), median=float(np.median(v)), min=float(v.min()), max=float(v.max()))
         if name in SYMMETRY_NAMES:
-            calls = [r.call for r in a.rows if r.measure == name and r.frame_index is not None]
-            stats.update({c: calls.count(c) for c in CALLS})
-            bands = [symmetry_band(x) for x in v]
-            stats.update({f"band_{b}": bands.count(float(b)) for b in (1, 2, 3)})
+            stats.update({c: int((a.calls[name] == c).sum()) for c in CALLS})
+            bands = symmetry_bands(v)
+            stats.update({f"band_{b}": int((bands == b).sum()) for b in (1, 2, 3)})
         elif name in a.too_fast:
             stats["too_fast"] = int(a.too_fast[name].sum())
         out[name] = stats

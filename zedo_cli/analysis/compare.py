@@ -49,8 +49,8 @@ def features_by_person(a: Analysis, age_weeks: float | None = None) -> list[Clip
     what was measured, whichever calibration (or none) held for each. Counts of the lift's flagged frames are left
     out: they measure the lift, not the infant."""
     out: dict[int, dict[str, float]] = {}
-    for r in a.rows:
-        if r.frame_index is None and not r.measure.endswith(Z_SUFFIX) and not is_lift_artifact(r.measure):
+    for r in a.clip_rows:
+        if not r.measure.endswith(Z_SUFFIX) and not is_lift_artifact(r.measure):
             measured = r.raw_value if np.isfinite(r.raw_value) else r.value
             out.setdefault(r.person, {})[r.measure] = float(measured)
     lifting = lifting_of(a.result.params)
@@ -140,7 +140,7 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
         p = clip.person
 
         def add(measure: str, value: float, unit: str, p: int = p) -> None:
-            a.rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_COMPARISON))
+            a.clip_rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_COMPARISON))
 
         for name in sorted(c.z):
             add(f"{name}{Z_SUFFIX}", c.z[name], "z")

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..analysis.analyse import Analysis, analyse
-from ..analysis.outputs import write_csv, write_json
+from ..analysis.outputs import write_csv, write_csv_and_json, write_json
 from ..errors import ConfigError
 from ..formats import ResultPoses, read_result
 from ..settings.analyze import AnalyzeOptions
@@ -71,10 +71,14 @@ def analyse_result(res: ResultPoses, options: AnalyzeOptions, comparison: Refere
 
 def write_analysis(a: Analysis, plan: dict[str, str | None], options: AnalyzeOptions) -> None:
     """The outputs of `plan` (csv, json, report paths; None: not written, - : stdout)."""
-    if plan.get("csv"):
-        write_csv(a, plan["csv"], overwrite=options.overwrite)
-    if plan.get("json"):
-        write_json(a, plan["json"], overwrite=options.overwrite)
+    csv, json = plan.get("csv"), plan.get("json")
+    if csv and json and STDIN not in (csv, json):
+        write_csv_and_json(a, Path(csv), Path(json), overwrite=options.overwrite)
+    else:
+        if csv:
+            write_csv(a, csv, overwrite=options.overwrite)
+        if json:
+            write_json(a, json, overwrite=options.overwrite)
     if plan.get("report"):
         from ..analysis.report.report import write_report  # matplotlib loads only when a report is asked for
 

@@ -66,13 +66,18 @@ def rolling_centered(x: np.ndarray, window: int, stat: Literal["median", "mean"]
     return out.reshape(x.shape)
 
 
+_MEDIAN_ROWS = 2048
+
+
 def _median(flat: np.ndarray, w: np.ndarray) -> np.ndarray:
     """The median of each window `w (T - n + 1, C, n)` of `flat (T, C)`, NaN where the window holds a NaN
     (the mean of the two middle values for an even n, as np.median and pandas take it)."""
     n = w.shape[-1]
     lo, hi = (n - 1) // 2, n // 2
-    part = np.partition(w, [lo, hi] if lo != hi else lo, axis=-1)
-    med = (part[..., lo] + part[..., hi]) / 2
+    med = np.empty(w.shape[:-1])
+    for start in range(0, len(w), _MEDIAN_ROWS):  # the windows copied a block of rows at a time
+        part = np.partition(w[start : start + _MEDIAN_ROWS], [lo, hi] if lo != hi else lo, axis=-1)
+        med[start : start + _MEDIAN_ROWS] = (part[..., lo] + part[..., hi]) / 2
     nans = np.concatenate([np.zeros((1, flat.shape[1])), np.cumsum(np.isnan(flat), axis=0)])  # (T + 1, C)
     return np.where(nans[n:] - nans[:-n] > 0, np.nan, med)
 

@@ -73,6 +73,30 @@ def symmetry_call(value: float, threshold: float, low: float = np.nan, high: flo
     return "symmetric" if value <= threshold else "asymmetric"
 
 
+def symmetry_calls(values: np.ndarray, threshold: float, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """`symmetry_call` of each value `(M,)` that has a known `low` end, "uncertain" where it has none, "" where
+    the value is unknown: the frame rows' calls (object array)."""
+    values, low, high = (np.asarray(x, dtype=float) for x in (values, low, high))
+    known, bounded = np.isfinite(values), np.isfinite(low)
+    both = bounded & np.isfinite(high)
+    out = np.full(values.shape, "", dtype=object)
+    out[known] = "uncertain"
+    with np.errstate(invalid="ignore"):
+        by_value = known & bounded & ~both
+        out[by_value] = np.where(values[by_value] <= threshold, "symmetric", "asymmetric")
+        out[known & both & (low > threshold)] = "asymmetric"
+        out[known & both & (high <= threshold)] = "symmetric"  # as symmetry_call: the high end decides first
+    return out
+
+
+def symmetry_bands(values: np.ndarray) -> np.ndarray:
+    """`symmetry_band` of each value: 1, 2, 3 (floats), NaN where unknown."""
+    values = np.asarray(values, dtype=float)
+    with np.errstate(invalid="ignore"):
+        bands = 1.0 + sum((values >= edge).astype(float) for edge in BAND_EDGES_DEG)
+    return np.where(np.isfinite(values), bands, np.nan)
+
+
 def symmetry_band(value: float) -> float:
     """The paper's band: 1 below 30 degrees, 2 from 30 to below 60, 3 from 60; NaN if unknown."""
     if not np.isfinite(value):

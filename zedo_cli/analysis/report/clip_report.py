@@ -39,7 +39,7 @@ def _pct(value: float) -> str:
 
 
 def _clip_rows(a: Analysis) -> dict[tuple[int, str], Row]:
-    return {(r.person, r.measure): r for r in a.rows if r.frame_index is None}
+    return {(r.person, r.measure): r for r in a.clip_rows}
 
 
 def _share_cell(r: Row | None, level: str) -> str:
@@ -77,10 +77,7 @@ def _pair(name: str) -> str:
 
 def uncertain(a: Analysis) -> np.ndarray:
     """`(M,)` how many of the four symmetry calls of each analysed pose are uncertain."""
-    calls = {(r.frame_index, r.person, r.measure): r.call for r in a.rows if r.measure in SYMMETRY_NAMES}
-    res = a.result
-    keys = list(zip(res.frame_index[a.index].tolist(), res.person[a.index].tolist(), strict=True))
-    return np.array([sum(calls.get((f, p, n)) == "uncertain" for n in SYMMETRY_NAMES) for f, p in keys])
+    return sum((a.calls[n] == "uncertain").astype(int) for n in SYMMETRY_NAMES)
 
 
 def too_fast(a: Analysis) -> np.ndarray:

@@ -242,17 +242,17 @@ def _case_list(a: Analysis) -> str:
     """For a few images: each case spelled out, the decisive calls first, each with its deciding interval."""
     if len(a.index) > 12:
         return ""
-    by_case = {(r.frame_index, r.person, r.measure): r for r in a.rows if r.measure in SYMMETRY_NAMES}
     listed = []
-    for i in a.index:
-        f, p = int(a.result.frame_index[i]), int(a.result.person[i])
+    for k, i in enumerate(a.index):
+        p = int(a.result.person[i])
         image = a.result.file_names[i] or a.result.image_ids[i]
         items = []
         for n in SYMMETRY_NAMES:
-            r = by_case[(f, p, n)]
-            what = _interval(r.call_low, r.call_high, a.settings.call_level) or escape(_no_interval(r.interval))
-            items.append(f"<li class={_CALL_CLASS.get(r.call, '')}><b>{_pair_label(n)}: {r.call}</b> "
-                         f"{_fmt(r.value)}° <small>({what})</small></li>")  # fmt: skip
+            call, value = a.calls[n][k], a.values[n][k]
+            low, high = (x[k] if np.isfinite(value) else np.nan for x in a.call_intervals[n])
+            what = _interval(low, high, a.settings.call_level) or escape(_no_interval(a.interval_how[n][k]))
+            items.append(f"<li class={_CALL_CLASS.get(call, '')}><b>{_pair_label(n)}: {call}</b> "
+                         f"{_fmt(value)}° <small>({what})</small></li>")  # fmt: skip
         items.sort(key=lambda t: "uncertain" in t)  # the decisive calls first
         listed.append(f"<p class=meta>{escape(image)}, person {p}</p><ul>{''.join(items)}</ul>")
     return "".join(listed)
@@ -327,7 +327,7 @@ def _time_series_section(a: Analysis) -> str:
 
 
 def _movement_section(a: Analysis) -> str:
-    rows = {(r.person, r.measure): r.value for r in a.rows if r.frame_index is None}
+    rows = {(r.person, r.measure): r.value for r in a.clip_rows}
     people = sorted({p for p, _ in rows})
     if not people:
         return "<h2>Movement features</h2><p class=meta>Too few lifted frames for movement features.</p>"
@@ -376,11 +376,12 @@ _LEAD = "<th>frame</th><th class=l>image</th><th>person</th>"
 
 def _symmetry_frames_section(a: Analysis) -> str:
     """Each symmetry value with the interval that decides its call (--call-level), and the call."""
-    calls = {(r.frame_index, r.person, r.measure): r for r in a.rows if r.measure in SYMMETRY_NAMES}
 
     def cell(name: str, k: int, f: int, p: int) -> str:
-        r = calls.get((f, p, name))
-        return _cell(a.values[name][k], r.call_low, r.call_high, r.call) if r else _cell(a.values[name][k])
+        value = a.values[name][k]
+        if not np.isfinite(value):
+            return _cell(value, np.nan, np.nan, "")
+        return _cell(value, *(x[k] for x in a.call_intervals[name]), a.calls[name][k])
 
     level = _level(a.settings.call_level)
     unit = f"deg [{level}] call" if a.uncertainty_available else "deg, call"

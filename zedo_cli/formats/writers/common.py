@@ -140,6 +140,10 @@ def group_frames(image_ids: Sequence[int | str], frame_numbers: Sequence[int | N
     return FrameGroups(number[slot], person, members, number, numbered)
 
 
+class RawItems(tuple[str, ...]):
+    """Several elements of an iterator member of `json_pieces`, each already the one-line JSON of its value."""
+
+
 def _dumps(value: Any, indent: int | None, level: int) -> str:
     text = json.dumps(value, indent=indent, allow_nan=False)
     return text.replace("\n", "\n" + " " * level) if indent and level else text
@@ -156,7 +160,9 @@ def json_pieces(
     list's elements at two spaces and their own lines deeper (json.dumps escapes every newline
     inside strings, so indenting after each newline is safe); ``indent=None`` is json.dumps'
     one line with ", " and ": ". `one_line_items`: each element of an iterator member on one line of
-    its own (json.dumps without indent: the same JSON, written by json's C encoder, several times faster).
+    its own (json.dumps without indent: the same JSON, written by json's C encoder, several times faster); with
+    it, the iterator may give `RawItems`, elements whose text is made already (a long table's rows, a part at a
+    time).
     """
     sep, colon = (",\n" + " " * indent, ": ") if indent else (", ", ": ")
     inner = ",\n" + " " * (2 * indent) if indent else ", "
@@ -171,9 +177,13 @@ def json_pieces(
             continue
         empty = True
         for item in value:
-            yield ("[" + (opened + " " * (indent or 0) if indent else "") if empty else inner) + _dumps(
-                item, None if one_line_items else indent, 2 * (indent or 0)
-            )
+            if isinstance(item, RawItems) and one_line_items:
+                if not item:
+                    continue
+                text = inner.join(item)
+            else:
+                text = _dumps(item, None if one_line_items else indent, 2 * (indent or 0))
+            yield ("[" + (opened + " " * (indent or 0) if indent else "") if empty else inner) + text
             empty = False
         yield "[]" if empty else (opened if indent else "") + "]"
     yield "}" if first else closed + "}"
