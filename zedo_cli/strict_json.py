@@ -12,8 +12,6 @@ here (one run each, on the shared 2-core machine), about 15 % more for the decod
 from __future__ import annotations
 
 import json
-import re
-from collections.abc import Iterator
 from typing import Any
 
 
@@ -47,65 +45,3 @@ def loads(text: str) -> Any:
     if text.startswith("\ufeff"):
         raise json.JSONDecodeError("Unexpected UTF-8 BOM (decode using utf-8-sig)", text, 0)
     return DECODER.decode(text)
-
-
-_SPACE = re.compile(r"[ \t\n\r]*")
-
-
-def members(text: str, streamed: str) -> Iterator[tuple[str, Any]]:
-    """The members of the JSON object that is the whole of `text`, in order, each decoded as `loads` decodes it;
-    the value of the key `streamed`, where it is a list, comes as an iterator of its elements, to be used up before
-    the next member (a long clip's frames, one at a time). Raises ValueError (or RecursionError) where `text` is not
-    one such object: `loads` of the whole text then says what is wrong."""
-    skip, scan = _SPACE.match, DECODER.raw_decode
-    i = skip(text).end()
-    if text[i : i + 1] != "{":
-        raise ValueError("not a JSON object")
-    i = skip(text, i + 1).end()
-    seen: set[str] = set()
-    while text[i : i + 1] != "}":
-        if text[i : i + 1] != '"':
-            raise ValueError("expected a key")
-        key, i = scan(text, i)
-        if key in seen:
-            raise DuplicateKeyError(key)
-        seen.add(key)
-        i = skip(text, i).end()
-        if text[i : i + 1] != ":":
-            raise ValueError("expected ':'")
-        i = skip(text, i + 1).end()
-        if key == streamed and text[i : i + 1] == "[":
-            end: list[int] = []
-            yield key, _elements(text, i, end)
-            if not end:
-                raise ValueError(f"{streamed}: not read to its end")
-            i = end[0]
-        else:
-            value, i = scan(text, i)
-            yield key, value
-        i = skip(text, i).end()
-        if text[i : i + 1] == ",":
-            i = skip(text, i + 1).end()
-            if text[i : i + 1] == "}":
-                raise ValueError("a comma before '}'")
-        elif text[i : i + 1] != "}":
-            raise ValueError("expected ',' or '}'")
-    if skip(text, i + 1).end() != len(text):
-        raise ValueError("extra data after the object")
-
-
-def _elements(text: str, i: int, end: list[int]) -> Iterator[Any]:
-    """The elements of the list at `text[i]`, decoded one at a time; `end` gets the index after it."""
-    skip, scan = _SPACE.match, DECODER.raw_decode
-    i = skip(text, i + 1).end()
-    while text[i : i + 1] != "]":
-        value, i = scan(text, i)
-        yield value
-        i = skip(text, i).end()
-        if text[i : i + 1] == ",":
-            i = skip(text, i + 1).end()
-            if text[i : i + 1] == "]":
-                raise ValueError("a comma before ']'")
-        elif text[i : i + 1] != "]":
-            raise ValueError("expected ',' or ']'")
-    end.append(i + 1)

@@ -1,4 +1,4 @@
-"""A result document read a frame at a time (`result_json.read_streamed`, `strict_json.members`): the same
+"""A result document read a frame at a time (`result_json.read_streamed`, `jsondoc.stream_members`): the same
 poses as the whole document read at once, and every other text left to the whole-document path."""
 
 from __future__ import annotations
@@ -11,22 +11,26 @@ import pytest
 from writer_fixtures import INPUT_INFO, PARAMS, make_case
 
 from zedo_cli.errors import InputFormatError
+from zedo_cli.formats.readers.jsondoc import InvalidDocument, stream_members
 from zedo_cli.formats.readers.result import read_result
 from zedo_cli.formats.readers.result_json import read_document, read_streamed
 from zedo_cli.formats.writers.outputs import write_result
-from zedo_cli.strict_json import DuplicateKeyError, loads, members
+from zedo_cli.strict_json import DuplicateKeyError, loads
 
 
 def decoded(text: str) -> list[tuple[str, object]]:
-    return [(k, list(v) if k == "frames" and not isinstance(v, int | dict) else v) for k, v in members(text, "frames")]
+    return [
+        (k, list(v) if k == "frames" and not isinstance(v, int | dict) else v)
+        for k, v in stream_members(text, "frames")
+    ]
 
 
 def test_members_decode_as_loads_does() -> None:
     for text in ["{}", ' {"a" : 1 , "frames": [1, 2, {"x": [3]}], "s": null} \n', '{"frames": []}', '{"frames": 3}']:
         assert dict(decoded(text)) == loads(text)
-    key, frames = next(members('{"frames": [1]}', "frames"))
+    key, frames = next(stream_members('{"frames": [1]}', "frames"))
     assert key == "frames" and not isinstance(frames, list) and list(frames) == [1]
-    with pytest.raises(ValueError, match="not a JSON object"):
+    with pytest.raises(InvalidDocument):
         decoded("[1]")  # valid JSON, but not a document with members
 
 
@@ -35,7 +39,7 @@ def test_members_decode_as_loads_does() -> None:
 def test_members_refuse_what_loads_refuses(text: str) -> None:
     with pytest.raises(ValueError):
         loads(text)
-    with pytest.raises(ValueError):
+    with pytest.raises((ValueError, InvalidDocument)):
         decoded(text)
 
 
@@ -45,10 +49,10 @@ def test_members_name_a_repeated_key() -> None:
 
 
 def test_a_frame_left_half_read_is_refused() -> None:
-    stream = members('{"frames": [1, 2], "b": 0}', "frames")
+    stream = stream_members('{"frames": [1, 2], "b": 0}', "frames")
     _, frames = next(stream)
     next(frames)
-    with pytest.raises(ValueError, match="not read to its end"):
+    with pytest.raises(InvalidDocument):
         next(stream)
 
 

@@ -73,21 +73,29 @@ def _skip(text: str, pos: int) -> int:
     return match.end() if match else pos
 
 
+def _elements(text: str, pos: int, end: list[int]) -> Iterator[tuple[int, Any]]:
+    """The offset and value of each element of the array at text[pos] == "[", decoded in order; `end` gets the
+    offset after the array once the last is read."""
+    pos = _skip(text, pos + 1)
+    if not text.startswith("]", pos):
+        while True:
+            start = pos
+            value, pos = _DECODER.raw_decode(text, pos)
+            yield start, value
+            pos = _skip(text, pos)
+            if text.startswith("]", pos):
+                break
+            if not text.startswith(",", pos):
+                raise InvalidDocument
+            pos = _skip(text, pos + 1)
+    end.append(pos + 1)
+
+
 def _array(text: str, pos: int) -> tuple[JsonArray, int]:
     """The array starting at text[pos] == "[", every element decoded once to check it."""
-    starts: array[int] = array("q")
-    pos = _skip(text, pos + 1)
-    if text.startswith("]", pos):
-        return JsonArray(text, starts), pos + 1
-    while True:
-        starts.append(pos)
-        _, pos = _DECODER.raw_decode(text, pos)
-        pos = _skip(text, pos)
-        if text.startswith("]", pos):
-            return JsonArray(text, starts), pos + 1
-        if not text.startswith(",", pos):
-            raise InvalidDocument
-        pos = _skip(text, pos + 1)
+    end: list[int] = []
+    starts = array("q", (start for start, _ in _elements(text, pos, end)))
+    return JsonArray(text, starts), end[0]
 
 
 def _value(text: str, pos: int) -> tuple[Any, int]:
@@ -96,28 +104,61 @@ def _value(text: str, pos: int) -> tuple[Any, int]:
     return _DECODER.raw_decode(text, pos)
 
 
+def _members(text: str, pos: int, end: list[int], streamed: str | None = None) -> Iterator[tuple[str, Any]]:
+    """The members of the object starting at text[pos] == "{", in order; `end` gets the offset after it. Without
+    `streamed`, its array values as `JsonArray`s; with it, every value decoded once as it comes, and the value of
+    the key `streamed`, where an array, an iterator of its elements to be used up before the next member."""
+    seen: set[str] = set()
+    pos = _skip(text, pos + 1)
+    if not text.startswith("}", pos):
+        while True:
+            if not text.startswith('"', pos):
+                raise InvalidDocument
+            key, pos = scanstring(text, pos + 1)
+            pos = _skip(text, pos)
+            if not text.startswith(":", pos):
+                raise InvalidDocument
+            if key in seen:
+                raise DuplicateKeyError(key)
+            seen.add(key)
+            pos = _skip(text, pos + 1)
+            if streamed is not None and key == streamed and text.startswith("[", pos):
+                after: list[int] = []
+                yield key, (value for _, value in _elements(text, pos, after))
+                if not after:
+                    raise InvalidDocument  # the elements were not read to the end
+                pos = after[0]
+            else:
+                value, pos = _value(text, pos) if streamed is None else _DECODER.raw_decode(text, pos)
+                yield key, value
+            pos = _skip(text, pos)
+            if text.startswith("}", pos):
+                break
+            if not text.startswith(",", pos):
+                raise InvalidDocument
+            pos = _skip(text, pos + 1)
+    end.append(pos + 1)
+
+
 def _object(text: str, pos: int) -> tuple[dict[str, Any], int]:
     """The object starting at text[pos] == "{", its array values as `JsonArray`s."""
-    obj: dict[str, Any] = {}
-    pos = _skip(text, pos + 1)
-    if text.startswith("}", pos):
-        return obj, pos + 1
-    while True:
-        if not text.startswith('"', pos):
-            raise InvalidDocument
-        key, pos = scanstring(text, pos + 1)
-        pos = _skip(text, pos)
-        if not text.startswith(":", pos):
-            raise InvalidDocument
-        if key in obj:
-            raise DuplicateKeyError(key)
-        obj[key], pos = _value(text, _skip(text, pos + 1))
-        pos = _skip(text, pos)
-        if text.startswith("}", pos):
-            return obj, pos + 1
-        if not text.startswith(",", pos):
-            raise InvalidDocument
-        pos = _skip(text, pos + 1)
+    end: list[int] = []
+    obj = dict(_members(text, pos, end))
+    return obj, end[0]
+
+
+def stream_members(text: str, streamed: str) -> Iterator[tuple[str, Any]]:
+    """The members of the JSON object that is the whole of `text`, in one pass: each value decoded once as it
+    comes, the value of the key `streamed` (where an array) an iterator of its elements, decoded as they are
+    read, to be used up before the next member (a result's frames, one at a time). Raises what `scan_document`
+    raises where the text is not one such object (the caller lets json.loads say where and why)."""
+    pos = _skip(text, 0)
+    if not text.startswith("{", pos):
+        raise InvalidDocument
+    end: list[int] = []
+    yield from _members(text, pos, end, streamed)
+    if _skip(text, end[0]) != len(text):
+        raise InvalidDocument
 
 
 def scan_document(text: str) -> Any:

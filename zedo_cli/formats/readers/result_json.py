@@ -12,8 +12,9 @@ import numpy as np
 
 from ...camera.model import CameraModel
 from ...errors import InputFormatError, plural
-from ...strict_json import loads, members
+from ...strict_json import loads
 from ..result_schema import SCHEMA, Frame, FrameLine, HeaderLine, ResultHeader, Summary, SummaryLine, validate
+from .jsondoc import InvalidDocument, stream_members
 from .result_common import (
     SCALE_TO_M,
     ReadParts,
@@ -92,7 +93,7 @@ def read_streamed(text: str, name: str) -> ResultPoses | None:
     reader: _DocumentReader | None = None
     summary: Any = None
     try:
-        for key, value in members(text, streamed="frames"):
+        for key, value in stream_members(text, streamed="frames"):
             if not header and key != "schema" or reader is not None and key != "summary":
                 return None
             if key == "summary":
@@ -107,7 +108,7 @@ def read_streamed(text: str, name: str) -> ResultPoses | None:
                 for f, frame in enumerate(value):
                     reader.add(validate(Frame, frame, name, path=f"frames[{f}]", joints=reader.joints,
                                         other_joints=len(reader.other_names)))  # fmt: skip
-    except (ValueError, RecursionError):  # not one plain object: the whole-document path says what is wrong
+    except (InvalidDocument, ValueError, RecursionError):  # not one plain object: the whole path says what is wrong
         return None
     if reader is None or summary is None:
         return None
