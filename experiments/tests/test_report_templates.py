@@ -11,7 +11,7 @@ from analysis_results import kicking_poses, result_document, write_document
 
 from experiments.report_templates import comparison_block_from_template
 from zedo_cli.analysis.analyse import analyse
-from zedo_cli.analysis.compare import add_comparison, features_by_person
+from zedo_cli.analysis.compare import compared, features_by_person
 from zedo_cli.analysis.norms.norms import build_norms
 from zedo_cli.analysis.report.clip_report import comparison_block
 from zedo_cli.formats.readers.result import read_result
@@ -27,7 +27,7 @@ def test_the_template_writes_what_the_f_strings_write(tmp_path: Path) -> None:
     norms = build_norms([replace(c, seconds=1.0) for c in reference], "x")  # the clip is 3 s: by its epochs
     a = _analysed(tmp_path / "clip<b>.zedo.json", 0.004, 99)
     assert comparison_block_from_template(a) == comparison_block(a)  # no comparison
-    a.comparisons = add_comparison(a, norms, None)
+    a = compared(a, norms, None)
     page = comparison_block(a)
     assert "3 epochs" in page and page.count("<tr>") == 4 and page.count("<li>") == 5
     assert comparison_block_from_template(a) == page

@@ -3,6 +3,7 @@ words of every clip feature; the refusal of footage that is not the result's."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -173,7 +174,7 @@ def test_with_a_reference_the_summary_says_what_share_asymmetric_is_typical(clip
     assert typical_shares_row(a) == ""  # no reference: nothing said
     shares = np.linspace(0.2, 0.6, 20)
     clips = [ClipValues(f"c{i}", 0, {"symmetry_thigh_share_asymmetric": float(s)}) for i, s in enumerate(shares)]
-    a.reference = Norms(["all"], {"all": {}}, clips, ["all"] * 20)
+    a = replace(a, reference=Norms(["all"], {"all": {}}, clips, ["all"] * 20))
     summary = summary_section(a)
     lo, mid, hi = np.quantile(shares, [0.1, 0.5, 0.9])
     assert (

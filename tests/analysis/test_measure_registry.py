@@ -12,7 +12,7 @@ import pytest
 from analysis_results import kicking_poses, result_document, write_document
 
 from zedo_cli.analysis.analyse import analyse
-from zedo_cli.analysis.compare import add_comparison, features_by_person
+from zedo_cli.analysis.compare import compared, features_by_person
 from zedo_cli.analysis.measures import MEASURES, measure_of, registry_markdown
 from zedo_cli.analysis.norms.norms import build_norms
 from zedo_cli.formats.readers.result import read_result
@@ -30,7 +30,7 @@ def test_every_row_of_a_compared_clip_is_in_the_registry_with_its_unit_and_scope
                 values={k: np.nan_to_num(v, nan=0.5) + rng.normal(0.0, 0.05) for k, v in clip.values.items()})
         for i in range(20)
     ]  # fmt: skip
-    add_comparison(a, build_norms(typical, "test"), None)
+    a = compared(a, build_norms(typical, "test"), None)
     for name in {row.measure for row in a.rows}:  # one family each
         assert sum(re.fullmatch(m.regex, name) is not None for m in MEASURES) == 1, name
     seen = set()

@@ -14,7 +14,7 @@ from test_calibration import calibration, document
 from test_norms import EXTENDED, VERSION, _all_reliable, _clip, _reference
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-from zedo_cli.analysis.compare import add_comparison, epoch_values, features_by_person, length_mismatch
+from zedo_cli.analysis.compare import compared, epoch_values, features_by_person, length_mismatch
 from zedo_cli.analysis.norms.calibrated import epochs_surprise, leave_one_out_scores
 from zedo_cli.analysis.norms.norms import build_norms, compare
 from zedo_cli.analysis.report.clip_report import comparison_block
@@ -75,8 +75,8 @@ def test_a_clip_over_twice_the_references_length_says_it_is_compared_by_epochs(t
     assert "build a reference of clips as long" in length_mismatch(norms, 0.4)
     assert length_mismatch(norms, 1.5) is None
     a = _analysed(tmp_path, kicking_poses(90), "k.zedo.json")
-    (pc,) = add_comparison(a, norms, None)
+    a = compared(a, norms, None)
+    (pc,) = a.comparisons
     assert pc.comparison.extended.epochs == 3 and pc.comparison.asymmetry.epochs == 3
     assert note in a.notes
-    a.comparisons = [pc]
     assert "of its 3 epochs as long as the reference's clips" in comparison_block(a)

@@ -14,7 +14,7 @@ from test_clip_calibration import KNEE, clip_calibration
 from test_norms import VERSION, _reference
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
-from zedo_cli.analysis.compare import add_comparison, features_by_person, lifting_mismatch, lifting_of
+from zedo_cli.analysis.compare import compared, features_by_person, lifting_mismatch, lifting_of
 from zedo_cli.analysis.norms.norms import build_norms
 from zedo_cli.analysis.norms.norms_file import read_norms, write_norms
 from zedo_cli.analysis.report.clip_report import comparison_block
@@ -72,10 +72,9 @@ def test_a_clip_lifted_otherwise_than_the_reference_gets_a_note(tmp_path: Path) 
     assert lifting_mismatch(build_norms(_reference(), VERSION), known) is None  # a reference that does not say
     a = _analysed(tmp_path, [])  # the test result: the test prior, --temporal smooth, the pseudo camera
     assert lifting_of(a.result.params) == pseudo
-    add_comparison(a, back, None)
-    assert not any(n.startswith("the reference's clips were lifted") for n in a.notes)
+    assert not any(n.startswith("the reference's clips were lifted") for n in compared(a, back, None).notes)
     other = build_norms([replace(c, lifting=known) for c in _reference()], VERSION)
-    a.comparisons = add_comparison(a, other, None)
+    a = compared(a, other, None)
     assert a.notes[-1] == lifting_mismatch(other, pseudo)
     block = comparison_block(a)  # the report's summary says it beside the comparison, not only in the notes
     assert block.startswith("<div class='note warn'>The reference&#x27;s clips were lifted with prior ")

@@ -110,9 +110,10 @@ class AnalysisSettings:
             raise ConfigError(f"--max-angular-velocity must be > 0 deg/s, got {self.max_velocity_deg_s}")
 
 
-@dataclass
+@dataclass(frozen=True)
 class Analysis:
-    """The measures of one result: per-instance arrays (rows of `result` that were lifted) and rows."""
+    """The measures of one result, frozen: per-pose arrays (rows of `result` that were lifted) by measure, the
+    per-clip rows, and notes; the frame rows are built from the arrays when asked for (`rows`, `blocks`)."""
 
     result: ResultPoses
     settings: AnalysisSettings
@@ -127,9 +128,9 @@ class Analysis:
     fps_source: str  # "option", "result" or "none"
     too_fast: dict[str, np.ndarray] = field(default_factory=dict)  # angle -> (M,) bool
     calls: dict[str, np.ndarray] = field(default_factory=dict)  # symmetry measure -> (M,) its call ("": unknown)
-    clip_rows: list[Row] = field(default_factory=list)  # the per-clip rows (movement, features, comparison)
-    notes: list[str] = field(default_factory=list)
-    comparisons: list[Any] = field(default_factory=list)  # compare.PersonComparison per person, with --norms
+    clip_rows: tuple[Row, ...] = ()  # the per-clip rows (movement, features, comparison)
+    notes: tuple[str, ...] = ()
+    comparisons: tuple[Any, ...] = ()  # compare.PersonComparison per person, with --norms
     reference: Any = None  # the reference of typical infants compared with (norms.Norms), with --norms
     assignment: Assignment | None = None  # which measure calibration holds for each analysed pose
     clip_calibration: MeasureCalibration | None = None  # the clip-scope calibration found for the result
@@ -148,7 +149,7 @@ class Analysis:
     @property
     def rows(self) -> list[Row]:
         """One Row per (frame, person, measure), built when asked for, then the per-clip rows."""
-        return [row for block in self.frame_blocks() for row in block.rows()] + self.clip_rows
+        return [row for block in self.frame_blocks() for row in block.rows()] + list(self.clip_rows)
 
     def columns(self) -> dict[str, list[Any]]:
         """The tidy table by column (COLUMNS -> one value per row): the CSV's rows, with None and
@@ -305,68 +306,76 @@ def analyse(
         fps_source = "none"
     a = Analysis(result, settings, index, values, raw, intervals, call_intervals, how, note, fps, fps_source,
                  assignment=assignment)  # fmt: skip
+    notes: list[str] = []
     if not assignment.any:
-        a.notes.append(no_calibration_note(note))
+        notes.append(no_calibration_note(note))
     else:
         out = int((assignment.index < 0).sum())
         if out:
-            a.notes.append(f"{out} of {len(index)} poses have no calibrated intervals ({note}); their symmetry calls "
+            notes.append(f"{out} of {len(index)} poses have no calibrated intervals ({note}); their symmetry calls "
                            "are uncertain")  # fmt: skip
         used = assignment.used()
-        a.notes.extend(backing_note(c) for c in used)
-        a.notes.extend(dict.fromkeys(held_out_note(c) for c in used))  # ranges of one fit share their figures
+        notes.extend(backing_note(c) for c in used)
+        notes.extend(dict.fromkeys(held_out_note(c) for c in used))  # ranges of one fit share their figures
         if assignment.stand_in:
-            a.notes.append(f"{assignment.stand_in} of {len(index)} poses: the stated camera lies outside the known "
+            notes.append(f"{assignment.stand_in} of {len(index)} poses: the stated camera lies outside the known "
                            "cameras' calibrated range, so the pseudo camera's calibration stands in (docs/clinical.md, "
                            "\"Stated camera or not\")")  # fmt: skip
         sources = (c.provenance.get("data", "see the calibration file") for c in used)
         data = "; ".join(dict.fromkeys(str(x) for x in sources))
         side = (1 - settings.call_level) / 2
-        a.notes.append(f"{settings.level:.0%} intervals and estimates calibrated at the level of each measure on "
+        notes.append(f"{settings.level:.0%} intervals and estimates calibrated at the level of each measure on "
                        f"held-out lifts ({data}); a call is symmetric or asymmetric only when the "
                        f"{settings.call_level:.0%} interval (call_low, call_high) lies on one side of the threshold, "
                        f"each of whose ends misses the truth at most {side:.0%} of the time")  # fmt: skip
     if len(index) < len(result):
-        a.notes.append(f"{len(result) - len(index)} of {len(result)} persons were not lifted and are left out")
+        notes.append(f"{len(result) - len(index)} of {len(result)} persons were not lifted and are left out")
     if fps is None:
-        a.notes.append("no fps (neither --fps nor recorded by zedo lift --fps): frames are analysed as separate "
+        notes.append("no fps (neither --fps nor recorded by zedo lift --fps): frames are analysed as separate "
                        "images, without movement features")  # fmt: skip
     else:
-        a.too_fast = _too_fast(a, fps)
+        a = replace(a, too_fast=_too_fast(a, fps))
         flagged = sum(int(v.sum()) for v in a.too_fast.values())
         if flagged:
             bound = settings.max_velocity_deg_s
-            a.notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
+            notes.append(f"{flagged} joint-angle values change faster than {bound:g} deg/s from the previous "
                            "frame: flagged too_fast and left out of the movement features")  # fmt: skip
-    a.probabilities = _probabilities(a)
-    a.calls = {name: symmetry_calls(a.values[name], settings.threshold_deg, *a.call_intervals[name])
-               for name in SYMMETRY_NAMES}  # fmt: skip
-    head_why = _measure_head(a)
+    calls = {name: symmetry_calls(values[name], settings.threshold_deg, *call_intervals[name])
+             for name in SYMMETRY_NAMES}  # fmt: skip
+    a = replace(a, probabilities=_probabilities(a), calls=calls)
+    head, head_why = _measure_head(a)
+    if head_why is not None:
+        notes.append(f"no head measures: {head_why}")
+    a = replace(a, head=head)
     if fps is not None:
-        a.clip_rows = _clip_rows(a) + _head_clip_rows(a, head_why) + _clip_feature_rows(a, models, cameras, outside)
-    return a
+        clip_rows = _clip_rows(a, notes) + _head_clip_rows(a, head_why)
+        features, clip_calibration = _clip_feature_rows(a, models, cameras, outside, notes)
+        a = replace(a, clip_rows=tuple(clip_rows + features), clip_calibration=clip_calibration)
+    return replace(a, notes=tuple(notes))
 
 
-def _clip_feature_rows(a: Analysis, models: Sequence[MeasureCalibration], cameras: tuple[np.ndarray, np.ndarray],
-                       outside: np.ndarray) -> list[Row]:  # fmt: skip
+def _clip_feature_rows(
+    a: Analysis, models: Sequence[MeasureCalibration], cameras: tuple[np.ndarray, np.ndarray], outside: np.ndarray,
+    notes: list[str],
+) -> tuple[list[Row], MeasureCalibration | None]:  # fmt: skip
     """The published 2D and the `3d_` features of each track, the latter under the clip-scope calibration that
-    holds (`a.clip_calibration`, named in a note)."""
+    holds (returned, named in `notes`)."""
     res = a.result
     clip_cal, clip_why = find_calibration(models, res.params, res.skeleton.joints, scope="clips")
-    a.clip_calibration = clip_cal
     if clip_cal is not None:
-        a.notes.append(backing_note(clip_cal))
-        a.notes.append(held_out_note(clip_cal))
+        notes.append(backing_note(clip_cal))
+        notes.append(held_out_note(clip_cal))
     stand_in = camera_stand_in(models, res.params, res.skeleton.joints, scope="clips")
     features = clip_features(res, a.index, float(a.fps or 0.0), clip_cal, clip_why, a.settings.level, cameras, outside,
                              stand_in)  # fmt: skip
-    return [Row(None, None, None, f.person, f.measure, f.value, f.unit, f.low, f.high, interval=f.interval,
+    rows = [Row(None, None, None, f.person, f.measure, f.value, f.unit, f.low, f.high, interval=f.interval,
                 raw_value=f.raw_value) for f in features]  # fmt: skip
+    return rows, clip_cal
 
 
-def _measure_head(a: Analysis) -> str | None:
-    """The head measures of the analysed poses (`a.head`) from the input's face points and shoulders,
-    the lift's --min-confidence applying to the face points too; returns why there are none (once, a note)."""
+def _measure_head(a: Analysis) -> tuple[HeadFrames, str | None]:
+    """The head measures of the analysed poses from the input's face points and shoulders, the lift's
+    --min-confidence applying to the face points too, and why there are none (None: there are)."""
     res = a.result
     min_conf = res.lift_params.min_confidence
     settings = a.settings.head
@@ -375,10 +384,7 @@ def _measure_head(a: Analysis) -> str | None:
     face, why = face_points(res, a.index, settings.min_confidence)
     if why is None and res.keypoints_2d is None:
         why = "the result does not carry the input's 2D keypoints (the shoulders')"
-    a.head = head_frames(face, shoulder_points(res, a.index), settings, why)
-    if why is not None:
-        a.notes.append(f"no head measures: {why}")
-    return why
+    return head_frames(face, shoulder_points(res, a.index), settings, why), why
 
 
 def _head_block(a: Analysis) -> Block:
@@ -482,7 +488,7 @@ def _frame_block(a: Analysis) -> Block:
     return Block(len(a.index), _pose_keys(a), tuple(cells))
 
 
-def _clip_rows(a: Analysis) -> list[Row]:
+def _clip_rows(a: Analysis, notes: list[str]) -> list[Row]:
     res, fps = a.result, float(a.fps or 0.0)
     rows: list[Row] = []
     people = res.person[a.index]
@@ -490,7 +496,7 @@ def _clip_rows(a: Analysis) -> list[Row]:
     for p in sorted(set(people.tolist())):
         sel = people == p
         if sel.sum() < MIN_FRAMES:
-            a.notes.append(f"person {p}: fewer than {MIN_FRAMES} lifted frames, no movement features")
+            notes.append(f"person {p}: fewer than {MIN_FRAMES} lifted frames, no movement features")
             continue
 
         def add(measure: str, value: float, unit: str, low: float = np.nan, high: float = np.nan,

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -121,15 +121,16 @@ class PersonComparison:
     lifting_mismatch: str | None = None  # `lifting_mismatch`'s note where the reference was lifted otherwise
 
 
-def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[PersonComparison]:
-    """Compare each person track of the clip `a` with `norms`: per feature its z (`<feature>_norm_z`), and
+def compared(a: Analysis, norms: Norms, age_weeks: float | None) -> Analysis:
+    """The clip `a` compared with `norms`, each person track: per feature its z (`<feature>_norm_z`), and
     `surprise_published_z` / `_p`, and the calibrated `surprise_extended_score` / `_p` and
-    `surprise_asymmetry_score` / `_p`, appended
-    to `a.rows`; notes say what was left out. Refused for a result without fps (no clip features)."""
+    `surprise_asymmetry_score` / `_p`, as clip rows, the comparisons (`PersonComparison`) and the reference; notes
+    say what was left out. A result without fps has no clip features: only a note says so."""
     if not a.is_sequence:
-        a.notes.append("no comparison with the reference: the result has no fps, so no clip features")
-        return []
-    a.reference = norms
+        return replace(a, notes=(*a.notes, "no comparison with the reference: the result has no fps, so no clip "
+                                           "features"))  # fmt: skip
+    rows: list[Row] = []
+    notes: list[str] = []
     done = []
     clips = features_by_person(a, age_weeks)
     mismatch = lifting_mismatch(norms, clips[0].lifting) if clips else None  # one result: every track alike
@@ -140,7 +141,7 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
         p = clip.person
 
         def add(measure: str, value: float, unit: str, p: int = p) -> None:
-            a.clip_rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_COMPARISON))
+            rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_COMPARISON))
 
         for name in sorted(c.z):
             add(f"{name}{Z_SUFFIX}", c.z[name], "z")
@@ -153,16 +154,16 @@ def add_comparison(a: Analysis, norms: Norms, age_weeks: float | None) -> list[P
             add(f"surprise_{kind}_features", float(cal.features), "features")
         if c.not_compared:
             shown = ", ".join(c.not_compared[:5]) + (", ..." if len(c.not_compared) > 5 else "")
-            a.notes.append(f"person {p}: {len(c.not_compared)} reference features have no value in this clip and "
-                           f"are left out of the comparison ({shown})")  # fmt: skip
+            notes.append(f"person {p}: {len(c.not_compared)} reference features have no value in this clip and "
+                         f"are left out of the comparison ({shown})")  # fmt: skip
         done.append(PersonComparison(p, c, mismatch))
-    a.notes.append(f"compared with a reference of {len(norms.clips)} clips of typical infants "
-                   f"(age brackets: {', '.join(norms.brackets)})")  # fmt: skip
+    notes.append(f"compared with a reference of {len(norms.clips)} clips of typical infants "
+                 f"(age brackets: {', '.join(norms.brackets)})")  # fmt: skip
     if mismatch is not None:
-        a.notes.append(mismatch)
-    for note in dict.fromkeys(n for clip in clips if (n := length_mismatch(norms, clip.seconds)) is not None):
-        a.notes.append(note)
-    return done
+        notes.append(mismatch)
+    notes.extend(dict.fromkeys(n for clip in clips if (n := length_mismatch(norms, clip.seconds)) is not None))
+    return replace(a, clip_rows=(*a.clip_rows, *rows), notes=(*a.notes, *notes), comparisons=tuple(done),
+                   reference=norms)  # fmt: skip
 
 
 LENGTH_RATIO = 2.0  # a clip over twice as long or short as the reference's is compared with a note

@@ -157,7 +157,7 @@ def _document_members(a: Analysis, rows: Iterator[RawItems] | None = None) -> It
             "max_angular_velocity_deg_s": a.settings.max_velocity_deg_s,
         },  # fmt: skip
         "uncertainty": uncertainty,
-        "notes": a.notes,
+        "notes": list(a.notes),
         "columns": list(COLUMNS),
         "measures": measure_descriptions(),
         "summary": {k: {s: _num(v) for s, v in d.items()} for k, d in summary(a).items()},

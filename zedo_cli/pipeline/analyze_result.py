@@ -63,9 +63,9 @@ def analyse_result(res: ResultPoses, options: AnalyzeOptions, comparison: Refere
         check_video_fits(res, options.video, info)  # refused before anything is written
     a = analyse(res, options.analysis_settings())
     if comparison is not None:
-        from ..analysis.compare import add_comparison
+        from ..analysis.compare import compared
 
-        a.comparisons = add_comparison(a, comparison.norms, comparison.age_weeks)
+        a = compared(a, comparison.norms, comparison.age_weeks)
     return a
 
 
