@@ -44,17 +44,20 @@ def test_rows_without_a_calibration_say_so(kick: Path) -> None:
     a = analyse(read_result(kick))
     rows = rows_of(csv_text(a))
     assert list(rows[0]) == list(COLUMNS)
-    assert list(COLUMNS[:10]) == ["frame_index", "image_id", "file_name", "person", "measure", "value", "unit",
-                                  "low_90", "high_90", "call"]  # fmt: skip
+    assert list(COLUMNS[:13]) == ["frame_index", "image_id", "file_name", "person", "measure", "value", "unit",
+                                  "low", "high", "level", "call", "interval", "interval_note"]  # fmt: skip
+    assert all(r["level"] == "" for r in rows)  # no interval, no level
     head_rows = [r for r in rows if r["measure"].startswith("head_")]
     frame_rows = [r for r in rows if r["frame_index"] and not r["measure"].startswith("head_")]
     assert len(frame_rows) == 60 * (4 + 4 + 4 + 12)  # angle, band and probability per pair; 12 joint angles
     # a result written without the input's face points: empty head rows with the reason, one note
     assert len([r for r in head_rows if r["frame_index"]]) == 60 * 2
-    assert all(r["value"] == "" and "lift it again" in r["interval"] for r in head_rows)
+    assert all(r["value"] == "" and "lift it again" in r["interval_note"] for r in head_rows)
     assert sum("no head measures" in n for n in a.notes) == 1
-    assert all(r["low_90"] == "" and r["high_90"] == "" for r in rows)
-    assert {r["interval"] for r in frame_rows} == {"none: no measure calibration for this prior"}
+    assert all(r["low"] == "" and r["high"] == "" for r in rows)
+    assert {(r["interval"], r["interval_note"]) for r in frame_rows} == {
+        ("none", "no measure calibration for this prior")
+    }
     assert {r["call"] for r in frame_rows if r["measure"].startswith("symmetry_") and r["unit"] == "deg"} == {
         "uncertain"}  # fmt: skip
     shank = [float(r["value"]) for r in frame_rows if r["measure"] == "symmetry_shank_deg"]
@@ -93,12 +96,12 @@ def test_without_fps_there_are_no_movement_features(tmp_path: Path) -> None:
 def test_intervals_and_uncertain_calls_from_a_calibration(kick_calibrated: tuple[Path, list]) -> None:
     a = analyse(read_result(kick_calibrated[0]), calibrations=kick_calibrated[1])
     shank = [r for r in a.rows if r.measure == "symmetry_shank_deg"]
-    assert all(r.interval == "calibrated" and r.low_90 <= r.high_90 for r in shank)
-    assert all(r.low_90 >= 0.0 for r in shank)
+    assert all(r.how == "calibrated" and r.low <= r.high for r in shank)
+    assert all(r.low >= 0.0 for r in shank)
     calls = {r.call for r in shank}
     assert calls == {"symmetric", "asymmetric", "uncertain"}
     for r in shank:  # uncertain exactly when the interval straddles the threshold
-        assert (r.call == "uncertain") == (r.low_90 <= 28.0 < r.high_90)
+        assert (r.call == "uncertain") == (r.low <= 28.0 < r.high)
     doc = analysis_document(a)
     assert doc["uncertainty"]["available"] and doc["uncertainty"]["note"] == "calibrated"
     assert doc["summary"]["symmetry_shank_deg"]["uncertain"] == sum(r.call == "uncertain" for r in shank)
@@ -109,11 +112,11 @@ def test_json_holds_the_rows_settings_and_the_note(kick: Path, tmp_path: Path) -
     out = tmp_path / "a.json"
     write_json(a, out)
     doc = json.loads(out.read_text())
-    assert doc["schema"] == "zedo.analysis/1" and doc["settings"]["symmetry_threshold_deg"] == 30.0
+    assert doc["schema"] == "zedo.analysis/2" and doc["settings"]["symmetry_threshold_deg"] == 30.0
     assert doc["settings"]["fps"] == 30.0 and doc["settings"]["fps_source"] == "result"
     assert doc["uncertainty"]["available"] is False and "no measure calibration" in doc["uncertainty"]["note"]
     assert len(doc["rows"]) == len(a.rows) and doc["rows"][0]["measure"] == "symmetry_upper_arm_deg"
-    assert doc["rows"][0]["low_90"] is None and doc["columns"] == list(COLUMNS)
+    assert doc["rows"][0]["low"] is None and doc["columns"] == list(COLUMNS)
     with pytest.raises(ConfigError, match="already exists"):
         write_csv(a, out)
 
@@ -190,11 +193,13 @@ def test_the_report_prints_beside_each_call_the_interval_that_decides_it(
     table = page[page.index("<h2>Symmetry per frame</h2>") : page.index("<h2>Joint angles per frame</h2>")]
     assert "70 % interval that decides the call" in table and table.count("deg [70 %] call") == 4
     rows = [r for r in a.rows if r.measure.startswith("symmetry_") and r.unit == "deg" and r.frame_index is not None]
-    assert rows and all(np.isfinite(r.call_low) and (r.call_low, r.call_high) != (r.low_90, r.high_90) for r in rows)
+    assert rows and all(np.isfinite(r.call_low) and (r.call_low, r.call_high) != (r.low, r.high) for r in rows)
+    assert {(r.level, r.interval, r.interval_note) for r in rows} == {(0.9, "calibrated", "")}  # low, high at --level
+    assert {r["level"] for r in rows_of(csv_text(a)) if r["low"]} == {"0.9"}
     for r in rows[:8]:  # each call's cell holds the 70 % interval, never the 90 % one
         cell = f"[{r.call_low:.1f}, {r.call_high:.1f}]</small> <small>{r.call}</small>"
         assert cell in table, cell
-        assert f"[{r.low_90:.1f}, {r.high_90:.1f}]</small> <small>{r.call}" not in table
+        assert f"[{r.low:.1f}, {r.high:.1f}]</small> <small>{r.call}" not in table
 
 
 def test_the_report_opens_with_the_research_notice_and_shows_bands_as_the_papers(

@@ -120,8 +120,8 @@ def test_calibrated_rows_give_intervals_and_selective_calls(tmp_path: Path) -> N
     assert a.uncertainty_available
     shank = [r for r in a.rows if r.measure == "symmetry_shank_deg"]
     for r in shank:  # interval = value +- 5 (clipped at 0); the call follows the interval
-        assert r.interval == "calibrated"
-        assert r.low_90 == pytest.approx(max(r.value - 5, 0)) and r.high_90 == pytest.approx(r.value + 5)
+        assert r.how == "calibrated"
+        assert r.low == pytest.approx(max(r.value - 5, 0)) and r.high == pytest.approx(r.value + 5)
         expected = "symmetric" if r.value + 5 <= 28 else "asymmetric" if r.value - 5 > 28 else "uncertain"
         assert r.call == expected
     assert {r.call for r in shank} == set(CALLS)  # 0-60 degrees of knee bend crosses the threshold
@@ -144,8 +144,8 @@ def test_a_bin_fitted_on_too_few_cases_gives_no_interval_and_says_so(tmp_path: P
     doc = write_document(tmp_path / "k.zedo.json", document(kicking_poses(10)))
     a = analyse(read_result(doc), AnalysisSettings(), calibrations=read_calibrations(path))
     shank = [r for r in a.rows if r.measure == "symmetry_shank_deg"]
-    assert shank and all(r.interval == "none: too few calibration cases" for r in shank)
-    assert all(np.isnan(r.low_90) and np.isnan(r.high_90) and r.call == "uncertain" for r in shank)
+    assert shank and all(r.how == "none: too few calibration cases" for r in shank)
+    assert all(np.isnan(r.low) and np.isnan(r.high) and r.call == "uncertain" for r in shank)
 
 
 def test_without_a_matching_calibration_every_call_is_uncertain_and_says_why(tmp_path: Path) -> None:
@@ -154,8 +154,8 @@ def test_without_a_matching_calibration_every_call_is_uncertain_and_says_why(tmp
     frame_rows = [
         r for r in a.rows if r.frame_index is not None and r.unit == "deg" and not r.measure.startswith("head_")
     ]
-    assert all(np.isnan(r.low_90) for r in frame_rows)
-    assert {r.interval for r in frame_rows} == {"none: no measure calibration for temporal mode two-pass"}
+    assert all(np.isnan(r.low) for r in frame_rows)
+    assert {r.how for r in frame_rows} == {"none: no measure calibration for temporal mode two-pass"}
     assert {r.call for r in frame_rows if r.measure in SYMMETRY_NAMES} == {"uncertain"}
 
 
@@ -164,11 +164,11 @@ def test_a_joint_filled_by_the_prior_gets_no_interval(tmp_path: Path) -> None:
     doc["frames"][0]["persons"][0]["observed"][JOINTS.index("left_wrist")] = False
     a = analyse(read_result(write_document(tmp_path / "k.zedo.json", doc)), calibrations=[calibration()])
     forearm = [r for r in a.rows if r.measure == "symmetry_forearm_deg"]
-    assert forearm[0].interval == "none: joint filled by the prior (not calibrated): left_wrist"
-    assert forearm[0].call == "uncertain" and np.isnan(forearm[0].low_90)
-    assert forearm[1].interval == "calibrated"
+    assert forearm[0].how == "none: joint filled by the prior (not calibrated): left_wrist"
+    assert forearm[0].call == "uncertain" and np.isnan(forearm[0].low)
+    assert forearm[1].how == "calibrated"
     elbow = [r for r in a.rows if r.measure == "left_elbow_flexion_deg"][0]
-    assert elbow.interval.startswith("none: joint filled")
+    assert elbow.how.startswith("none: joint filled")
 
 
 def test_clip_summaries_agree_with_the_frames_and_fast_glitches_are_kept_out(tmp_path: Path) -> None:
@@ -190,7 +190,7 @@ def test_clip_summaries_agree_with_the_frames_and_fast_glitches_are_kept_out(tmp
         assert shares == pytest.approx([calls.count(c) / len(calls) for c in CALLS])
         values = [r.value for r in a.rows if r.measure == name and r.frame_index is not None]
         assert clip[f"{stem}_median_deg"].value == pytest.approx(np.median(values))
-        assert clip[f"{stem}_median_deg"].interval == "median_of_frame_interval_ends"
+        assert clip[f"{stem}_median_deg"].how == "median_of_frame_interval_ends"
 
 
 def test_every_angle_stays_in_its_stated_range() -> None:
@@ -234,14 +234,14 @@ def test_a_clip_filmed_upside_down_is_outside_calibration_and_says_so(tmp_path: 
     poses = kicking_poses(60)
     upright = analyse(read_result(write_document(tmp_path / "up.zedo.json", document(poses, fps=30.0))),
                       AnalysisSettings(), calibrations=[calibration()])  # fmt: skip
-    assert {r.interval for r in upright.rows if r.measure == "symmetry_thigh_deg"} == {"calibrated"}
+    assert {r.how for r in upright.rows if r.measure == "symmetry_thigh_deg"} == {"calibrated"}
     turned = poses * np.array([-1.0, -1.0, 1.0])  # the camera turned half a turn about its axis: head down the image
     doc = document(turned, fps=30.0)
     a = analyse(read_result(write_document(tmp_path / "down.zedo.json", doc)), AnalysisSettings(),
                 calibrations=[calibration()])  # fmt: skip
-    frames = {r.interval for r in a.rows if r.measure == "symmetry_thigh_deg"}
+    frames = {r.how for r in a.rows if r.measure == "symmetry_thigh_deg"}
     (why,) = frames
     assert why.startswith("none: outside calibration: the infant's trunk points 1") and "turn the video" in why
-    assert not a.uncertainty_available and all(np.isnan(r.low_90) for r in a.rows if r.measure == "symmetry_thigh_deg")
+    assert not a.uncertainty_available and all(np.isnan(r.low) for r in a.rows if r.measure == "symmetry_thigh_deg")
     shares = [r for r in a.rows if r.measure.endswith("_share_asymmetric")]
-    assert shares and all(np.isnan(r.low_90) for r in shares)
+    assert shares and all(np.isnan(r.low) for r in shares)

@@ -49,9 +49,9 @@ def test_a_focal_result_in_the_calibrated_range_gets_intervals(tmp_path: Path) -
     a = analyse(read_result(focal_result(tmp_path)), calibrations=cals)
     assert a.uncertainty_available and a.calibration_note == "calibrated"
     for r in frame_rows(a, "symmetry_shank_deg"):  # the camera calibration's +-8, not the pseudo one's +-3
-        assert r.interval == "calibrated"
-        assert r.high_90 == pytest.approx(r.value + 8.0)
-    assert {r.interval for r in frame_rows(a, "left_knee_flexion_deg")} == {"calibrated"}
+        assert r.how == "calibrated"
+        assert r.high == pytest.approx(r.value + 8.0)
+    assert {r.how for r in frame_rows(a, "left_knee_flexion_deg")} == {"calibrated"}
 
 
 def test_outside_the_calibrated_range_each_measure_says_so(tmp_path: Path) -> None:
@@ -60,14 +60,14 @@ def test_outside_the_calibrated_range_each_measure_says_so(tmp_path: Path) -> No
     assert not a.uncertainty_available
     for name in (*SYMMETRY_NAMES, "right_hip_flexion_deg"):
         rows = frame_rows(a, name)
-        assert all(np.isnan(r.low_90) for r in rows)
-        assert {r.interval for r in rows} == {
+        assert all(np.isnan(r.low) for r in rows)
+        assert {r.how for r in rows} == {
             "none: camera outside the calibrated range (root depth 1.00 m, focal length 1000 px; calibrated: "
             "root depth 1.2-2 m, focal length 600-2500 px)"}  # fmt: skip
     assert {r.call for r in frame_rows(a, "symmetry_thigh_deg")} == {"uncertain"}
     narrow_focal = [camera_calibration((0.6, 2.0), focal=(1500.0, 2500.0))]
     b = analyse(read_result(focal_result(tmp_path)), calibrations=narrow_focal)
-    assert "focal length 1000 px" in frame_rows(b, "symmetry_thigh_deg")[0].interval
+    assert "focal length 1000 px" in frame_rows(b, "symmetry_thigh_deg")[0].how
 
 
 def test_poses_are_matched_one_by_one_to_the_calibrated_depth_ranges(tmp_path: Path) -> None:
@@ -92,7 +92,7 @@ def test_outside_the_known_cameras_range_the_pseudo_cameras_calibration_stands_i
     assert "states no root depth" in got.why_not[3]  # a pose whose camera cannot be checked gets none
     a = analyse(read_result(focal_result(tmp_path, depth=3.0)), calibrations=[pseudo, far])
     assert a.uncertainty_available and a.calibration_note == "calibrated"
-    assert all(np.isfinite(r.low_90) for r in frame_rows(a, "symmetry_thigh_deg"))
+    assert all(np.isfinite(r.low) for r in frame_rows(a, "symmetry_thigh_deg"))
     assert any("the pseudo camera's calibration stands in" in n for n in a.notes)
     pseudo_result = assign_calibrations([pseudo, far], PARAMS, JOINTS, depth, np.full(4, np.nan))
     assert pseudo_result.stand_in == 0 and pseudo_result.index.tolist() == [0, 0, 0, 0]
@@ -102,7 +102,7 @@ def test_a_root_frame_result_without_its_root_depth_says_why(tmp_path: Path) -> 
     res = read_result(focal_result(tmp_path))
     res = replace(res, coordinate_frame="root", root_translation=None)
     a = analyse(res, calibrations=[camera_calibration((0.6, 2.0))])
-    assert "states no root depth or camera" in frame_rows(a, "symmetry_shank_deg")[0].interval
+    assert "states no root depth or camera" in frame_rows(a, "symmetry_shank_deg")[0].how
 
 
 def test_pseudo_camera_results_are_analysed_as_before(tmp_path: Path) -> None:
@@ -111,7 +111,7 @@ def test_pseudo_camera_results_are_analysed_as_before(tmp_path: Path) -> None:
     path = write_document(tmp_path / "p.zedo.json", doc)
     alone = analyse(read_result(path), calibrations=[calibration(width=3.0)])
     both = analyse(read_result(path), calibrations=[calibration(width=3.0), camera_calibration((0.6, 2.0))])
-    keep = ("measure", "value", "low_90", "high_90", "call", "interval", "call_low", "call_high")
+    keep = ("measure", "value", "low", "high", "call", "interval", "call_low", "call_high")
 
     def cells(rows: list) -> list[list]:  # NaN as None: NaN != NaN
         return [[None if isinstance(v, float) and v != v else v for v in (getattr(r, c) for c in keep)] for r in rows]
@@ -150,13 +150,13 @@ def test_a_joint_filled_by_the_prior_takes_the_calibrations_wider_model_where_it
     cal = replace(cal, filled={n: MeasureModel(20.0, 1.0, (), wide, wide, circular=False) for n in cal.measures})
     a = analyse(read_result(path), calibrations=[cal])
     forearm = frame_rows(a, "symmetry_forearm_deg")
-    assert forearm[0].interval == "calibrated with a joint filled by the prior: left_wrist"
-    assert forearm[0].high_90 == pytest.approx(forearm[0].value + 20.0)
-    assert forearm[1].interval == "calibrated" and forearm[1].high_90 == pytest.approx(forearm[1].value + 8.0)
+    assert forearm[0].how == "calibrated_filled: left_wrist"
+    assert forearm[0].high == pytest.approx(forearm[0].value + 20.0)
+    assert forearm[1].how == "calibrated" and forearm[1].high == pytest.approx(forearm[1].value + 8.0)
     p = [r.value for r in a.rows if r.measure == "symmetry_forearm_probability_asymmetric"]
     assert all(np.isfinite(p))  # the filled frame has a probability too
     without = analyse(read_result(path), calibrations=[camera_calibration((0.6, 2.0))])  # no such model: none
-    assert frame_rows(without, "symmetry_forearm_deg")[0].interval.startswith("none: joint filled by the prior")
+    assert frame_rows(without, "symmetry_forearm_deg")[0].how.startswith("none: joint filled by the prior")
     path2 = tmp_path / "m.json"
     write_calibrations(path2, [cal])
     assert read_calibrations(path2) == [cal]
@@ -236,8 +236,8 @@ def test_a_filled_joint_outside_the_calibrated_range_gives_the_cameras_reason(tm
                          "symmetry_forearm_deg")  # fmt: skip
     why = ("none: camera outside the calibrated range (root depth 0.30 m, focal length 1000 px; calibrated: root "
            "depth 0.4-2 m, focal length 600-2500 px)")  # fmt: skip
-    assert [r.interval for r in forearm] == [why, why]  # the first with a filled wrist, the second without
-    assert all(np.isnan(r.low_90) for r in forearm)
+    assert [r.how for r in forearm] == [why, why]  # the first with a filled wrist, the second without
+    assert all(np.isnan(r.low) for r in forearm)
 
 
 def test_the_report_keeps_every_calibration_warning(tmp_path: Path) -> None:

@@ -49,20 +49,20 @@ def clip_rows(tmp_path: Path, calibrations: list[MeasureCalibration], temporal: 
 def test_a_calibrated_3d_feature_gets_its_estimate_and_interval(tmp_path: Path) -> None:
     rows = clip_rows(tmp_path, [calibration("smooth"), clip_calibration()])
     knee = rows[KNEE]
-    assert knee.interval == "calibrated"
+    assert knee.how == "calibrated"
     raw = knee.raw_value
     assert raw == pytest.approx(180.0, abs=1e-3)  # a straight leg
     assert knee.value == pytest.approx(120.0 + 0.5 * (raw - 120.0))  # shrunk half-way to the centre
-    assert (knee.low_90, knee.high_90) == pytest.approx((knee.value - 8.0, knee.value + 8.0))  # the upper bin's
+    assert (knee.low, knee.high) == pytest.approx((knee.value - 8.0, knee.value + 8.0))  # the upper bin's
     # a feature the calibration has no model of says so; the published 2D ones stay uncalibrated
-    assert rows["3d_mean_angle_LElbow"].interval == "none: the measure calibration has no 3d_mean_angle_LElbow"
-    assert np.isnan(rows["3d_mean_angle_LElbow"].low_90) and np.isnan(rows["3d_mean_angle_LElbow"].raw_value)
-    assert rows["mean_angle_RKnee"].interval == "none: published 2D feature"
+    assert rows["3d_mean_angle_LElbow"].how == "none: the measure calibration has no 3d_mean_angle_LElbow"
+    assert np.isnan(rows["3d_mean_angle_LElbow"].low) and np.isnan(rows["3d_mean_angle_LElbow"].raw_value)
+    assert rows["mean_angle_RKnee"].how == "none: published 2D feature"
 
 
 def test_intervals_stay_in_the_features_range(tmp_path: Path) -> None:
     rows = clip_rows(tmp_path, [clip_calibration(width=30.0, weight=1.0)])
-    assert rows[KNEE].high_90 == 180.0 and rows[KNEE].low_90 == pytest.approx(rows[KNEE].value - 60.0)
+    assert rows[KNEE].high == 180.0 and rows[KNEE].low == pytest.approx(rows[KNEE].value - 60.0)
     assert feature_range("3d_lrCorr_angle_Knee") == (-1.0, 1.0)
     assert feature_range("3d_mean_angle_LHipFlexion") == (-90.0, 270.0)
     assert feature_range("3d_median_vel_angle_LKnee") == (0.0, np.inf)
@@ -70,10 +70,10 @@ def test_intervals_stay_in_the_features_range(tmp_path: Path) -> None:
 
 def test_an_uncalibrated_3d_feature_gets_the_reason(tmp_path: Path) -> None:
     none = clip_rows(tmp_path, [calibration("smooth")])  # only frame calibrations
-    assert none[KNEE].interval == "none: no measure calibration installed" and np.isnan(none[KNEE].low_90)
+    assert none[KNEE].how == "none: no measure calibration installed" and np.isnan(none[KNEE].low)
     other_mode = clip_rows(tmp_path, [clip_calibration("none")])  # calibrated on smooth lifts only
-    assert other_mode[KNEE].interval == "none: no measure calibration for temporal mode smooth"
-    assert np.isnan(other_mode[KNEE].high_90) and np.isfinite(other_mode[KNEE].value)
+    assert other_mode[KNEE].how == "none: no measure calibration for temporal mode smooth"
+    assert np.isnan(other_mode[KNEE].high) and np.isfinite(other_mode[KNEE].value)
 
 
 def test_clip_calibrations_leave_frame_measures_alone(tmp_path: Path) -> None:
@@ -110,19 +110,19 @@ def test_a_clip_calibration_of_known_cameras_holds_for_clips_inside_its_range(tm
     focal length lie in the calibration's domain; outside it the pseudo camera's clip calibration stands in where
     there is one, else the reason with the clip's camera."""
     inside = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()])
-    assert inside[KNEE].interval == "calibrated" and np.isfinite(inside[KNEE].low_90)
+    assert inside[KNEE].how == "calibrated" and np.isfinite(inside[KNEE].low)
     stood_in = camera_clip_rows(tmp_path, [clip_calibration(), known_cameras()], shift_m=2.0)
-    assert stood_in[KNEE].interval == "calibrated" and np.isfinite(stood_in[KNEE].low_90)
+    assert stood_in[KNEE].how == "calibrated" and np.isfinite(stood_in[KNEE].low)
     far = camera_clip_rows(tmp_path, [known_cameras()], shift_m=2.0)
-    assert far[KNEE].interval == (
+    assert far[KNEE].how == (
         "none: camera outside the calibrated range (the clip's median root depth 3.00 m, "
         "focal length 1000 px; calibrated: root depth 0.5-1.5 m, focal length 900-1100 px)"
     )
-    assert np.isnan(far[KNEE].low_90) and far[KNEE].value == pytest.approx(180.0, abs=1e-3)  # the raw feature
+    assert np.isnan(far[KNEE].low) and far[KNEE].value == pytest.approx(180.0, abs=1e-3)  # the raw feature
     only_pseudo = camera_clip_rows(tmp_path, [clip_calibration()])
-    assert only_pseudo[KNEE].interval == "none: no measure calibration for this camera (calibrated: pseudo)"
+    assert only_pseudo[KNEE].how == "none: no measure calibration for this camera (calibrated: pseudo)"
     pseudo_result = camera_clip_rows(tmp_path, [known_cameras()], sources=("pseudo",))
-    assert pseudo_result[KNEE].interval == "none: no measure calibration for this camera (calibrated: cli, file)"
+    assert pseudo_result[KNEE].how == "none: no measure calibration for this camera (calibrated: cli, file)"
 
 
 def test_a_clip_whose_camera_cannot_be_checked_gets_no_known_camera_interval() -> None:
@@ -166,8 +166,8 @@ def test_a_clip_outside_calibration_states_no_3d_interval_and_says_why(tmp_path:
     a = analyse(read_result(write_document(tmp_path / "down.zedo.json", doc)), AnalysisSettings(),
                 calibrations=[calibration("smooth"), clip_calibration()])  # fmt: skip
     knee = next(r for r in a.rows if r.frame_index is None and r.measure == KNEE)
-    assert knee.interval.startswith("none: outside calibration: the infant's trunk points")
-    assert np.isnan(knee.low_90) and knee.value == pytest.approx(180.0, abs=1e-3)  # the measurement, unshrunk
+    assert knee.how.startswith("none: outside calibration: the infant's trunk points")
+    assert np.isnan(knee.low) and knee.value == pytest.approx(180.0, abs=1e-3)  # the measurement, unshrunk
 
 
 def test_the_analysis_says_how_the_clip_calibration_held_on_sources_left_out(tmp_path: Path) -> None:

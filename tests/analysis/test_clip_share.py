@@ -122,21 +122,21 @@ def test_clip_shares_add_up_with_the_frame_rows(tmp_path: Path) -> None:
         assert len(p) == 90 and all(0.0 <= x <= 1.0 for x in p)
         share = clip[f"{stem}_share_asymmetric"]
         assert share.value == pytest.approx(np.mean(p))
-        assert share.low_90 <= share.value <= share.high_90 and share.interval == SHARE_CALIBRATED
+        assert share.low <= share.value <= share.high and share.how == SHARE_CALIBRATED
         calls = [r.call for r in a.rows if r.measure == name and r.frame_index is not None]
         fractions = [clip[f"{stem}_fraction_{c}"].value for c in CALLS]
         assert fractions == pytest.approx([calls.count(c) / len(calls) for c in CALLS])  # unchanged
         sure = clip[f"{stem}_fraction_asymmetric"].value  # frames called asymmetric are at least that likely
-        assert share.high_90 >= sure
+        assert share.high >= sure
     shank = clip["symmetry_shank_share_asymmetric"]  # the left knee bends 0-60 deg: part of the time above 28
-    assert 0.2 < shank.value < 0.8 and shank.high_90 - shank.low_90 > 0.02
+    assert 0.2 < shank.value < 0.8 and shank.high - shank.low > 0.02
     assert clip["symmetry_thigh_share_asymmetric"].value < 0.05  # thighs stay together
 
 
 def test_without_a_calibration_the_share_says_why(tmp_path: Path) -> None:
     a = analyse(read_result(clip_result(tmp_path, 30)), calibrations=[])
     share = next(r for r in a.rows if r.measure == "symmetry_shank_share_asymmetric")
-    assert np.isnan(share.value) and share.interval == "none: no frame has a calibrated value"
+    assert np.isnan(share.value) and share.how == "none: no frame has a calibrated value"
     assert all(np.isnan(r.value) for r in a.rows if r.measure == probability_name("symmetry_shank_deg"))
 
 
@@ -165,16 +165,16 @@ def test_the_share_interval_holds_the_margin_the_bootstrap_alone_would_not(tmp_p
         stem = name.removesuffix("_deg")
         share = clip[f"{stem}_share_asymmetric"]
         margin = share_margin(bundled_share_margins(), stem, a.settings.threshold_deg, 0.9).margin
-        assert share.low_90 <= max(0.0, share.value - margin) + 1e-9
-        assert share.high_90 >= min(1.0, share.value + margin) - 1e-9
+        assert share.low <= max(0.0, share.value - margin) + 1e-9
+        assert share.high >= min(1.0, share.value + margin) - 1e-9
 
 
 def test_outside_the_calibrated_thresholds_the_share_has_no_interval(tmp_path: Path) -> None:
     a = analyse(read_result(clip_result(tmp_path)), AnalysisSettings(threshold_deg=60.0),
                 calibrations=[calibration("smooth", 10.0)])  # fmt: skip
     share = next(r for r in a.rows if r.measure == "symmetry_shank_share_asymmetric")
-    assert np.isfinite(share.value) and np.isnan(share.low_90) and np.isnan(share.high_90)
-    assert share.interval == "none: thresholds 15-45 deg only"
+    assert np.isfinite(share.value) and np.isnan(share.low) and np.isnan(share.high)
+    assert share.how == "none: thresholds 15-45 deg only"
 
 
 def test_the_bundled_share_margins_cover_every_pair_threshold_and_level() -> None:

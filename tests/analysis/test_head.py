@@ -143,9 +143,7 @@ def test_clip_shares_are_the_frame_rows_calls_counted(tmp_path: Path) -> None:
     for c in ("left", "right", "midline"):
         share = clip[f"head_turn_fraction_{c}"]
         assert share.value == calls.count(c) / sum(1 for x in calls if x)
-        assert share.low_90 <= share.value <= share.high_90 and share.interval.startswith(
-            "calibrated: circular block bootstrap"
-        )
+        assert share.low <= share.value <= share.high and share.how.startswith("calibrated: circular block bootstrap")
     assert calls.count("right") >= 90 and calls.count("midline") >= 60
     assert clip["head_tilt_median_deg"].value == pytest.approx(0.0, abs=1e-6)
     assert not any("no head measures" in n for n in a.notes)
@@ -157,7 +155,7 @@ def test_a_result_without_face_points_says_so_once(tmp_path: Path) -> None:
     a = analyse(read_result(_result_with_faces(tmp_path, np.zeros(20), face=False)))
     head = [r for r in a.rows if r.measure.startswith("head_")]
     assert len(head) == 20 * 2 + 4 and all(np.isnan(r.value) for r in head)
-    assert all(r.interval == "none: the input has no face points (nose, eyes, ears)" for r in head)
+    assert all(r.how == "none: the input has no face points (nose, eyes, ears)" for r in head)
     assert [n for n in a.notes if "head" in n] == ["no head measures: the input has no face points (nose, eyes, ears)"]
 
 
@@ -167,9 +165,9 @@ def test_low_confidence_face_points_are_missing_as_lift_made_them(tmp_path: Path
     res.other_keypoint_confidence[:, 0] = 0.2  # the nose
     a = analyse(dataclasses.replace(res, params={**res.params, "min_confidence": 0.3}))
     turns = [r for r in a.rows if r.measure == "head_turn"]
-    assert all("eyes between the ears" in r.interval for r in turns)  # the nose left out
+    assert all("eyes between the ears" in r.how for r in turns)  # the nose left out
     a = analyse(res, AnalysisSettings(head=HeadSettings(min_confidence=0.1)))
-    assert all("nose between" in r.interval for r in a.rows if r.measure == "head_turn")
+    assert all("nose between" in r.how for r in a.rows if r.measure == "head_turn")
 
 
 def test_block_length_grows_with_the_correlation() -> None:

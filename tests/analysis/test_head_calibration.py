@@ -174,5 +174,5 @@ def test_zedo_analyze_gives_the_head_intervals_at_its_level(tmp_path: Path) -> N
     for measure in MEASURES:
         at90, at95 = rows[0.9][measure], rows[0.95][measure]
         assert at90.value == at95.value
-        assert at90.interval.startswith("calibrated") and "for 90%" in at90.interval and "for 95%" in at95.interval
-        assert at95.low_90 <= at90.low_90 <= at90.value <= at90.high_90 <= at95.high_90
+        assert at90.how.startswith("calibrated") and "for 90%" in at90.how and "for 95%" in at95.how
+        assert at95.low <= at90.low <= at90.value <= at90.high <= at95.high

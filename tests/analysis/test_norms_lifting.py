@@ -36,7 +36,7 @@ def test_a_reference_and_a_clip_compare_what_was_measured(tmp_path: Path) -> Non
     calibrated = _analysed(tmp_path, [calibration("smooth", width=5.0), clip_calibration()])
     plain = _analysed(tmp_path, [])
     rows = {r.measure: r for r in calibrated.rows if r.frame_index is None}
-    assert rows[KNEE].interval == "calibrated" and rows[KNEE].value != rows[KNEE].raw_value  # shrunk
+    assert rows[KNEE].how == "calibrated" and rows[KNEE].value != rows[KNEE].raw_value  # shrunk
     median = rows["symmetry_forearm_median_deg"]
     assert np.isfinite(median.raw_value)
     (with_cal,), (without,) = features_by_person(calibrated), features_by_person(plain)

@@ -153,16 +153,16 @@ def test_analyze_emits_them_as_clip_rows(tmp_path: Path) -> None:
     a = analyse(read_result(path))
     clip = {r.measure: r for r in a.rows if r.frame_index is None}
     assert "left_knee_flexion_range_deg" in clip  # the existing features stay
-    assert clip["Knee_mean_angle"].interval == "none: published 2D feature" and clip["Knee_mean_angle"].unit == "deg"
+    assert clip["Knee_mean_angle"].how == "none: published 2D feature" and clip["Knee_mean_angle"].unit == "deg"
     assert clip["mean_angle_RKnee"].value == pytest.approx(180.0, abs=1e-3)  # a straight leg, seen from the front
-    assert clip["3d_mean_angle_RKnee"].interval.startswith("none: no measure calibration")  # not the shipped prior
-    assert np.isnan(clip["3d_mean_angle_RKnee"].low_90) and np.isnan(clip["3d_mean_angle_RKnee"].high_90)
+    assert clip["3d_mean_angle_RKnee"].how.startswith("none: no measure calibration")  # not the shipped prior
+    assert np.isnan(clip["3d_mean_angle_RKnee"].low) and np.isnan(clip["3d_mean_angle_RKnee"].high)
     text = csv_text(a)
     assert "\n,,,0,Ankle_medianx," in text and "\n,,,0,3d_mean_dispersion_LAnkle," in text
     short = analyse(read_result(write_document(tmp_path / "s.zedo.json", result_document(kicking_poses(5)))),
                     AnalysisSettings(fps=30.0))  # fmt: skip
     row = next(r for r in short.rows if r.measure == "Elbow_mean_angle")
-    assert np.isnan(row.value) and "too short for the published windows" in row.interval
+    assert np.isnan(row.value) and "too short for the published windows" in row.how
 
 
 def test_a_result_without_2d_keypoints_gets_empty_published_features(tmp_path: Path) -> None:
@@ -170,5 +170,5 @@ def test_a_result_without_2d_keypoints_gets_empty_published_features(tmp_path: P
     res.record = None
     clip = {r.measure: r for r in analyse(res).rows if r.frame_index is None}
     assert np.isnan(clip["Ankle_IQRx"].value)
-    assert clip["Ankle_IQRx"].interval == "none: the result file carries no 2D keypoints"
+    assert clip["Ankle_IQRx"].how == "none: the result file carries no 2D keypoints"
     assert np.isfinite(clip["3d_mean_angle_LKnee"].value)

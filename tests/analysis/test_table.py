@@ -68,7 +68,7 @@ def awkward_block(n: int = 7) -> Block:
             "person": np.zeros(n, dtype=np.int64)}  # fmt: skip
     how = np.array(["calibrated", "none: a reason, with a comma", "", 'say "x"', "calibrated", "c", "d"][:n], object)
     cells = (
-        {"measure": "first_deg", "value": awkward_numbers(rng, n)[:n], "unit": "deg", "low_90": rng.normal(size=n),
+        {"measure": "first_deg", "value": awkward_numbers(rng, n)[:n], "unit": "deg", "low": rng.normal(size=n),
          "interval": how, "call": np.array(["symmetric", "", "uncertain", "", "", "", ""][:n], object)},
         {"measure": "second", "value": np.round(rng.normal(size=n) * 5), "unit": "band", "flag": "too_fast"},
     )  # fmt: skip
@@ -79,7 +79,7 @@ def test_a_block_writes_as_its_rows_do() -> None:
     block = awkward_block()
     rows = list(block.rows())
     assert [r.measure for r in rows[:4]] == ["first_deg", "second", "first_deg", "second"]  # pose by pose
-    assert rows[1].call == "" and np.isnan(rows[1].low_90) and rows[1].flag == "too_fast"
+    assert rows[1].call == "" and np.isnan(rows[1].low) and rows[1].flag == "too_fast"
     assert "".join(csv_lines([block])) == csv_of_rows(rows)
     assert [row for part in json_rows([block]) for row in part] == json_of_rows(rows)
     both = list(csv_and_json([block]))

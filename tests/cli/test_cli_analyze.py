@@ -44,7 +44,7 @@ def test_lift_then_analyze_every_format(tiny_prior_path: Path, tmp_path: Path, f
         "img2.jpg",
     }
     head = [r for r in table if r["measure"].startswith("head_")]  # the face at v = 0: no head, and why
-    assert len(head) == 3 * 2 and all(r["value"] == "" and r["interval"].startswith("none: ") for r in head)
+    assert len(head) == 3 * 2 and all(r["value"] == "" and r["interval"] == "none" and r["interval_note"] for r in head)
     doc = json.loads((tmp_path / "kp.analysis.json").read_text())
     assert doc["input"]["format"] == fmt and doc["input"]["units_in_file"] == "mm"
     assert len(doc["rows"]) == len(table)
@@ -60,7 +60,7 @@ def test_the_documented_pipe(tiny_prior_path: Path, tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     table = rows(done.stdout)
     assert len(table) == 2 * (4 + 4 + 4 + 12 + 2) and table[0]["measure"] == "symmetry_upper_arm_deg"
-    assert table[0]["interval"] == "none: no measure calibration for this prior"
+    assert (table[0]["interval"], table[0]["interval_note"]) == ("none", "no measure calibration for this prior")
 
 
 def test_stdin_in_jsonl_and_csv_output_choices(tiny_prior_path: Path, tmp_path: Path, kick: Path) -> None:
@@ -213,13 +213,14 @@ def test_a_lift_given_its_focal_length_gets_the_bundled_camera_calibration(tmp_p
     rows = list(csv.DictReader(io.StringIO(result.stdout)))
     sym = [r for r in rows if r["measure"].startswith("symmetry_") and r["measure"].endswith("_deg")]
     assert len(sym) == 16 and {r["interval"] for r in sym} == {"calibrated"}
-    assert all(float(r["low_90"]) <= float(r["value"]) <= float(r["high_90"]) for r in sym)
+    assert all(float(r["low"]) <= float(r["value"]) <= float(r["high"]) for r in sym)
     for focal, stand_in in (("3000", False), ("6000", True)):  # 3 m inside the known cameras' range, 6 m beyond it
         far = runner.invoke(app, ["lift", str(src), "--focal", focal, "-q", "-o", str(tmp_path / "far.zedo.json"),
                                   "--overwrite"])  # fmt: skip
         assert far.exit_code == 0, far.output
         table = runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "-o", "-", "-q"]).stdout
-        reasons = {r["interval"] for r in csv.DictReader(io.StringIO(table)) if r["measure"] == "symmetry_thigh_deg"}
+        thigh = [r for r in csv.DictReader(io.StringIO(table)) if r["measure"] == "symmetry_thigh_deg"]
+        reasons = {f"{r['interval']}: {r['interval_note']}".removesuffix(": ") for r in thigh}
         # outside the range the pseudo camera's calibration stands in, as without --focal
         assert "calibrated" in reasons and not any(x.startswith("none: camera outside") for x in reasons)
         doc = json.loads(runner.invoke(app, ["analyze", str(tmp_path / "far.zedo.json"), "--json", "-q"]).stdout)

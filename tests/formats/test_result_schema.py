@@ -113,5 +113,5 @@ def test_schema_command(tmp_path: Path) -> None:
     assert runner.invoke(app, ["schema", "result", "-o", str(tmp_path / "s.json")]).exit_code == 0
     again = runner.invoke(app, ["schema", "result", "-o", str(tmp_path / "s.json")])
     assert again.exit_code == 2 and "already exists" in again.output
-    bad = runner.invoke(app, ["schema", "analysis"])
-    assert bad.exit_code == 2 and "unknown schema 'analysis'" in bad.output
+    bad = runner.invoke(app, ["schema", "norms"])
+    assert bad.exit_code == 2 and "unknown schema 'norms'; choose one of: result, analysis" in bad.output

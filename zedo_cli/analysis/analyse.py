@@ -57,7 +57,7 @@ from .pose.symmetry import (
     symmetry_bands,
     symmetry_calls,
 )
-from .table import COLUMNS, Block, Row, rows_block
+from .table import COLUMNS, Block, Row, clip_row, rows_block
 from .uncertainty.calibration import (
     DEFAULT_CALL_LEVEL,
     DEFAULT_LEVEL,
@@ -77,9 +77,9 @@ from .uncertainty.domain import outside_calibration, without_outside
 from .uncertainty.share_calibration import calibrated_share
 
 SYMMETRY_NAMES = tuple(measure_name(p) for p in PAIRS)
-# The `interval` column: how low_90 / high_90 were obtained, or why they are empty.
+# How a frame measure's interval was obtained, "code: note" (the `interval` and `interval_note` columns, table.py)
 INTERVAL_CALIBRATED = "calibrated"  # measure-level split conformal (analysis.calibration)
-INTERVAL_FILLED = "calibrated with a joint filled by the prior"  # the calibration's model of such cases, wider
+INTERVAL_FILLED = "calibrated_filled"  # the calibration's model of such cases, wider; the note names the joints
 INTERVAL_CLIP = "not_for_clip_features"
 INTERVAL_CLIP_MEDIAN = "median_of_frame_interval_ends"
 DEFAULT_MAX_VELOCITY_DEG_S = 500.0
@@ -368,8 +368,9 @@ def _clip_feature_rows(
     stand_in = camera_stand_in(models, res.params, res.skeleton.joints, scope="clips")
     features = clip_features(res, a.index, float(a.fps or 0.0), clip_cal, clip_why, a.settings.level, cameras, outside,
                              stand_in)  # fmt: skip
-    rows = [Row(None, None, None, f.person, f.measure, f.value, f.unit, f.low, f.high, interval=f.interval,
-                raw_value=f.raw_value) for f in features]  # fmt: skip
+    level = a.settings.level
+    rows = [clip_row(f.person, f.measure, f.value, f.unit, f.interval, level, f.low, f.high, f.raw_value)
+            for f in features]  # fmt: skip
     return rows, clip_cal
 
 
@@ -391,11 +392,11 @@ def _head_block(a: Analysis) -> Block:
     """`head_tilt_deg` and `head_turn` of every analysed pose (after the body's frame rows)."""
     h = a.head
     assert h is not None
-    tilt = {"measure": TILT, "value": h.tilt_deg, "unit": "deg", "interval": np.asarray(h.tilt_how, dtype=object),
+    tilt = {"measure": TILT, "value": h.tilt_deg, "unit": "deg", "how": np.asarray(h.tilt_how, dtype=object),
             "flag": np.asarray(h.tilt_flag, dtype=object)}  # fmt: skip
     turn = {"measure": TURN, "value": h.turn_deg, "unit": "deg", "call": np.asarray(h.turn_call, dtype=object),
-            "interval": np.asarray(h.turn_how, dtype=object)}  # fmt: skip
-    return Block(len(a.index), _pose_keys(a), (tilt, turn))
+            "how": np.asarray(h.turn_how, dtype=object)}  # fmt: skip
+    return Block(len(a.index), _pose_keys(a), (tilt, turn), a.settings.level)
 
 
 def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
@@ -409,7 +410,7 @@ def _head_clip_rows(a: Analysis, why: str | None) -> list[Row]:
         track = HeadFrames(*(getattr(a.head, f)[sel] for f in HeadFrames.__dataclass_fields__))
         for stat in head_clip(frames[sel], track, a.fps, a.settings.head, why, level=a.settings.level):
             i = stat.interval
-            rows.append(Row(None, None, None, p, stat.measure, stat.value, stat.unit, i.low, i.high, interval=i.how))
+            rows.append(clip_row(p, stat.measure, stat.value, stat.unit, i.how, a.settings.level, i.low, i.high))
     return rows
 
 
@@ -471,7 +472,7 @@ def _frame_block(a: Analysis) -> Block:
     for name in (*SYMMETRY_NAMES, *ANGLE_NAMES):
         v, raw, (low, high) = a.values[name], a.raw_values[name], a.intervals[name]
         how = np.array(a.interval_how[name], dtype=object)
-        cell = {"measure": name, "value": v, "unit": "deg", "low_90": low, "high_90": high, "interval": how,
+        cell = {"measure": name, "value": v, "unit": "deg", "low": low, "high": high, "how": how,
                 "raw_value": raw}  # fmt: skip
         if name in a.too_fast:
             cell["flag"] = np.where(a.too_fast[name], FLAG_TOO_FAST, "").astype(object)
@@ -481,11 +482,11 @@ def _frame_block(a: Analysis) -> Block:
             c_low, c_high = (np.where(known, x, np.nan) for x in a.call_intervals[name])
             cell.update(call=a.calls[name], call_low=c_low, call_high=c_high)
             cells.append({"measure": name.replace("_deg", "_band"), "value": symmetry_bands(v), "unit": "band",
-                          "low_90": symmetry_bands(low), "high_90": symmetry_bands(high), "interval": how,
+                          "low": symmetry_bands(low), "high": symmetry_bands(high), "how": how,
                           "raw_value": symmetry_bands(raw)})  # fmt: skip
             cells.append({"measure": probability_name(name), "value": a.probabilities[name], "unit": "probability",
-                          "interval": how})  # fmt: skip
-    return Block(len(a.index), _pose_keys(a), tuple(cells))
+                          "how": how})  # fmt: skip
+    return Block(len(a.index), _pose_keys(a), tuple(cells), a.settings.level)
 
 
 def _clip_rows(a: Analysis, notes: list[str]) -> list[Row]:
@@ -501,7 +502,7 @@ def _clip_rows(a: Analysis, notes: list[str]) -> list[Row]:
 
         def add(measure: str, value: float, unit: str, low: float = np.nan, high: float = np.nan,
                 how: str = INTERVAL_CLIP, p: int = p, raw: float = np.nan) -> None:  # fmt: skip
-            rows.append(Row(None, None, None, p, measure, value, unit, low, high, interval=how, raw_value=raw))
+            rows.append(clip_row(p, measure, value, unit, how, a.settings.level, low, high, raw))
 
         measured = movement_values(frames, sel, fps, estimates=a.values, own=a.raw_values, too_fast=a.too_fast)
         for name in ANGLE_NAMES:

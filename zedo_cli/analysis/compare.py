@@ -16,6 +16,7 @@ from .analyse import Analysis, Row
 from .clip.clip_features import epoch_features
 from .clip.movement import movement_values
 from .norms.norms import ClipValues, Comparison, Norms, compare, is_lift_artifact
+from .table import clip_row
 
 # The `interval` column of the comparison rows: a z or p has no interval of its own.
 INTERVAL_COMPARISON = "none: comparison with the reference"
@@ -141,7 +142,7 @@ def compared(a: Analysis, norms: Norms, age_weeks: float | None) -> Analysis:
         p = clip.person
 
         def add(measure: str, value: float, unit: str, p: int = p) -> None:
-            rows.append(Row(None, None, None, p, measure, value, unit, interval=INTERVAL_COMPARISON))
+            rows.append(clip_row(p, measure, value, unit, INTERVAL_COMPARISON, a.settings.level))
 
         for name in sorted(c.z):
             add(f"{name}{Z_SUFFIX}", c.z[name], "z")

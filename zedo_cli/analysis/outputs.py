@@ -1,18 +1,17 @@
 """The analysis as a tidy CSV and as JSON, written atomically (or to stdout for "-").
 
 CSV (plain RFC 4180, one header line, read by pandas / R with their defaults): the columns of
-`analyse.COLUMNS`, one row per frame, person and measure, then the per-clip features (frame
+`table.COLUMNS`, one row per frame, person and measure, then the per-clip features (frame
 columns empty). Unknown values are empty fields, never 0. `value` is the measure's estimate,
-`raw_value` the measure of the reported pose. The `interval` column says how low_90 / high_90
-were obtained or why they are empty: `calibrated` (the measure-level calibration of
-`analysis.calibration`), `median_of_frame_interval_ends` (a clip's median), `not_for_clip_features`,
-`calibrated: circular block bootstrap ...` (the head's clip rows: block length, replicates, the
-calibration's factor and its held-out coverage), or `none: <reason>` (no
-calibration holds for the result, a joint filled by the prior, a joint missing, a face point
-missing). `flag` is `too_fast` where a joint angle changed faster than the stated bound, and
-`eye_line_reversed` where the eye line points against the shoulder line (head_tilt_deg folded).
+`raw_value` the measure of the reported pose. `low` and `high` are its interval at `level` (--level), empty
+where none; `interval` says how they were obtained (a code of `table.INTERVAL_METHODS`: `calibrated`,
+`calibrated_filled`, `median_of_frame_interval_ends`, `block_bootstrap_and_share_calibration`,
+`not_for_clip_features`, or `none`) and `interval_note` more (for `none`, why: no calibration holds for the
+result, a joint filled by the prior, a joint missing, a face point missing). `flag` is `too_fast` where a joint
+angle changed faster than the stated bound, and `eye_line_reversed` where the eye line points against the
+shoulder line (head_tilt_deg folded).
 
-JSON (schema `zedo.analysis/1`): the same rows, plus the input, the settings, the notes (e.g.
+JSON (schema `zedo.analysis/2`): the same rows, plus the input, the settings, the notes (e.g.
 that no uncertainty was available), the measures' units and descriptions, and a summary.
 """
 
@@ -31,11 +30,10 @@ from ..formats.writers.common import RawItems, json_pieces, rounded, write_text
 from ..version import __version__
 from .analyse import Analysis, summary
 from .pose.symmetry import BAND_EDGES_DEG, PAIRS
-from .table import COLUMNS, CSV_HEADER, DECIMALS, csv_and_json, json_rows
+from .schema import SCHEMA
+from .table import COLUMNS, CSV_HEADER, DECIMALS, INTERVAL_METHODS, csv_and_json, json_rows
 from .table import csv_lines as table_lines
 from .uncertainty.calibration import backing
-
-SCHEMA = "zedo.analysis/1"
 
 
 def _num(value: Any) -> Any:
@@ -108,7 +106,7 @@ def measure_descriptions() -> dict[str, str]:
 
 
 def analysis_document(a: Analysis) -> dict[str, Any]:
-    """The JSON document (schema `zedo.analysis/1`) as a dict, every row in it."""
+    """The JSON document (schema `zedo.analysis/2`) as a dict, every row in it."""
     return {key: [json.loads(row) for part in value for row in part] if key == "rows" else value
             for key, value in _document_members(a)}  # fmt: skip
 
@@ -132,7 +130,8 @@ def _document_members(a: Analysis, rows: Iterator[RawItems] | None = None) -> It
         "calibrations": used_calibrations(a),
         "method": "per measure: the estimate and its interval from a split-conformal calibration on held-out "
         "lifts, by bins of the measured value (analysis.calibration, docs/clinical.md); the interval column of "
-        "each row says how its interval was obtained or why it has none",
+        "each row says how its interval was obtained (interval_methods), interval_note more, or why it has none",
+        "interval_methods": INTERVAL_METHODS,
     }
     yield from {
         "schema": SCHEMA,

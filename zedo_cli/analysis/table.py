@@ -24,16 +24,33 @@ import numpy as np
 
 from ..formats.writers.common import SIGNIFICANT
 
-COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low_90", "high_90",
-           "call", "interval", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
+COLUMNS = ("frame_index", "image_id", "file_name", "person", "measure", "value", "unit", "low", "high", "level",
+           "call", "interval", "interval_note", "raw_value", "flag", "call_low", "call_high")  # fmt: skip
 SHARED = COLUMNS[:4]  # one value per pose in a block
 DECIMALS = 3  # at least; small values keep SIGNIFICANT digits
 PART_POSES = 500  # poses turned into text at a time (a few MB)
+# The `interval` column's codes: how `low` and `high` were obtained; `interval_note` says more (for "none": why)
+INTERVAL_METHODS = {
+    "calibrated": "split-conformal calibration of the measure on held-out lifts (docs/clinical.md)",
+    "calibrated_filled": "the calibration's model of poses with a joint the prior filled (wider); the note names them",
+    "median_of_frame_interval_ends": "a clip's median: the median of its frames' interval ends",
+    "block_bootstrap_and_share_calibration": "a block bootstrap of the frames widened by the share calibration",
+    "not_for_clip_features": "a clip's movement feature: no interval",
+    "none": "no interval; the note says why",
+}
+
+
+def split_how(how: str) -> tuple[str, str]:
+    """The `interval` code and `interval_note` of how an interval was obtained ("none: why", "calibrated", "code:
+    note")."""
+    method, _, note = how.partition(": ")
+    return method, note
 
 
 @dataclass
 class Row:
-    """One line of the tidy table (see COLUMNS)."""
+    """One line of the tidy table (see COLUMNS): `low` and `high` hold the interval at `level` (NaN where none),
+    `interval` how it was obtained (INTERVAL_METHODS), `interval_note` more about it."""
 
     frame_index: int | None
     image_id: int | str | None
@@ -42,10 +59,12 @@ class Row:
     measure: str
     value: float
     unit: str
-    low_90: float = np.nan
-    high_90: float = np.nan
+    low: float = np.nan
+    high: float = np.nan
+    level: float = np.nan
     call: str = ""
     interval: str = ""
+    interval_note: str = ""
     raw_value: float = np.nan
     flag: str = ""
     call_low: float = np.nan
@@ -53,6 +72,20 @@ class Row:
 
     def as_list(self) -> list[Any]:
         return [getattr(self, c) for c in COLUMNS]
+
+    @property
+    def how(self) -> str:
+        """`interval` and `interval_note` in one line ("none: why")."""
+        return f"{self.interval}: {self.interval_note}" if self.interval_note else self.interval
+
+
+def clip_row(person: int, measure: str, value: float, unit: str, how: str, level: float, low: float = np.nan,
+             high: float = np.nan, raw_value: float = np.nan) -> Row:  # fmt: skip
+    """A row of a clip's measure, its interval at `level` obtained as `how` says ("none: why")."""
+    method, note = split_how(how)
+    known = bool(np.isfinite(low) and np.isfinite(high))
+    return Row(None, None, None, person, measure, value, unit, low, high, level if known else np.nan,
+               interval=method, interval_note=note, raw_value=raw_value)  # fmt: skip
 
 
 _DEFAULTS = {f.name: f.default for f in fields(Row) if f.name not in SHARED}
@@ -62,11 +95,14 @@ _FLOATS = frozenset(c for c, d in _DEFAULTS.items() if isinstance(d, float)) | {
 @dataclass(frozen=True)
 class Block:
     """Rows of the tidy table as columns: `shared` maps SHARED columns to one value per pose `(n,)`; `cells` holds
-    per measure its columns (each `(n,)` or one value for all); a column a measure lacks takes Row's default."""
+    per measure its columns (each `(n,)` or one value for all); a column a measure lacks takes Row's default. A
+    measure's `how` ("none: why", "calibrated", ...) gives its `interval` and `interval_note`, and its `level` is
+    the block's where `low` and `high` are known."""
 
     n: int
     shared: dict[str, np.ndarray]
     cells: tuple[dict[str, Any], ...]
+    level: float = np.nan
 
     def parts(self, poses: int) -> Iterator[Block]:
         """The block in parts of at most `poses` poses, in order."""
@@ -77,12 +113,28 @@ class Block:
             part = slice(start, start + poses)
             yield Block(len(range(self.n)[part]), {c: v[part] for c, v in self.shared.items()},
                         tuple({c: v[part] if isinstance(v, np.ndarray) else v for c, v in cell.items()}
-                              for cell in self.cells))  # fmt: skip
+                              for cell in self.cells), self.level)  # fmt: skip
+
+    def columns(self, cell: dict[str, Any]) -> dict[str, Any]:
+        """A measure's own columns, `level`, `interval` and `interval_note` made from its intervals and `how`."""
+        out = {c: v for c, v in cell.items() if c != "how"}
+        if "how" in cell:
+            how = cell["how"]
+            if isinstance(how, np.ndarray):
+                split = {h: split_how(h) for h in set(how.tolist())}
+                out["interval"] = np.array([split[h][0] for h in how.tolist()], dtype=object)
+                out["interval_note"] = np.array([split[h][1] for h in how.tolist()], dtype=object)
+            else:
+                out["interval"], out["interval_note"] = split_how(how)
+        if "level" not in out and "low" in out and "high" in out:
+            known = np.isfinite(np.asarray(out["low"], dtype=float)) & np.isfinite(np.asarray(out["high"], dtype=float))
+            out["level"] = np.where(known, self.level, np.nan)
+        return out
 
     def rows(self) -> Iterator[Row]:
         shared = [self.shared[c].tolist() for c in SHARED]
-        columns = [{c: (v.tolist() if isinstance(v, np.ndarray) else repeat(v, self.n)) for c, v in cell.items()}
-                   for cell in self.cells]  # fmt: skip
+        columns = [{c: (v.tolist() if isinstance(v, np.ndarray) else repeat(v, self.n))
+                    for c, v in self.columns(cell).items()} for cell in self.cells]  # fmt: skip
         per_measure = [[dict(zip(cell, values, strict=False)) for values in zip(*cell.values(), strict=False)]
                        for cell in columns]  # fmt: skip
         for k, key in enumerate(zip(*shared, strict=True)):
@@ -169,7 +221,7 @@ def _lines(block: Block, formats: Sequence[_Format]) -> list[list[str]]:
     n = block.n
     shared = [_column(block.shared[c], n, formats) for c in SHARED]
     per_measure: list[list[list[str]]] = [[] for _ in formats]
-    for cell in block.cells:
+    for cell in map(block.columns, block.cells):
         own = [_column(cell[c] if c in cell else _default(c), n, formats) for c in COLUMNS[len(SHARED) :]]
         for f, fmt in enumerate(formats):
             columns = [column[f] for column in (*shared, *own)]

@@ -212,11 +212,11 @@ def analyze_command(
     preset, pseudo camera, images or --temporal smooth). A call is symmetric or
     asymmetric only when its --call-level interval (call_low, call_high) lies
     on one side of the threshold, else "uncertain"; without a calibration
-    every call is uncertain and the interval column says why.
+    every call is uncertain and interval_note says why.
 
     Outputs: a tidy CSV (frame_index, image_id, file_name, person, measure,
-    value, unit, low_90, high_90, call, interval, raw_value, flag, call_low,
-    call_high), a JSON with the same rows,
+    value, unit, low, high, level, call, interval, interval_note, raw_value,
+    flag, call_low, call_high), a JSON with the same rows,
     the settings and a summary, and with --report DIR a self-contained HTML
     report. Files are replaced only with --overwrite. A file that is not a
     zedo result, or has no lifted person, exits with code 3.

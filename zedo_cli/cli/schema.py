@@ -1,4 +1,4 @@
-"""`zedo schema`: print the published JSON Schema of a zedo file (today: the result file)."""
+"""`zedo schema`: print the published JSON Schema of a zedo file (the result, the analysis)."""
 
 from __future__ import annotations
 
@@ -12,13 +12,13 @@ from ..errors import ConfigError
 from ..files import write_text_atomic
 from .common import err_console, error_boundary, output_option
 
-SCHEMAS = ("result",)
+SCHEMAS = ("result", "analysis")
 
 
 # fmt: off
 @error_boundary
 def schema_command(
-    name: Annotated[str, typer.Argument(help=f"Which file's schema: {', '.join(SCHEMAS)} (the zedo.pose3d/1 result of zedo lift, JSON and JSON Lines).")],
+    name: Annotated[str, typer.Argument(help=f"Which file's schema: {', '.join(SCHEMAS)} (the zedo.pose3d/1 result of zedo lift, JSON and JSON Lines; the zedo.analysis/2 JSON of zedo analyze).")],
     out: Annotated[Optional[str], output_option("Write the schema to this file instead of stdout.")] = None,
     overwrite: Annotated[bool, typer.Option(help="Replace the output if it exists.")] = False,
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No note on stderr.")] = False,
@@ -28,17 +28,22 @@ def schema_command(
     The result schema describes the JSON document of zedo lift; each JSON Lines line is its
     header (with "type": "header"), one of its frames ("type": "frame") or its summary
     ("type": "summary"). Per-joint lists have one entry per skeleton joint. See docs/exports.md.
+    The analysis schema describes the JSON of zedo analyze: its rows have the CSV's columns.
 
-    Example:
+    Examples:
 
       zedo schema result -o zedo.pose3d.schema.json
+      zedo schema analysis -o zedo.analysis.schema.json
     """
     # fmt: on
     if name not in SCHEMAS:
         raise ConfigError(f"unknown schema {name!r}; choose one of: {', '.join(SCHEMAS)}")
-    from ..formats.result_schema import result_json_schema
+    if name == "result":
+        from ..formats.result_schema import result_json_schema as json_schema
+    else:
+        from ..analysis.schema import analysis_json_schema as json_schema
 
-    text = json.dumps(result_json_schema(), indent=2) + "\n"
+    text = json.dumps(json_schema(), indent=2) + "\n"
     if out is None or out == "-":
         sys.stdout.write(text)
     else:

@@ -44,10 +44,10 @@ def _clip_rows(a: Analysis) -> dict[tuple[int, str], Row]:
 
 def _share_cell(r: Row | None, level: str) -> str:
     if r is None or not np.isfinite(r.value):
-        why = r.interval.removeprefix("none: ") if r is not None and r.interval else "not measured"
+        why = r.how.removeprefix("none: ") if r is not None and r.how else "not measured"
         return f"<td>– <small>({escape(why)})</small></td>"
-    if np.isfinite(r.low_90) and np.isfinite(r.high_90):
-        return f"<td><b>{_pct(r.value)}</b> <small>{level} interval {_pct(r.low_90)} – {_pct(r.high_90)}</small></td>"
+    if np.isfinite(r.low) and np.isfinite(r.high):
+        return f"<td><b>{_pct(r.value)}</b> <small>{level} interval {_pct(r.low)} – {_pct(r.high)}</small></td>"
     return f"<td><b>{_pct(r.value)}</b> <small>(no interval)</small></td>"
 
 
@@ -139,7 +139,7 @@ def summary_section(a: Analysis) -> str:
         who = f" (person {p})" if len(people) > 1 else ""
         shares = [rows.get((p, n.removesuffix("_deg") + "_share_asymmetric")) for n in SYMMETRY_NAMES]
         if all(r is None or not np.isfinite(r.value) for r in shares):
-            why = next((r.interval.removeprefix("none: ") for r in shares if r is not None), "not measured")
+            why = next((r.how.removeprefix("none: ") for r in shares if r is not None), "not measured")
             out.append(f"<p class=meta><b>Share of the frames asymmetric{who}</b>: not estimated ({escape(why)}; "
                        "the shares need the calibrated intervals of the frames).</p>")  # fmt: skip
         head = "".join(f"<th>{_pair(n)}</th>" for n in SYMMETRY_NAMES)
@@ -159,15 +159,15 @@ def summary_section(a: Analysis) -> str:
         tilt = rows.get((p, "head_tilt_median_deg"))
         turn_rows = [rows.get((p, f"head_turn_fraction_{c}")) for c in TURN_CALLS]
         if all(r is None or not np.isfinite(r.value) for r in [*turn_rows, tilt]):
-            why = next((r.interval.removeprefix("none: ") for r in [tilt, *turn_rows] if r is not None), "")
+            why = next((r.how.removeprefix("none: ") for r in [tilt, *turn_rows] if r is not None), "")
             out.append(f"<p class=meta><b>Head{who}</b>: not measured ({escape(why or 'no head rows')}).</p>")
             continue
         if tilt is not None and np.isfinite(tilt.value):
-            band = (f" <small>{level} interval {tilt.low_90:.1f}° – {tilt.high_90:.1f}°</small>"
-                    if np.isfinite(tilt.low_90) else "")  # fmt: skip
+            band = (f" <small>{level} interval {tilt.low:.1f}° – {tilt.high:.1f}°</small>"
+                    if np.isfinite(tilt.low) else "")  # fmt: skip
             tilt_cell = f"<td><b>{tilt.value:.1f}°</b>{band}</td>"
         else:
-            why = tilt.interval.removeprefix("none: ") if tilt is not None else "not measured"
+            why = tilt.how.removeprefix("none: ") if tilt is not None else "not measured"
             tilt_cell = f"<td>– <small>({escape(why)})</small></td>"
         out.append(f"<p class=meta><b>Head{who}</b>: the share of the frames with a turn call, and the median "
                    "tilt (from the input's 2D face points and shoulders).</p>"

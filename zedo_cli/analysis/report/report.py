@@ -388,7 +388,7 @@ def _symmetry_frames_section(a: Analysis) -> str:
     head = f"<tr>{_LEAD}" + "".join(f"<th>{_pair_label(n)}<br><small>{unit}</small></th>" for n in SYMMETRY_NAMES)
     rows, more = _frame_rows(a, SYMMETRY_NAMES, cell)
     what = (f"degrees, the <b>{level} interval that decides the call</b> in brackets, then the call; the "
-            f"{_level(a.settings.level)} intervals are in the CSV and JSON (low_90, high_90)"
+            f"{_level(a.settings.level)} intervals are in the CSV and JSON (low, high)"
             if a.uncertainty_available else "degrees and call (no interval: no calibration holds)")  # fmt: skip
     return f"<h2>Symmetry per frame</h2><p class=meta>{what}.</p><table>{head}</tr>{rows}</table>{more}"
 
