@@ -115,7 +115,7 @@ def main() -> int:
                     a = analyse(result, calibrations=cals)
                     rows = [r for r in a.rows if r.measure in SYMMETRY_NAMES and r.frame_index is not None
                             and np.isfinite(r.value)]  # fmt: skip
-                    count = collections.Counter(reason(r.interval) for r in rows)
+                    count = collections.Counter(reason(r.how) for r in rows)
                     totals[calibration_file].update(count)
                     print(f"fold {k} {key}, {calibration_file}: {len(a.index)} of {n} poses lifted, {len(rows)} "
                           f"symmetry values: {dict(count.most_common())}")  # fmt: skip

@@ -172,13 +172,13 @@ def held(path: Path, truth3d: np.ndarray, focal: float | None, temporal: str, fa
         tally.angles.add(np.isfinite(value) & np.isfinite(truth_near), *a.intervals[name], truth_near)
     true_features = features_3d(truth3d, SKELETON, FPS).values
     rows = [r for r in a.rows if r.frame_index is None and r.measure.startswith(PREFIX_3D) and np.isfinite(r.value)]
-    low, high = np.array([r.low_90 for r in rows]), np.array([r.high_90 for r in rows])
+    low, high = np.array([r.low for r in rows]), np.array([r.high for r in rows])
     tally.features.add(np.ones(len(rows), bool), low, high, np.array([true_features[r.measure] for r in rows]))
     for r in rows:
         family = r.measure.removeprefix(PREFIX_3D).rsplit("_", 1)[0]
-        features.setdefault(r.measure, Count()).add(np.ones(1, bool), np.array([r.low_90]), np.array([r.high_90]),
+        features.setdefault(r.measure, Count()).add(np.ones(1, bool), np.array([r.low]), np.array([r.high]),
                                                     np.array([true_features[r.measure]]))  # fmt: skip
-        families.setdefault(family, Count()).add(np.ones(1, bool), np.array([r.low_90]), np.array([r.high_90]),
+        families.setdefault(family, Count()).add(np.ones(1, bool), np.array([r.low]), np.array([r.high]),
                                                  np.array([true_features[r.measure]]))  # fmt: skip
     return tally
 

@@ -469,8 +469,8 @@ def end_to_end(clip: Clip, folder: Path) -> dict[str, float]:
         "shares_agree_with_frame_rows": float(agree),
         "lift_seconds": lift_s,
         **{f"share_{c}": float(shares[f"head_turn_fraction_{c}"]["value"]) for c in CALLS},
-        **{f"share_{c}_low": float(shares[f"head_turn_fraction_{c}"]["low_90"]) for c in CALLS},
-        **{f"share_{c}_high": float(shares[f"head_turn_fraction_{c}"]["high_90"]) for c in CALLS},
+        **{f"share_{c}_low": float(shares[f"head_turn_fraction_{c}"]["low"]) for c in CALLS},
+        **{f"share_{c}_high": float(shares[f"head_turn_fraction_{c}"]["high"]) for c in CALLS},
     }
 
 
