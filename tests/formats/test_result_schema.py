@@ -115,3 +115,19 @@ def test_schema_command(tmp_path: Path) -> None:
     assert again.exit_code == 2 and "already exists" in again.output
     bad = runner.invoke(app, ["schema", "norms"])
     assert bad.exit_code == 2 and "unknown schema 'norms'; choose one of: result, analysis" in bad.output
+
+
+def test_a_clip_mode_results_skeletons_fit_the_schema(tmp_path: Path) -> None:
+    from zedo_cli.lifting.clip import TrackSkeleton
+
+    kp, res, mats, sources = make_case()
+    bones = {"left_upper_arm": 0.11, "right_upper_arm": 0.112, "left_thigh": 0.14, "right_thigh": 0.138}
+    found = TrackSkeleton(track=0, frames=300, bones_m=bones, torso_m={"hip_width": 0.1, "trunk_length": 0.25})
+    lost = TrackSkeleton(track="b", frames=12, fallback="under 1 s of frames")
+    temporal = {"mode": "clip", "sigma_frames": 2.0, "skeletons": [found.to_dict(), lost.to_dict()]}
+    write_result(tmp_path / "r.json", kp, res, mats, sources, {**PARAMS, "temporal": temporal}, INPUT_INFO)
+    doc = json.loads((tmp_path / "r.json").read_text())
+    check_document(doc)
+    bad = json.loads(json.dumps(doc))
+    bad["params"]["temporal"]["skeletons"][0]["bones"]["left_thigh"]["share"] = "0.3"
+    assert list(VALIDATOR.iter_errors(bad))

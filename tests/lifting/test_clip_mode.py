@@ -132,10 +132,14 @@ def test_zedo_lift_temporal_clip_records_the_skeleton_and_warns_of_a_fallback(ti
         assert result.exit_code == 0, result.output
         return json.loads(out.read_text()), result.stderr
 
+    from zedo_cli.formats.result_schema import ResultDocument
+
     doc, stderr = run(40)
+    ResultDocument.model_validate(doc, context={"joints": 12})  # the skeletons typed by the published schema
     (skel,) = doc["params"]["temporal"]["skeletons"]
     assert doc["params"]["temporal"]["mode"] == "clip" and len(skel["bones"]) == 8 and "warning" not in stderr
     short, stderr = run(MIN_TRACK_FRAMES - 5)
+    ResultDocument.model_validate(short, context={"joints": 12})
     assert short["params"]["temporal"]["skeletons"][0]["fallback"].startswith("too few frames")
     assert "1 of 1 tracks lifted as two-pass, not as one infant: too few frames" in " ".join(stderr.split())
 

@@ -152,10 +152,39 @@ class Summary(_Closed):
     seconds: NonNegative
 
 
+class BoneLength(_Closed):
+    """One limb bone of a clip-mode track: its length and its share of the eight limb bones' sum."""
+
+    length_m: NonNegative = Field(description="in the lift's own scale")
+    share: NonNegative
+    share_low: NonNegative = Field(description="the share's interval at the skeleton's `level`")
+    share_high: NonNegative
+
+
+class TrackSkeleton(_Closed):
+    """The skeleton `--temporal clip` estimated for one track, or why the track kept its two-pass poses."""
+
+    track: int | str = Field(description="the track's label")
+    frames: Annotated[int, Field(ge=0)] = Field(description="frames the lengths were measured on")
+    fallback: str | None = Field(None, description="why the track was lifted two-pass; then nothing else is given")
+    bones: dict[str, BoneLength] | None = None
+    torso: dict[str, NonNegative] | None = Field(None, description="hip and shoulder widths, trunk length (metres)")
+    level: Annotated[float, Field(gt=0, lt=1)] | None = None
+    method: str | None = Field(None, description="how the lengths and the shares' intervals were estimated")
+
+
+class TemporalParams(_Open):
+    """How the frames of a sequence were lifted together; open."""
+
+    mode: str | None = Field(None, description="--temporal: none, smooth, two-pass or clip")
+    skeletons: list[TrackSkeleton] | None = Field(None, description="clip mode: one per track")
+
+
 class Params(_Open):
     """The run's settings (preset, steps, seed, prior, ...); open."""
 
     fps: Annotated[float, Field(gt=0)] | None = Field(None, description="frame rate given to zedo lift --fps")
+    temporal: TemporalParams | None = None
 
 
 class InputInfo(_Open):
