@@ -77,18 +77,23 @@ def _elements(text: str, pos: int, end: list[int]) -> Iterator[tuple[int, Any]]:
     """The offset and value of each element of the array at text[pos] == "[", decoded in order; `end` gets the
     offset after the array once the last is read."""
     pos = _skip(text, pos + 1)
-    if not text.startswith("]", pos):
-        while True:
-            start = pos
-            value, pos = _DECODER.raw_decode(text, pos)
-            yield start, value
-            pos = _skip(text, pos)
-            if text.startswith("]", pos):
-                break
-            if not text.startswith(",", pos):
-                raise InvalidDocument
-            pos = _skip(text, pos + 1)
+    closed = text.startswith("]", pos)
+    while not closed:
+        start = pos
+        value, pos = _DECODER.raw_decode(text, pos)
+        yield start, value
+        pos, closed = _separator(text, pos, "]")
     end.append(pos + 1)
+
+
+def _separator(text: str, pos: int, close: str) -> tuple[int, bool]:
+    """After an item ending at `pos`: the next item's offset and False, or the offset of `close` and True."""
+    pos = _skip(text, pos)
+    if text.startswith(close, pos):
+        return pos, True
+    if not text.startswith(",", pos):
+        raise InvalidDocument
+    return _skip(text, pos + 1), False
 
 
 def _array(text: str, pos: int) -> tuple[JsonArray, int]:
@@ -110,33 +115,28 @@ def _members(text: str, pos: int, end: list[int], streamed: str | None = None) -
     the key `streamed`, where an array, an iterator of its elements to be used up before the next member."""
     seen: set[str] = set()
     pos = _skip(text, pos + 1)
-    if not text.startswith("}", pos):
-        while True:
-            if not text.startswith('"', pos):
-                raise InvalidDocument
-            key, pos = scanstring(text, pos + 1)
-            pos = _skip(text, pos)
-            if not text.startswith(":", pos):
-                raise InvalidDocument
-            if key in seen:
-                raise DuplicateKeyError(key)
-            seen.add(key)
-            pos = _skip(text, pos + 1)
-            if streamed is not None and key == streamed and text.startswith("[", pos):
-                after: list[int] = []
-                yield key, (value for _, value in _elements(text, pos, after))
-                if not after:
-                    raise InvalidDocument  # the elements were not read to the end
-                pos = after[0]
-            else:
-                value, pos = _value(text, pos) if streamed is None else _DECODER.raw_decode(text, pos)
-                yield key, value
-            pos = _skip(text, pos)
-            if text.startswith("}", pos):
-                break
-            if not text.startswith(",", pos):
-                raise InvalidDocument
-            pos = _skip(text, pos + 1)
+    closed = text.startswith("}", pos)
+    while not closed:
+        if not text.startswith('"', pos):
+            raise InvalidDocument
+        key, pos = scanstring(text, pos + 1)
+        pos = _skip(text, pos)
+        if not text.startswith(":", pos):
+            raise InvalidDocument
+        if key in seen:
+            raise DuplicateKeyError(key)
+        seen.add(key)
+        pos = _skip(text, pos + 1)
+        if streamed is not None and key == streamed and text.startswith("[", pos):
+            after: list[int] = []
+            yield key, (value for _, value in _elements(text, pos, after))
+            if not after:
+                raise InvalidDocument  # the elements were not read to the end
+            pos = after[0]
+        else:
+            value, pos = _value(text, pos) if streamed is None else _DECODER.raw_decode(text, pos)
+            yield key, value
+        pos, closed = _separator(text, pos, "}")
     end.append(pos + 1)
 
 

@@ -216,7 +216,7 @@ class _DocumentReader:
             image_ids=[p.image_id for p in persons], file_names=[p.file_name for p in persons],
             lifted=[p.lifted for p in persons], observed=[p.observed for p in persons], radii=radii,
             coordinate_frame=self.header.coordinate_frame, units=self.header.units,
-            params=self.header.params.model_dump(),
+            params=self.header.params.model_dump(exclude_unset=True),  # as recorded
         )  # fmt: skip
         others = {}
         if self.has_others:
