@@ -94,6 +94,7 @@ def case_arrays(lifted: np.ndarray, observed: np.ndarray, ok: np.ndarray, truth:
 
 
 DIFFICULTY = "reprojection_px"  # the key of each case's difficulty: its lift's mean reprojection error (px)
+LIFTED = "lifted_root_relative"  # the key of each case's lifted pose (metres, camera axes), for experiments
 
 
 def lift_arrays(res: Any, truth: np.ndarray, keep: slice = slice(None)) -> dict[str, np.ndarray]:
@@ -105,7 +106,7 @@ def lift_arrays(res: Any, truth: np.ndarray, keep: slice = slice(None)) -> dict[
         warnings.simplefilter("ignore", RuntimeWarning)  # a pose not lifted: NaN
         difficulty = np.nanmean(res.reprojection_error_px[keep], axis=1)
     return {**case_arrays(res.poses_root_relative[keep], res.observed[keep], res.lifted[keep], truth),
-            DIFFICULTY: difficulty}  # fmt: skip
+            DIFFICULTY: difficulty, LIFTED: np.asarray(res.poses_root_relative[keep], dtype=np.float32)}  # fmt: skip
 
 
 def difficulty_terciles(cases: dict[str, np.ndarray], kind: np.ndarray) -> np.ndarray:
