@@ -23,8 +23,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from benchmarks.accuracy.norms_false_alarms import SOURCES, clip_rows
 from zedo_cli.analysis.clip.published_features import PREREGISTERED
-from zedo_cli.analysis.norms.calibrated import _robust_z, bundled_reliability, reliable_features
+from zedo_cli.analysis.norms.calibrated import RELIABLE_ICC, _robust_z, bundled_reliability, reliable_features
 from zedo_cli.analysis.norms.norms import extended_names, is_asymmetry_feature
+from zedo_cli.stats import icc_agreement
 
 Score = Callable[[list[np.ndarray]], float]  # the robust z of each part of the feature set -> the clip's score
 
@@ -35,6 +36,30 @@ SCORES: dict[str, Callable[[np.ndarray], float]] = {
     "mean of the 10 largest z^2": lambda z: float(np.mean(np.sort(z**2)[-10:])),
 }
 ARM = re.compile(r"Elbow|Wrist|upper_arm|forearm")
+# Per-side 3D angle spreads whose left/right log ratio the shipped asymmetry set lacks: how much each joint angle
+# moves relative to the trunk over the clip.
+SPREADS = {"3d_stdev_angle": ("Elbow", "Knee", "ShoulderFlexion", "ShoulderAbduction", "HipFlexion", "HipAbduction")}
+SPREAD_PREFIX = "spread_logratio_"
+
+
+def with_spread_ratios(values: dict[str, float]) -> dict[str, float]:
+    """`values` and the log(left / right) of each SPREADS feature (NaN where a side is not > 0)."""
+    out = dict(values)
+    for base, parts in SPREADS.items():
+        for part in parts:
+            left, right = values.get(f"{base}_L{part}", np.nan), values.get(f"{base}_R{part}", np.nan)
+            out[f"{SPREAD_PREFIX}{base}_{part}"] = float(np.log(left / right)) if left > 0 and right > 0 else np.nan
+    return out
+
+
+def reliable_spreads(clips: dict[str | int, dict[str, float]]) -> list[str]:
+    """The SPREADS log ratios whose ICC between the typical clips and their retests (`<i>r`) is at least
+    RELIABLE_ICC, as the shipped features were kept (the bundled reliability file has no entry for them)."""
+    pairs = [(v, clips[f"{i}r"]) for i, v in clips.items() if isinstance(i, int) and f"{i}r" in clips]
+    names = sorted(n for n in pairs[0][0] if n.startswith(SPREAD_PREFIX))
+    icc = {n: icc_agreement(np.array([[a.get(n, np.nan), b.get(n, np.nan)] for a, b in pairs])) for n in names}
+    print("spread log ratios, ICC: " + ", ".join(f"{n.removeprefix(SPREAD_PREFIX)} {v:.3f}" for n, v in icc.items()))
+    return [n for n, v in icc.items() if v >= RELIABLE_ICC]
 
 
 def feature_sets(names: list[str]) -> dict[str, list[list[str]]]:
@@ -47,6 +72,7 @@ def feature_sets(names: list[str]) -> dict[str, list[list[str]]]:
         "`3d_` features": [[n for n in names if n.startswith("3d_")]],
         "left-right asymmetry features": [asym],
         "the same and `lrCorr_`": [asym + [n for n in names if n.startswith("lrCorr_")]],
+        "the same and the 3D angle spreads' log ratios": [asym + [n for n in names if n.startswith(SPREAD_PREFIX)]],
         "asymmetry, the larger of the arms' and the legs' scores": [[n for n in asym if ARM.search(n)],
                                                                     [n for n in asym if not ARM.search(n)]],
     }  # fmt: skip
@@ -71,9 +97,13 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
     folder = args.work / args.source
-    typical = [v for i, v in clip_rows(folder, "typical").items() if isinstance(i, int)]
-    groups = {g: list(clip_rows(folder, g).values()) for g in ("long", "still_arm", "still_leg")}
+    every = {i: with_spread_ratios(v) for i, v in clip_rows(folder, "typical").items()}
+    typical = [v for i, v in every.items() if isinstance(i, int)]
+    groups = {g: [with_spread_ratios(v) for v in clip_rows(folder, g).values()]
+              for g in ("long", "still_arm", "still_leg")}  # fmt: skip
+    spreads = reliable_spreads(every)
     names = reliable_features(sorted(set(PREREGISTERED) | set(extended_names(typical[0]))), bundled_reliability())
+    names += spreads
 
     def matrix(clips: list[dict[str, float]]) -> np.ndarray:
         return np.array([[c.get(n, np.nan) for n in names] for c in clips])

@@ -137,14 +137,14 @@ def write_2d(path: Path, xy: np.ndarray, confidence: np.ndarray, image_size: tup
             f.write(json.dumps(record) + "\n")
 
 
-def lift_features(path: Path, seed: int, epoch_s: float | None = None
+def lift_features(path: Path, seed: int, epoch_s: float | None = None, temporal: str = "smooth"
                   ) -> tuple[dict[str, float], float | None, list[dict[str, float]]]:  # fmt: skip
     """The clip's features as `zedo norms` keeps them, its length, and (with `epoch_s`) its epochs' features as
     `zedo analyze --norms` takes them from a clip longer than the reference's (`compare.epoch_values`)."""
     import zedo_cli
     from zedo_cli.analysis.compare import epoch_values, features_by_person
 
-    lifted = zedo_cli.lift_file(str(path), skeleton="syrip12", fps=FPS, temporal="smooth", seed=seed)
+    lifted = zedo_cli.lift_file(str(path), skeleton="syrip12", fps=FPS, temporal=temporal, seed=seed)
     a = zedo_cli.analyze(lifted)
     clip = features_by_person(a)[0]
     return clip.values, clip.seconds, epoch_values(a, clip.person, epoch_s) if epoch_s else []
@@ -174,7 +174,7 @@ def lift(args: argparse.Namespace) -> int:
             for name, points, seed in runs:
                 path = folder / f"{group}.2d.jsonl"
                 write_2d(path, points, confidence, size)
-                values, length, epochs = lift_features(path, seed, epoch_s)
+                values, length, epochs = lift_features(path, seed, epoch_s, args.temporal)
                 row = {"clip": name, "camera": camera, "seconds": length, "values": finite_or_none(values)}
                 if epoch_s is not None:
                     row["epochs"] = [finite_or_none(e) for e in epochs]
@@ -198,6 +198,12 @@ def main() -> int:
     sub = ap.add_subparsers(dest="command", required=True)
     p = lift_parser(sub)
     p.add_argument("--groups", nargs="+", choices=list(GROUPS), default=list(GROUPS))
+    p.add_argument(
+        "--temporal",
+        choices=("smooth", "clip"),
+        default="smooth",
+        help="how the clips are lifted (the documented figures: smooth)",
+    )
     r = sub.add_parser("reliability")
     r.add_argument("--work", type=Path, required=True)
     r.add_argument("--sources", nargs="+", choices=SOURCES, default=["adult", "syrip-train"])
