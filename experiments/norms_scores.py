@@ -36,35 +36,67 @@ SCORES: dict[str, Callable[[np.ndarray], float]] = {
     "mean of the 10 largest z^2": lambda z: float(np.mean(np.sort(z**2)[-10:])),
 }
 ARM = re.compile(r"Elbow|Wrist|upper_arm|forearm")
-# Per-side 3D angle spreads whose left/right log ratio the shipped asymmetry set lacks: how much each joint angle
-# moves relative to the trunk over the clip.
-SPREADS = {"3d_stdev_angle": ("Elbow", "Knee", "ShoulderFlexion", "ShoulderAbduction", "HipFlexion", "HipAbduction")}
-SPREAD_PREFIX = "spread_logratio_"
+# Per-side features whose left/right log ratio the shipped asymmetry set lacks, by prefix of the ratio's name:
+# the 3D angle spreads (how much each joint angle moves relative to the trunk over the clip) and zedo's own joint
+# angles' smoothed speeds and ranges. Each pair is (left feature, right feature).
+_ANGLES_3D = ("Elbow", "Knee", "ShoulderFlexion", "ShoulderAbduction", "HipFlexion", "HipAbduction")
+_ANGLES_OWN = tuple(
+    f"{j}_{m}"
+    for j, m in (
+        ("elbow", "flexion"),
+        ("knee", "flexion"),
+        ("shoulder", "flexion"),
+        ("shoulder", "abduction"),
+        ("hip", "flexion"),
+        ("hip", "abduction"),
+    )
+)
+_OWN_STATS = ("median_abs_velocity_deg_s", "abs_velocity_iqr_deg_s", "range_deg")
+RATIOS: dict[str, dict[str, tuple[str, str]]] = {
+    "spread_logratio_": {a: (f"3d_stdev_angle_L{a}", f"3d_stdev_angle_R{a}") for a in _ANGLES_3D},
+    "own_logratio_": {f"{a}_{s}": (f"left_{a}_{s}", f"right_{a}_{s}") for a in _ANGLES_OWN for s in _OWN_STATS},
+}
 
 
-def with_spread_ratios(values: dict[str, float]) -> dict[str, float]:
-    """`values` and the log(left / right) of each SPREADS feature (NaN where a side is not > 0)."""
+def with_ratios(values: dict[str, float]) -> dict[str, float]:
+    """`values` and the log(left / right) of each RATIOS pair (NaN where a side is not > 0)."""
     out = dict(values)
-    for base, parts in SPREADS.items():
-        for part in parts:
-            left, right = values.get(f"{base}_L{part}", np.nan), values.get(f"{base}_R{part}", np.nan)
-            out[f"{SPREAD_PREFIX}{base}_{part}"] = float(np.log(left / right)) if left > 0 and right > 0 else np.nan
+    for prefix, pairs in RATIOS.items():
+        for name, (left_name, right_name) in pairs.items():
+            left, right = values.get(left_name, np.nan), values.get(right_name, np.nan)
+            out[prefix + name] = float(np.log(left / right)) if left > 0 and right > 0 else np.nan
     return out
 
 
-def reliable_spreads(clips: dict[str | int, dict[str, float]]) -> list[str]:
-    """The SPREADS log ratios whose ICC between the typical clips and their retests (`<i>r`) is at least
+def reliable_ratios(clips: dict[str | int, dict[str, float]]) -> list[str]:
+    """The RATIOS log ratios whose ICC between the typical clips and their retests (`<i>r`) is at least
     RELIABLE_ICC, as the shipped features were kept (the bundled reliability file has no entry for them)."""
     pairs = [(v, clips[f"{i}r"]) for i, v in clips.items() if isinstance(i, int) and f"{i}r" in clips]
-    names = sorted(n for n in pairs[0][0] if n.startswith(SPREAD_PREFIX))
+    names = sorted(n for n in pairs[0][0] if n.startswith(tuple(RATIOS)))
     icc = {n: icc_agreement(np.array([[a.get(n, np.nan), b.get(n, np.nan)] for a, b in pairs])) for n in names}
-    print("spread log ratios, ICC: " + ", ".join(f"{n.removeprefix(SPREAD_PREFIX)} {v:.3f}" for n, v in icc.items()))
+    print("added log ratios, ICC: " + ", ".join(f"{n} {v:.3f}" for n, v in icc.items()))
     return [n for n, v in icc.items() if v >= RELIABLE_ICC]
+
+
+ELBOW_SPEEDS = {"3D, as published": "3d_median_vel_angle_{}Elbow", "zedo's own, smoothed":
+                "{}_elbow_flexion_median_abs_velocity_deg_s"}  # fmt: skip
+
+
+def print_elbow_speeds(groups: dict[str, list[dict[str, float]]]) -> None:
+    """Per group, the median over its clips of each elbow's median angular speed (the still arm holds the left)."""
+    for group, clips in groups.items():
+        cells = []
+        for label, pattern in ELBOW_SPEEDS.items():
+            sides = [pattern.format(s) for s in (("L", "R") if "3d_" in pattern else ("left", "right"))]
+            left, right = (np.nanmedian([c.get(n, np.nan) for c in clips]) if clips else np.nan for n in sides)
+            cells.append(f"{label} left {left:.1f} / right {right:.1f} deg/s")
+        print(f"{group} ({len(clips)} clips), elbows' median speed: " + "; ".join(cells))
 
 
 def feature_sets(names: list[str]) -> dict[str, list[list[str]]]:
     """Each set as its parts (one part but for the arms-or-legs variant, whose score is the larger part's)."""
     asym = [n for n in names if is_asymmetry_feature(n)]
+    spreads, own = ([n for n in names if n.startswith(p)] for p in RATIOS)
     side = re.compile(r"_[LR](Ankle|Wrist|Knee|Elbow|Hip|Shoulder)$")
     return {
         "every reliable published and extended feature": [names],
@@ -72,7 +104,9 @@ def feature_sets(names: list[str]) -> dict[str, list[list[str]]]:
         "`3d_` features": [[n for n in names if n.startswith("3d_")]],
         "left-right asymmetry features": [asym],
         "the same and `lrCorr_`": [asym + [n for n in names if n.startswith("lrCorr_")]],
-        "the same and the 3D angle spreads' log ratios": [asym + [n for n in names if n.startswith(SPREAD_PREFIX)]],
+        "the same and the 3D angle spreads' log ratios": [asym + spreads],
+        "zedo's own speeds' and ranges' log ratios": [own],
+        "the asymmetry set and those": [asym + own],
         "asymmetry, the larger of the arms' and the legs' scores": [[n for n in asym if ARM.search(n)],
                                                                     [n for n in asym if not ARM.search(n)]],
     }  # fmt: skip
@@ -97,18 +131,19 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
     folder = args.work / args.source
-    every = {i: with_spread_ratios(v) for i, v in clip_rows(folder, "typical").items()}
+    every = {i: with_ratios(v) for i, v in clip_rows(folder, "typical").items()}
     typical = [v for i, v in every.items() if isinstance(i, int)]
-    groups = {g: [with_spread_ratios(v) for v in clip_rows(folder, g).values()]
+    groups = {g: [with_ratios(v) for v in clip_rows(folder, g).values()]
               for g in ("long", "still_arm", "still_leg")}  # fmt: skip
-    spreads = reliable_spreads(every)
+    added = reliable_ratios(every)
     names = reliable_features(sorted(set(PREREGISTERED) | set(extended_names(typical[0]))), bundled_reliability())
-    names += spreads
+    names += added
 
     def matrix(clips: list[dict[str, float]]) -> np.ndarray:
         return np.array([[c.get(n, np.nan) for n in names] for c in clips])
 
     pool, tested = matrix(typical), {g: matrix(v) for g, v in groups.items()}
+    print_elbow_speeds({"typical": typical, **groups})
     rng = np.random.default_rng(args.seed)
     draws = [rng.permutation(len(pool)) for _ in range(args.draws)]
     print("| features | score | typical | 60 s | still arm | still leg |\n| --- | --- | --- | --- | --- | --- |")

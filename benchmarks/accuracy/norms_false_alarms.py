@@ -94,7 +94,7 @@ def adult_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
     """The group's clips of the adult motion made infant-like (`zedo_cli.evaluation.clips`), in order."""
     seconds, count, held, offset = GROUPS[group]
     library = load_adult_library(Path(args.syrip_dir).parent / "adult")
-    settings = ClipSettings(fps=FPS, habits=habits(JITTER_PX))
+    settings = ClipSettings(fps=FPS, habits=habits(args.jitter_px))
     made = adult_infant_clips(library, infant_bodies_from_syrip(args.syrip_dir), seconds, count, args.seed + offset,
                               settings)  # fmt: skip
     for i, clip in enumerate(made):
@@ -102,7 +102,7 @@ def adult_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
         if held:
             rng = np.random.default_rng([args.seed, offset, i])
             poses = hold_still(clip.poses3d, JOINTS, held)
-            xy = project_points(poses, clip.intrinsics) + rng.normal(0.0, JITTER_PX, clip.xy.shape)
+            xy = project_points(poses, clip.intrinsics) + rng.normal(0.0, args.jitter_px, clip.xy.shape)
             xy[~np.isfinite(clip.xy).all(-1)] = np.nan  # the clip's dropped joints
         yield xy, clip.confidence, clip.image_size, clip.camera
 
@@ -116,11 +116,11 @@ def eased_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
     for i in range(count):
         rng = np.random.default_rng([args.seed, offset, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(seconds) + 1, transition_s=1.0, fps=FPS,
-                             noise_px=JITTER_PX, drop=0.03, gap=0)  # fmt: skip
+                             noise_px=args.jitter_px, drop=0.03, gap=0)  # fmt: skip
         xy, conf = seq["xy"], seq["conf"]
         if held:
             cam = hold_still(seq["rel"], JOINTS, held) + (seq["cam"] - seq["rel"])  # the same root path
-            xy = project_points(cam, intrinsics) + rng.normal(0.0, JITTER_PX, xy.shape)
+            xy = project_points(cam, intrinsics) + rng.normal(0.0, args.jitter_px, xy.shape)
             xy[conf == 0] = np.nan
         yield xy, conf, (IMAGE_W, IMAGE_H), "pseudo"
 
@@ -204,6 +204,7 @@ def main() -> int:
         default="smooth",
         help="how the clips are lifted (the documented figures: smooth)",
     )
+    p.add_argument("--jitter-px", type=float, default=JITTER_PX, help="the detector's jitter (px)")
     r = sub.add_parser("reliability")
     r.add_argument("--work", type=Path, required=True)
     r.add_argument("--sources", nargs="+", choices=SOURCES, default=["adult", "syrip-train"])
