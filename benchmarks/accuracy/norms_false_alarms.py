@@ -198,12 +198,8 @@ def main() -> int:
     sub = ap.add_subparsers(dest="command", required=True)
     p = lift_parser(sub)
     p.add_argument("--groups", nargs="+", choices=list(GROUPS), default=list(GROUPS))
-    p.add_argument(
-        "--temporal",
-        choices=("smooth", "clip"),
-        default="smooth",
-        help="how the clips are lifted (the documented figures: smooth)",
-    )
+    p.add_argument("--temporal", choices=("smooth", "clip"), default="smooth",
+                   help="how the clips are lifted (the documented figures: smooth)")  # fmt: skip
     p.add_argument("--jitter-px", type=float, default=JITTER_PX, help="the detector's jitter (px)")
     r = sub.add_parser("reliability")
     r.add_argument("--work", type=Path, required=True)
