@@ -116,7 +116,7 @@ def eased_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
     for i in range(count):
         rng = np.random.default_rng([args.seed, offset, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(seconds) + 1, transition_s=1.0, fps=FPS,
-                             noise_px=args.jitter_px, drop=0.03, gap=0)  # fmt: skip
+                             noise_px=args.jitter_px, drop=0.03, gap=0, turn_scale=args.turn_scale)  # fmt: skip
         xy, conf = seq["xy"], seq["conf"]
         if held:
             cam = hold_still(seq["rel"], JOINTS, held) + (seq["cam"] - seq["rel"])  # the same root path
@@ -201,6 +201,7 @@ def main() -> int:
     p.add_argument("--temporal", choices=("smooth", "clip"), default="smooth",
                    help="how the clips are lifted (the documented figures: smooth)")  # fmt: skip
     p.add_argument("--jitter-px", type=float, default=JITTER_PX, help="the detector's jitter (px)")
+    p.add_argument("--turn-scale", type=float, default=1.0, help="eased clips: scales the body's turning (0: none)")
     r = sub.add_parser("reliability")
     r.add_argument("--work", type=Path, required=True)
     r.add_argument("--sources", nargs="+", choices=SOURCES, default=["adult", "syrip-train"])

@@ -96,6 +96,7 @@ def make_sequences(
     poses: np.ndarray, rng: np.random.Generator, *, count: int, keyposes: int, transition_s: float, fps: float,
     noise_px: float, drop: float, gap: int, place: Placement | None = None, key_noise: np.ndarray | None = None,
     noise_rel: float = 0.0, depth_m: float = 1.0, drift_scale: float = 1.0, interpolation: str = "positions",
+    turn_scale: float = 1.0,
 ) -> dict[str, np.ndarray]:  # fmt: skip
     """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels.
 
@@ -108,8 +109,9 @@ def make_sequences(
     `depth_m` and `drift_scale` place the body before the pseudo camera: about `depth_m` in front of it,
     its random offset and drift scaled by `drift_scale`. The defaults (1 m, 1) are the calibration clips'
     geometry (benchmarks/calibrate/calibrate_measures.py), which overfills a 1280x720 frame; the demo clip
-    (benchmarks/clips/demo_clip.py) stands further back and drifts less, to stay inside it. The random
-    draws are the same whatever the two values.
+    (benchmarks/clips/demo_clip.py) stands further back and drifts less, to stay inside it. `turn_scale`
+    scales the rates at which the body turns about the vertical and the optical axis (0: it keeps its first
+    orientation). The random draws are the same whatever the three values.
 
     `interpolation`: "positions" eases every joint's position from key pose to key pose (the clips every
     shipped calibration except the `3d_` clip features' was fitted on): a turning bone shortens half-way,
@@ -132,8 +134,8 @@ def make_sequences(
             err_all.append(np.concatenate([_eased_error(key_noise[picked[i]], key_noise[picked[i + 1]], ease)
                                            for i in range(keyposes - 1)]))  # fmt: skip
         t = np.arange(len(seq)) / fps
-        yaw = rng.uniform(-0.4, 0.4) + rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
-        roll = rng.uniform(-0.2, 0.2) + rng.uniform(-0.1, 0.1) * t
+        yaw = rng.uniform(-0.4, 0.4) + turn_scale * rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
+        roll = rng.uniform(-0.2, 0.2) + turn_scale * rng.uniform(-0.1, 0.1) * t
         rel = seq @ _rotation(yaw, roll).transpose(0, 2, 1)
         if place is None:
             offset, drift = rng.normal(0, [0.05, 0.05, 0.1]), rng.uniform(-0.05, 0.05, 3)
