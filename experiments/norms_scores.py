@@ -143,7 +143,8 @@ def main() -> int:
         return np.array([[c.get(n, np.nan) for n in names] for c in clips])
 
     pool, tested = matrix(typical), {g: matrix(v) for g, v in groups.items()}
-    print_elbow_speeds({"typical": typical, **groups})
+    still_body = list(clip_rows(folder, "still_body").values())  # where lifted (--groups still_body)
+    print_elbow_speeds({"typical": typical, **groups, **({"still_body": still_body} if still_body else {})})
     rng = np.random.default_rng(args.seed)
     draws = [rng.permutation(len(pool)) for _ in range(args.draws)]
     print("| features | score | typical | 60 s | still arm | still leg |\n| --- | --- | --- | --- | --- | --- |")

@@ -13,10 +13,13 @@ are what `zedo norms` collects (`compare.features_by_person`). Groups:
   clip);
 - `still_arm`: the left elbow and wrist held at their first frame's place in the trunk's frame (the kind the
   comparison was tuned on); `still_leg`: the left knee and ankle held so (a kind never used in tuning);
+- `still_body` (only when asked for with `--groups`): every joint but the shoulders and hips held so, the lift's
+  floor for the movement features: how much it moves limbs that do not move;
 - `retest`: the first typical clips again, lifted with another seed and 1 px more jitter: each feature's
   test-retest agreement (ICC(2,1), absolute agreement).
 
-`lift` makes and lifts the clips (one JSON line a clip under `--work`, resumed where it stopped); `score` draws
+`lift` makes and lifts the clips (one JSON line a clip under `--work`, resumed where it stopped); `true-speeds`
+prints the eased groups' true elbow speeds; `score` draws
 `--draws` references of `--reference` typical clips and compares every other clip with each, printing per group
 how many get p < 0.05 in the published, extended and calibrated comparisons, with a 95 % interval.
 
@@ -70,7 +73,23 @@ GROUPS = {  # name: (seconds, count, held joints, seed offset)
     "long": (60.0, 40, (), 1000),
     "still_arm": (10.0, 30, ("left_elbow", "left_wrist"), 2000),
     "still_leg": (10.0, 30, ("left_knee", "left_ankle"), 3000),
+    "still_body": (
+        10.0,
+        15,
+        (
+            "left_elbow",
+            "right_elbow",
+            "left_wrist",
+            "right_wrist",
+            "left_knee",
+            "right_knee",
+            "left_ankle",
+            "right_ankle",
+        ),
+        4000,
+    ),
 }
+DEFAULT_GROUPS = ("typical", "long", "still_arm", "still_leg")  # the documented figures' groups
 RETEST = 80  # typical clips lifted a second time
 SOURCES = ("adult", "syrip-train", "syrip-test", "syrip-synthetic")
 JOINTS = get_skeleton("syrip12").joints
@@ -107,9 +126,10 @@ def adult_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
         yield xy, clip.confidence, clip.image_size, clip.camera
 
 
-def eased_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
+def eased_clips(args: argparse.Namespace, group: str, truth: list[np.ndarray] | None = None) -> Iterator[Clip2D]:
     """The group's clips of SyRIP poses eased one into the next 1 s apart (`zedo_cli.evaluation.clips.eased`: the
-    body turning and drifting about 1 m before the pseudo camera), in order."""
+    body turning and drifting about 1 m before the pseudo camera), in order; `truth` gets each clip's true
+    root-relative poses (T, 12, 3)."""
     seconds, count, held, offset = GROUPS[group]
     poses = eased_source_poses(args.syrip_dir, args.source)
     intrinsics = Intrinsics.pseudo(IMAGE_W, IMAGE_H)
@@ -117,12 +137,29 @@ def eased_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
         rng = np.random.default_rng([args.seed, offset, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(seconds) + 1, transition_s=1.0, fps=FPS,
                              noise_px=args.jitter_px, drop=0.03, gap=0, turn_scale=args.turn_scale)  # fmt: skip
-        xy, conf = seq["xy"], seq["conf"]
+        xy, conf, rel = seq["xy"], seq["conf"], seq["rel"]
         if held:
-            cam = hold_still(seq["rel"], JOINTS, held) + (seq["cam"] - seq["rel"])  # the same root path
-            xy = project_points(cam, intrinsics) + rng.normal(0.0, args.jitter_px, xy.shape)
+            rel = hold_still(seq["rel"], JOINTS, held)
+            xy = project_points(rel + (seq["cam"] - seq["rel"]), intrinsics) + rng.normal(0.0, args.jitter_px, xy.shape)
             xy[conf == 0] = np.nan
+        if truth is not None:
+            truth.append(rel)
         yield xy, conf, (IMAGE_W, IMAGE_H), "pseudo"
+
+
+def true_speeds(args: argparse.Namespace) -> int:
+    """Per group of eased clips, the median over its clips of each elbow's true 3D median angular speed (the
+    `3d_` feature of the true poses): what the lifted speeds that `experiments/norms_scores.py` prints compare with."""
+    from zedo_cli.analysis.clip.features_3d import features_3d
+
+    for group in args.groups:
+        truth: list[np.ndarray] = []
+        for _ in eased_clips(args, group, truth):
+            pass
+        values = [features_3d(rel, get_skeleton("syrip12"), FPS).values for rel in truth]
+        left, right = (np.nanmedian([v.get(f"3d_median_vel_angle_{s}Elbow", np.nan) for v in values]) for s in "LR")
+        print(f"{group} ({len(truth)} clips), true elbows' median speed: left {left:.1f} / right {right:.1f} deg/s")
+    return 0
 
 
 def write_2d(path: Path, xy: np.ndarray, confidence: np.ndarray, image_size: tuple[int, int]) -> None:
@@ -197,11 +234,18 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
     p = lift_parser(sub)
-    p.add_argument("--groups", nargs="+", choices=list(GROUPS), default=list(GROUPS))
+    p.add_argument("--groups", nargs="+", choices=list(GROUPS), default=list(DEFAULT_GROUPS))
     p.add_argument("--temporal", choices=("smooth", "clip"), default="smooth",
                    help="how the clips are lifted (the documented figures: smooth)")  # fmt: skip
     p.add_argument("--jitter-px", type=float, default=JITTER_PX, help="the detector's jitter (px)")
     p.add_argument("--turn-scale", type=float, default=1.0, help="eased clips: scales the body's turning (0: none)")
+    t = sub.add_parser("true-speeds")
+    t.add_argument("--syrip-dir", required=True)
+    t.add_argument("--source", choices=[s for s in SOURCES if s != "adult"], default="syrip-train")
+    t.add_argument("--seed", type=int, default=0)
+    t.add_argument("--groups", nargs="+", choices=list(GROUPS), default=list(GROUPS))
+    t.add_argument("--turn-scale", type=float, default=1.0)
+    t.set_defaults(jitter_px=JITTER_PX)
     r = sub.add_parser("reliability")
     r.add_argument("--work", type=Path, required=True)
     r.add_argument("--sources", nargs="+", choices=SOURCES, default=["adult", "syrip-train"])
@@ -213,7 +257,8 @@ def main() -> int:
     s.add_argument("--draws", type=int, default=10)
     s.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
-    return {"lift": lift, "reliability": reliability, "score": score}[args.command](args)
+    commands = {"lift": lift, "true-speeds": true_speeds, "reliability": reliability, "score": score}
+    return commands[args.command](args)
 
 
 def _known(values: dict[str, float | None]) -> dict[str, float]:
