@@ -21,11 +21,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
-from benchmarks.accuracy.norms_false_alarms import SOURCES, clip_rows
+from benchmarks.accuracy.norms_false_alarms import SOURCES, clip_rows, retest_icc, retest_pairs
 from zedo_cli.analysis.clip.published_features import PREREGISTERED
 from zedo_cli.analysis.norms.calibrated import RELIABLE_ICC, _robust_z, bundled_reliability, reliable_features
 from zedo_cli.analysis.norms.norms import extended_names, is_asymmetry_feature
-from zedo_cli.stats import icc_agreement
 
 Score = Callable[[list[np.ndarray]], float]  # the robust z of each part of the feature set -> the clip's score
 
@@ -71,9 +70,8 @@ def with_ratios(values: dict[str, float]) -> dict[str, float]:
 def reliable_ratios(clips: dict[str | int, dict[str, float]]) -> list[str]:
     """The RATIOS log ratios whose ICC between the typical clips and their retests (`<i>r`) is at least
     RELIABLE_ICC, as the shipped features were kept (the bundled reliability file has no entry for them)."""
-    pairs = [(v, clips[f"{i}r"]) for i, v in clips.items() if isinstance(i, int) and f"{i}r" in clips]
-    names = sorted(n for n in pairs[0][0] if n.startswith(tuple(RATIOS)))
-    icc = {n: icc_agreement(np.array([[a.get(n, np.nan), b.get(n, np.nan)] for a, b in pairs])) for n in names}
+    pairs = retest_pairs(clips)
+    icc = retest_icc(pairs, sorted(n for n in pairs[0][0] if n.startswith(tuple(RATIOS))))
     print("added log ratios, ICC: " + ", ".join(f"{n} {v:.3f}" for n, v in icc.items()))
     return [n for n, v in icc.items() if v >= RELIABLE_ICC]
 

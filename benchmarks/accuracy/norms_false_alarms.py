@@ -278,15 +278,27 @@ def clip_epochs(folder: Path, group: str) -> dict[str | int, list[dict[str, floa
     return {r["clip"]: [_known(e) for e in r.get("epochs", [])] for r in read_rows(folder / f"{group}.jsonl")}
 
 
+Values = dict[str, float]
+
+
+def retest_pairs(clips: dict[str | int, Values]) -> list[tuple[Values, Values]]:
+    """Each typical clip's features with its retest's (`<i>` and `<i>r`), for the clips that have one."""
+    return [(v, clips[f"{i}r"]) for i, v in clips.items() if isinstance(i, int) and f"{i}r" in clips]
+
+
+def retest_icc(pairs: list[tuple[Values, Values]], names: list[str]) -> dict[str, float]:
+    """Each feature's ICC(2,1) (absolute agreement) between the clips and their retests."""
+    return {n: icc_agreement(np.array([[a.get(n, math.nan), b.get(n, math.nan)] for a, b in pairs])) for n in names}
+
+
 def reliability(args: argparse.Namespace) -> int:
     """Each feature's ICC(2,1) between the typical clips and their retests, per source; written as the shipped
     reliability file."""
     entries = []
     for source in args.sources:
         clips = clip_rows(args.work / source, "typical")
-        pairs = [(v, clips[f"{i}r"]) for i, v in clips.items() if isinstance(i, int) and f"{i}r" in clips]
-        names = sorted(set(PREREGISTERED) | set().union(*(extended_names(a) for a, _ in pairs)))
-        icc = {n: icc_agreement(np.array([[a.get(n, math.nan), b.get(n, math.nan)] for a, b in pairs])) for n in names}
+        pairs = retest_pairs(clips)
+        icc = retest_icc(pairs, sorted(set(PREREGISTERED) | set().union(*(extended_names(a) for a, _ in pairs))))
         kept = sum(v >= RELIABLE_ICC for v in icc.values())
         print(f"{source}: {len(pairs)} clips and retests; {kept} of {len(icc)} features with ICC >= {RELIABLE_ICC}")
         for name in sorted(icc, key=icc.get)[:12]:

@@ -12,8 +12,7 @@ from .table import INTERVAL_METHODS
 
 SCHEMA = "zedo.analysis/2"
 
-IntervalMethod = Literal["", "calibrated", "calibrated_filled", "median_of_frame_interval_ends",
-                         "block_bootstrap_and_share_calibration", "not_for_clip_features", "none"]  # fmt: skip
+IntervalMethod = Literal[("", *INTERVAL_METHODS)]  # "": a row without an interval
 Call = Literal["", "symmetric", "asymmetric", "uncertain", "left", "right", "midline"]
 
 

@@ -83,9 +83,14 @@ def clip_row(person: int, measure: str, value: float, unit: str, how: str, level
              high: float = np.nan, raw_value: float = np.nan) -> Row:  # fmt: skip
     """A row of a clip's measure, its interval at `level` obtained as `how` says ("none: why")."""
     method, note = split_how(how)
-    known = bool(np.isfinite(low) and np.isfinite(high))
-    return Row(None, None, None, person, measure, value, unit, low, high, level if known else np.nan,
+    return Row(None, None, None, person, measure, value, unit, low, high, float(level_where_known(low, high, level)),
                interval=method, interval_note=note, raw_value=raw_value)  # fmt: skip
+
+
+def level_where_known(low: Any, high: Any, level: float) -> np.ndarray:
+    """The `level` column: `level` where both interval ends are known, NaN elsewhere (arrays or numbers)."""
+    known = np.isfinite(np.asarray(low, dtype=float)) & np.isfinite(np.asarray(high, dtype=float))
+    return np.where(known, level, np.nan)
 
 
 _DEFAULTS = {f.name: f.default for f in fields(Row) if f.name not in SHARED}
@@ -127,8 +132,7 @@ class Block:
             else:
                 out["interval"], out["interval_note"] = split_how(how)
         if "level" not in out and "low" in out and "high" in out:
-            known = np.isfinite(np.asarray(out["low"], dtype=float)) & np.isfinite(np.asarray(out["high"], dtype=float))
-            out["level"] = np.where(known, self.level, np.nan)
+            out["level"] = level_where_known(out["low"], out["high"], self.level)
         return out
 
     def rows(self) -> Iterator[Row]:
