@@ -1,16 +1,16 @@
 """`--temporal clip` against the other temporal modes on clips of one infant each, per source.
 
 Sources: `syrip` (SyRIP poses, one infant's bones kept and each segment turned from key pose to key pose,
-`make_sequences(interpolation="segments")`; `--split test` for Test100, the final check, else the training
-poses) and `adult` (the adult motion capture made infant-like, `zedo_cli.evaluation.clips`, when it is
-installed with the data). Each clip is seen through a camera of f = 1000 px (known, `--camera known`) or the
-pseudo camera (`--camera pseudo`), 3 px detector noise, 3 % of joints dropped. Scored against the 3D truth,
-pelvis-centred without scale or rotation alignment, over the frames every mode lifted:
-bone-length CV (the eight limb bones' coefficient of variation within a clip, averaged), MPJPE (mm),
-elbow/knee interior-angle MAE (deg), MPJVE (mm/s, the velocity error of root-relative joints), mean
-reprojection error (px); and for clip mode the skeleton's bone ratios against the truth, its 90 %
-intervals' coverage (known camera), the depth side of segments over 30 degrees out of the image plane in
-frames not flagged, and the share of limb-frames flagged.
+`make_sequences(interpolation="segments")`; `--split test` for Test100, the final check, else the training poses;
+`--supine`: each pose first turned chest to the camera, head up the image, as infants are filmed) and `adult` (the
+adult motion capture made infant-like, `zedo_cli.evaluation.clips`, when it is installed with the data). Each clip
+is seen through a camera of f = 1000 px (known, `--camera known`) or the pseudo camera (`--camera pseudo`), 3 px
+detector noise, 3 % of joints dropped. Scored against the 3D truth, pelvis-centred without scale or rotation
+alignment, over the frames every mode lifted: bone-length CV (the eight limb bones' coefficient of variation within
+a clip, averaged), MPJPE (mm), elbow/knee interior-angle MAE (deg), MPJVE (mm/s, the velocity error of root-relative
+joints), mean reprojection error (px); and for clip mode the skeleton's bone ratios against the truth, its 90 %
+intervals' coverage (known camera), the depth side of segments over 30 degrees out of the image plane in frames not
+flagged, and the share of limb-frames flagged.
 
     .venv/bin/python benchmarks/accuracy/clip_mode.py --syrip-dir ../shared/data/syrip --clips 8
 """
@@ -30,6 +30,7 @@ from zedo_cli.analysis.pose.geometry import angle_between_deg
 from zedo_cli.analysis.pose.joint_angles import joint_angles
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
+from zedo_cli.evaluation.clips.cameras import turned_supine
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.lifting.camera import Intrinsics
 from zedo_cli.lifting.clip import BONE_NAMES, LIMB_BONES
@@ -137,6 +138,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--fit-ratio", action="store_true", help="print the skeleton shares' conformal quantile")
     ap.add_argument("--habits", action="store_true", help="adult source: add swaps, hand jumps and lost frames")
+    ap.add_argument("--supine", action="store_true", help="syrip source: each pose turned chest to the camera first")
     ap.add_argument("--save-ratios", type=Path, help="save |log(estimated / true share)| of every bone (.npy)")
     args = ap.parse_args()
     prior = load_prior(resolve_prior_path(None))
@@ -159,7 +161,10 @@ def main() -> None:
                 clip_figures(extra, truth, res)
                 if "swapped" in data:
                     habit_figures(extra, data, idx, res)
-    print(f"source {args.source} ({args.split}), camera {args.camera}, {args.clips} clips of {args.seconds:g} s")
+    turned = ", turned supine" if args.supine else ""
+    print(
+        f"source {args.source} ({args.split}{turned}), camera {args.camera}, {args.clips} clips of {args.seconds:g} s"
+    )
     print(
         "| mode | bone-length CV % | MPJPE mm | elbow/knee MAE deg | MPJVE mm/s | reprojection px | angle steps > 500 "
         "deg/s % | s/clip |"
@@ -254,6 +259,8 @@ def clips_of(args: argparse.Namespace, rng: np.random.Generator) -> dict[str, np
     if args.source == "adult":
         return adult_clips(args)
     poses = load_syrip_3d(args.syrip_dir, args.split).poses
+    if args.supine:
+        poses = turned_supine(poses, SKELETON.joints)
     keys = int(args.seconds) + 1
     place = known_camera(1000.0) if args.camera == "known" else None
     return make_sequences(poses, rng, count=args.clips, keyposes=keys, transition_s=1.0, fps=FPS, noise_px=3.0,

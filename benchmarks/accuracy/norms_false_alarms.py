@@ -4,9 +4,10 @@ and how often it catches clips that are atypical by construction.
 Sources (`--source`): the adult motion made infant-like (`zedo_cli.evaluation.clips`, poses the bundled prior never
 saw: it was trained on SyRIP), the clinic cameras and the pseudo camera; SyRIP's training or Test100 poses, or its
 synthetic poses (`benchmarks/lib/pose_sources.py`: outside every fit, for an independent check only), eased 1 s
-apart before the pseudo camera. 30 fps, 3 px jitter, 3 % dropped joints, each clip its own infant. Lifted as a user
-lifts a clip, without stating the camera (`--temporal smooth`), and analysed with the defaults; the clip features
-are what `zedo norms` collects (`compare.features_by_person`). Groups:
+apart before the pseudo camera, each in its own photo's orientation or, with `-supine`, turned chest to the camera.
+30 fps, 3 px jitter, 3 % dropped joints, each clip its own infant. Lifted as a user lifts a clip, without stating
+the camera (`--temporal smooth`), and analysed with the defaults; the clip features are what `zedo norms` collects
+(`compare.features_by_person`). Groups:
 - `typical`: 10 s clips (the pool the references are drawn from and the typical clips tested);
 - `long`: typical clips 6 times as long (60 s), compared with 10 s references (the feature z and the extended and
   asymmetry p by their six epochs of 10 s, as `zedo analyze --norms` compares them; the published p on the whole
@@ -40,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.pose_sources import eased_source_poses
+from benchmarks.lib.pose_sources import EASED_SOURCES, SUPINE, SUPINE_SOURCES, eased_source_poses
 from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.clip.published_features import PREREGISTERED
 from zedo_cli.analysis.norms.calibrated import RELIABILITY_FILE, RELIABLE_ICC, ReliabilityEntry
@@ -91,12 +92,14 @@ GROUPS = {  # name: (seconds, count, held joints, seed offset)
 }
 DEFAULT_GROUPS = ("typical", "long", "still_arm", "still_leg")  # the documented figures' groups
 RETEST = 80  # typical clips lifted a second time
-SOURCES = ("adult", "syrip-train", "syrip-test", "syrip-synthetic")
+SOURCES = ("adult", *EASED_SOURCES, *SUPINE_SOURCES)
 JOINTS = get_skeleton("syrip12").joints
 SOURCE_WORDS = {"adult": "adult motion made infant-like, clinic and pseudo cameras",
                 "syrip-train": "SyRIP training poses eased 1 s apart, pseudo camera",
                 "syrip-test": "SyRIP Test100 poses eased 1 s apart, pseudo camera",
-                "syrip-synthetic": "SyRIP's synthetic poses (HW-HuP) eased 1 s apart, pseudo camera"}  # fmt: skip
+                "syrip-synthetic": "SyRIP's synthetic poses (HW-HuP) eased 1 s apart, pseudo camera",
+                **{s + SUPINE: f"{s}'s poses each turned supine, chest to the camera, eased 1 s apart, pseudo camera"
+                   for s in EASED_SOURCES}}  # fmt: skip
 KINDS = ("published", "extended", "asymmetry")
 GROUP_WORDS = {"typical": "typical 10 s", "long": "typical 60 s", "still_arm": "still left arm",
                "still_leg": "still left leg"}  # fmt: skip
@@ -252,7 +255,7 @@ def main() -> int:
     r.add_argument("--out", type=Path, help="write the reliability file here (zedo_cli/weights/reliability.json)")
     s = sub.add_parser("score")
     s.add_argument("--work", type=Path, required=True)
-    s.add_argument("--sources", nargs="+", choices=SOURCES, default=list(SOURCES))
+    s.add_argument("--sources", nargs="+", choices=SOURCES, default=["adult", *EASED_SOURCES])
     s.add_argument("--reference", type=int, default=20)
     s.add_argument("--draws", type=int, default=10)
     s.add_argument("--seed", type=int, default=0)

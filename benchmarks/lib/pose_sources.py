@@ -5,6 +5,13 @@
 - `syrip-synthetic`: HW-HuP's 3D poses of SyRIP's 1000 synthetic images (rendered infant body models), rows 300-1299
   of `poses3d_hwhup.npy`. No prior, calibration or setting of zedo was trained, tuned or validated on them: they are
   a pose source outside every fit, for independent checks only. Nothing may be chosen by what they show.
+
+Each pose keeps the orientation of its own photo: eased one into the next, the body turns from one photo's view to
+the next's (on `norms_false_alarms.py`'s typical 10 s clips the trunk's forward axis turns at a median 49 deg/s and
+lies 77 degrees from the camera's direction). With the suffix `-supine` (`syrip-train-supine`, ...) each pose is first
+turned to lie as an infant is filmed, chest to the camera and head up the image
+(`zedo_cli.evaluation.clips.cameras.turned_supine`), so that only the clip's own turning remains (7 deg/s, 34
+degrees).
 """
 
 from __future__ import annotations
@@ -15,10 +22,13 @@ import numpy as np
 
 from zedo_cli.data.datasets import load_npy, load_syrip_3d
 from zedo_cli.data.skeleton import center_on_root, convert_points, get_skeleton
+from zedo_cli.evaluation.clips.cameras import turned_supine
 
 HWHUP_POSES = "poses3d_hwhup.npy"
 SYNTHETIC_ROWS = slice(300, 1300)
 EASED_SOURCES = ("syrip-train", "syrip-test", "syrip-synthetic")
+SUPINE = "-supine"
+SUPINE_SOURCES = tuple(s + SUPINE for s in EASED_SOURCES)
 
 
 def synthetic_poses(syrip_dir: str | Path) -> np.ndarray:
@@ -32,7 +42,9 @@ def synthetic_poses(syrip_dir: str | Path) -> np.ndarray:
 
 
 def eased_source_poses(syrip_dir: str | Path, source: str) -> np.ndarray:
-    """The poses of one of EASED_SOURCES, `(P, 12, 3)`."""
+    """The poses of one of EASED_SOURCES or SUPINE_SOURCES, `(P, 12, 3)`."""
+    if source.endswith(SUPINE) and source.removesuffix(SUPINE) in EASED_SOURCES:
+        return turned_supine(eased_source_poses(syrip_dir, source.removesuffix(SUPINE)), get_skeleton("syrip12").joints)
     if source == "syrip-synthetic":
         return synthetic_poses(syrip_dir)
     if source not in EASED_SOURCES:

@@ -256,3 +256,21 @@ def test_real_files_fast_supine_one_infant() -> None:
         shoulders_y, hips_y = xy[:, [6, 9], 1].mean(1), xy[:, [0, 3], 1].mean(1)
         assert (shoulders_y < hips_y).mean() > 0.9
         assert 0.4 < np.median(clip.poses3d[:, [0, 3], 2]) < 2.0
+
+
+def test_turned_supine_faces_the_camera_head_up_and_keeps_the_shape() -> None:
+    from zedo_cli.evaluation.clips.cameras import turned_supine
+    from zedo_cli.evaluation.clips.stillness import trunk_axes
+
+    poses = synthetic_poses(6, seed=3)
+    q, r = np.linalg.qr(np.random.default_rng(4).normal(size=(6, 3, 3)))
+    q = q * np.sign(np.diagonal(r, axis1=1, axis2=2))[:, None]
+    rotations = q * np.sign(np.linalg.det(q))[:, None, None]  # proper rotations, no mirror
+    tumbled = np.einsum("pij,pmj->pmi", rotations, poses)
+    turned = turned_supine(tumbled, SYRIP12.joints)
+    axes, _ = trunk_axes(turned, SYRIP12.joints)  # rows: left, up, forward
+    np.testing.assert_allclose(axes, np.broadcast_to(np.diag([1.0, -1.0, -1.0]), axes.shape), atol=1e-9)
+    # a rotation about each pose's own origin: distances between joints kept
+    gaps = lambda p: np.linalg.norm(p[:, :, None] - p[:, None], axis=-1)  # noqa: E731
+    np.testing.assert_allclose(gaps(turned), gaps(poses), atol=1e-12)
+    np.testing.assert_allclose(turned_supine(turned, SYRIP12.joints), turned, atol=1e-12)

@@ -7,6 +7,7 @@ under the camera shows its chest (the trunk's forward axis points to -z), its he
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,6 +15,7 @@ import torch
 
 from ...errors import ConfigError
 from ...lifting.camera import PSEUDO_FOCAL_PX, Intrinsics, project
+from .stillness import trunk_axes
 
 # A trunk frame's columns (left, up, forward) -> camera axes (+x, -y, -z): supine, head up the image.
 SUPINE = np.diag([1.0, -1.0, -1.0])
@@ -102,6 +104,13 @@ def placement(
     centre = np.array([rng.normal(0.0, 0.02), 0.05 + rng.normal(0.0, 0.02), depth])
     drift = np.stack([_wave(rng, t, sway.drift_m, sway.period_s) for _ in range(3)], axis=1)
     return rot, centre + drift
+
+
+def turned_supine(poses: np.ndarray, joints: Sequence[str]) -> np.ndarray:
+    """Each pose of `poses (P, J, 3)` turned about its own origin so that its trunk lies as `SUPINE` places it:
+    chest to the camera (-z), head up the image (-y), its left on the image's right."""
+    axes, _ = trunk_axes(poses, joints)  # rows: left, up, forward
+    return np.einsum("ij,pjk,pmk->pmi", SUPINE, axes, poses)
 
 
 def project_points(points: np.ndarray, intrinsics: Intrinsics) -> np.ndarray:
