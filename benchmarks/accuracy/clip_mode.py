@@ -2,7 +2,8 @@
 
 Sources: `syrip` (SyRIP poses, one infant's bones kept and each segment turned from key pose to key pose,
 `make_sequences(interpolation="segments")`; `--split test` for Test100, the final check, else the training poses;
-`--supine`: each pose first turned chest to the camera, head up the image, as infants are filmed) and `adult` (the
+`--supine`: each pose first turned chest to the camera, head up the image, and the body swaying about one place,
+as infants are filmed) and `adult` (the
 adult motion capture made infant-like, `zedo_cli.evaluation.clips`, when it is installed with the data). Each clip
 is seen through a camera of f = 1000 px (known, `--camera known`) or the pseudo camera (`--camera pseudo`), 3 px
 detector noise, 3 % of joints dropped. Scored against the 3D truth, pelvis-centred without scale or rotation
@@ -30,7 +31,7 @@ from zedo_cli.analysis.pose.geometry import angle_between_deg
 from zedo_cli.analysis.pose.joint_angles import joint_angles
 from zedo_cli.data.datasets import load_syrip_3d
 from zedo_cli.data.skeleton import get_skeleton
-from zedo_cli.evaluation.clips.cameras import turned_supine
+from zedo_cli.evaluation.clips.cameras import Sway, turned_supine
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.lifting.camera import Intrinsics
 from zedo_cli.lifting.clip import BONE_NAMES, LIMB_BONES
@@ -264,7 +265,8 @@ def clips_of(args: argparse.Namespace, rng: np.random.Generator) -> dict[str, np
     keys = int(args.seconds) + 1
     place = known_camera(1000.0) if args.camera == "known" else None
     return make_sequences(poses, rng, count=args.clips, keyposes=keys, transition_s=1.0, fps=FPS, noise_px=3.0,
-                          drop=0.03, gap=3, place=place, interpolation="segments")  # fmt: skip
+                          drop=0.03, gap=3, place=place, interpolation="segments",
+                          sway=Sway() if args.supine else None)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -4,7 +4,8 @@ and how often it catches clips that are atypical by construction.
 Sources (`--source`): the adult motion made infant-like (`zedo_cli.evaluation.clips`, poses the bundled prior never
 saw: it was trained on SyRIP), the clinic cameras and the pseudo camera; SyRIP's training or Test100 poses, or its
 synthetic poses (`benchmarks/lib/pose_sources.py`: outside every fit, for an independent check only), eased 1 s
-apart before the pseudo camera, each in its own photo's orientation or, with `-supine`, turned chest to the camera.
+apart before the pseudo camera, each in its own photo's orientation, the body turning and drifting at constant rates,
+or, with `-supine`, turned chest to the camera and swaying about one place as the adult motion's clips do.
 30 fps, 3 px jitter, 3 % dropped joints, each clip its own infant. Lifted as a user lifts a clip, without stating
 the camera (`--temporal smooth`), and analysed with the defaults; the clip features are what `zedo norms` collects
 (`compare.features_by_person`). Groups:
@@ -61,7 +62,7 @@ from zedo_cli.evaluation.clips import (
     infant_bodies_from_syrip,
     load_adult_library,
 )
-from zedo_cli.evaluation.clips.cameras import project_points
+from zedo_cli.evaluation.clips.cameras import Sway, project_points
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.evaluation.clips.stillness import hold_still
 from zedo_cli.lifting.camera import Intrinsics
@@ -98,7 +99,7 @@ SOURCE_WORDS = {"adult": "adult motion made infant-like, clinic and pseudo camer
                 "syrip-train": "SyRIP training poses eased 1 s apart, pseudo camera",
                 "syrip-test": "SyRIP Test100 poses eased 1 s apart, pseudo camera",
                 "syrip-synthetic": "SyRIP's synthetic poses (HW-HuP) eased 1 s apart, pseudo camera",
-                **{s + SUPINE: f"{s}'s poses each turned supine, chest to the camera, eased 1 s apart, pseudo camera"
+                **{s + SUPINE: f"{s}'s poses turned chest to the camera, eased 1 s apart, swaying, pseudo camera"
                    for s in EASED_SOURCES}}  # fmt: skip
 KINDS = ("published", "extended", "asymmetry")
 GROUP_WORDS = {"typical": "typical 10 s", "long": "typical 60 s", "still_arm": "still left arm",
@@ -139,7 +140,8 @@ def eased_clips(args: argparse.Namespace, group: str, truth: list[np.ndarray] | 
     for i in range(count):
         rng = np.random.default_rng([args.seed, offset, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(seconds) + 1, transition_s=1.0, fps=FPS,
-                             noise_px=args.jitter_px, drop=0.03, gap=0, turn_scale=args.turn_scale)  # fmt: skip
+                             noise_px=args.jitter_px, drop=0.03, gap=0, turn_scale=args.turn_scale,
+                             sway=Sway() if args.source.endswith(SUPINE) else None)  # fmt: skip
         xy, conf, rel = seq["xy"], seq["conf"], seq["rel"]
         if held:
             rel = hold_still(seq["rel"], JOINTS, held)

@@ -10,8 +10,8 @@ Each pose keeps the orientation of its own photo: eased one into the next, the b
 the next's (on `norms_false_alarms.py`'s typical 10 s clips the trunk's forward axis turns at a median 49 deg/s and
 lies 77 degrees from the camera's direction). With the suffix `-supine` (`syrip-train-supine`, ...) each pose is first
 turned to lie as an infant is filmed, chest to the camera and head up the image
-(`zedo_cli.evaluation.clips.cameras.turned_supine`), so that only the clip's own turning remains (7 deg/s, 34
-degrees).
+(`zedo_cli.evaluation.clips.cameras.turned_supine`); `norms_false_alarms.py` then sways the body about one place as
+the adult motion's clips do (its trunk turns at a median 0.9 deg/s and lies 7 degrees from the camera's direction).
 """
 
 from __future__ import annotations

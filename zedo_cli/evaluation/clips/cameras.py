@@ -85,7 +85,8 @@ class Sway:
     drift_m: float = 0.02
 
 
-def _wave(rng: np.random.Generator, t: np.ndarray, amplitude: float, period_s: tuple[float, float]) -> np.ndarray:
+def wave(rng: np.random.Generator, t: np.ndarray, amplitude: float, period_s: tuple[float, float]) -> np.ndarray:
+    """A sinusoid of `amplitude` at times `t (T,)`, its period drawn in `period_s` and its phase at random."""
     period = rng.uniform(*period_s)
     return amplitude * np.sin(2 * np.pi * t / period + rng.uniform(0, 2 * np.pi))
 
@@ -97,12 +98,12 @@ def placement(
     the camera frame, and the pelvis `(T, 3)` in the camera frame. `body_mean`: the clip's mean
     trunk frame (columns left, up, forward), turned to lie supine (`SUPINE`) before the sway."""
     fixed = SUPINE @ body_mean.T
-    turn = rng.uniform(-sway.offset_rad, sway.offset_rad) + _wave(rng, t, sway.turn_rad, sway.period_s)
-    roll = _wave(rng, t, sway.roll_rad, sway.period_s)
+    turn = rng.uniform(-sway.offset_rad, sway.offset_rad) + wave(rng, t, sway.turn_rad, sway.period_s)
+    roll = wave(rng, t, sway.roll_rad, sway.period_s)
     rot = axis_rotations(2, turn) @ axis_rotations(1, roll) @ fixed
     depth = rng.uniform(*camera.depth_m)
     centre = np.array([rng.normal(0.0, 0.02), 0.05 + rng.normal(0.0, 0.02), depth])
-    drift = np.stack([_wave(rng, t, sway.drift_m, sway.period_s) for _ in range(3)], axis=1)
+    drift = np.stack([wave(rng, t, sway.drift_m, sway.period_s) for _ in range(3)], axis=1)
     return rot, centre + drift
 
 

@@ -18,6 +18,7 @@ import torch
 from ...data.skeleton import get_skeleton
 from ...lifting.camera import Intrinsics, project
 from ...lifting.detections import pose_size
+from .cameras import Sway, wave
 
 IMAGE_W, IMAGE_H = 1280, 720
 SYRIP12_JOINTS = get_skeleton("syrip12").joints
@@ -96,7 +97,7 @@ def make_sequences(
     poses: np.ndarray, rng: np.random.Generator, *, count: int, keyposes: int, transition_s: float, fps: float,
     noise_px: float, drop: float, gap: int, place: Placement | None = None, key_noise: np.ndarray | None = None,
     noise_rel: float = 0.0, depth_m: float = 1.0, drift_scale: float = 1.0, interpolation: str = "positions",
-    turn_scale: float = 1.0,
+    turn_scale: float = 1.0, sway: Sway | None = None,
 ) -> dict[str, np.ndarray]:  # fmt: skip
     """Synthetic videos: truth (root-relative and camera frame), noisy 2D, confidences, track labels.
 
@@ -111,7 +112,10 @@ def make_sequences(
     geometry (benchmarks/calibrate/calibrate_measures.py), which overfills a 1280x720 frame; the demo clip
     (benchmarks/clips/demo_clip.py) stands further back and drifts less, to stay inside it. `turn_scale`
     scales the rates at which the body turns about the vertical and the optical axis (0: it keeps its first
-    orientation). The random draws are the same whatever the three values.
+    orientation). The random draws are the same whatever the three values. With `sway`, the body instead sways
+    about its first place as the adult motion's clips do (`cameras.Sway`: an in-image turn about the optical axis, a
+    roll about the vertical, a drift, each a slow sinusoid), so that every stretch of a long clip is placed like a
+    short clip; `turn_scale` is then unused.
 
     `interpolation`: "positions" eases every joint's position from key pose to key pose (the clips every
     shipped calibration except the `3d_` clip features' was fitted on): a turning bone shortens half-way,
@@ -134,12 +138,20 @@ def make_sequences(
             err_all.append(np.concatenate([_eased_error(key_noise[picked[i]], key_noise[picked[i + 1]], ease)
                                            for i in range(keyposes - 1)]))  # fmt: skip
         t = np.arange(len(seq)) / fps
-        yaw = rng.uniform(-0.4, 0.4) + turn_scale * rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
-        roll = rng.uniform(-0.2, 0.2) + turn_scale * rng.uniform(-0.1, 0.1) * t
+        if sway is None:
+            yaw = rng.uniform(-0.4, 0.4) + turn_scale * rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
+            roll = rng.uniform(-0.2, 0.2) + turn_scale * rng.uniform(-0.1, 0.1) * t
+        else:  # lying under the camera: turning in the image (about z), rolling about the long axis (about y)
+            roll = rng.uniform(-sway.offset_rad, sway.offset_rad) + wave(rng, t, sway.turn_rad, sway.period_s)
+            yaw = wave(rng, t, sway.roll_rad, sway.period_s)
         rel = seq @ _rotation(yaw, roll).transpose(0, 2, 1)
         if place is None:
-            offset, drift = rng.normal(0, [0.05, 0.05, 0.1]), rng.uniform(-0.05, 0.05, 3)
-            root = np.array([0.0, 0.0, depth_m]) + drift_scale * offset + drift_scale * drift * t[:, None]
+            offset = rng.normal(0, [0.05, 0.05, 0.1])
+            if sway is None:
+                drift = rng.uniform(-0.05, 0.05, 3) * t[:, None]
+            else:
+                drift = np.stack([wave(rng, t, sway.drift_m, sway.period_s) for _ in range(3)], axis=1)
+            root = np.array([0.0, 0.0, depth_m]) + drift_scale * offset + drift_scale * drift
             k_all.append(np.repeat(Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()[None], len(seq), 0))
         else:
             kmat, root = place(rng, rel, rng.uniform(-0.02, 0.02, 3) * (t - t.mean())[:, None])
