@@ -34,6 +34,30 @@ def _rotation(yaw: np.ndarray, roll: np.ndarray) -> np.ndarray:
     return rz @ ry
 
 
+def _turning(rng: np.random.Generator, t: np.ndarray, turn_scale: float, sway: Sway | None) -> np.ndarray:
+    """The body's rotations `(T, 3, 3)` at times `t (T,)`: turning at constant rates scaled by `turn_scale`, or with
+    `sway` lying under the camera, turning in the image (about z) and rolling about its long axis (about y)."""
+    if sway is None:
+        yaw = rng.uniform(-0.4, 0.4) + turn_scale * rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
+        roll = rng.uniform(-0.2, 0.2) + turn_scale * rng.uniform(-0.1, 0.1) * t
+    else:
+        roll = rng.uniform(-sway.offset_rad, sway.offset_rad) + wave(rng, t, sway.turn_rad, sway.period_s)
+        yaw = wave(rng, t, sway.roll_rad, sway.period_s)
+    return _rotation(yaw, roll)
+
+
+def _pseudo_camera_root(rng: np.random.Generator, t: np.ndarray, depth_m: float, drift_scale: float,
+                        sway: Sway | None) -> np.ndarray:  # fmt: skip
+    """The root `(T, 3)` before the pseudo camera: about `depth_m` away, offset and drifting (at a constant speed, or
+    with `sway` about its place), both scaled by `drift_scale`."""
+    offset = rng.normal(0, [0.05, 0.05, 0.1])
+    if sway is None:
+        drift = rng.uniform(-0.05, 0.05, 3) * t[:, None]
+    else:
+        drift = np.stack([wave(rng, t, sway.drift_m, sway.period_s) for _ in range(3)], axis=1)
+    return np.array([0.0, 0.0, depth_m]) + drift_scale * offset + drift_scale * drift
+
+
 # A camera placement for one synthetic clip: (rng, root-relative camera-frame poses (T, J, 3), their
 # root's drift (T, 3) about its mean) -> (K (3, 3), root points (T, 3) in the camera frame).
 Placement = Callable[[np.random.Generator, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
@@ -138,20 +162,9 @@ def make_sequences(
             err_all.append(np.concatenate([_eased_error(key_noise[picked[i]], key_noise[picked[i + 1]], ease)
                                            for i in range(keyposes - 1)]))  # fmt: skip
         t = np.arange(len(seq)) / fps
-        if sway is None:
-            yaw = rng.uniform(-0.4, 0.4) + turn_scale * rng.uniform(-0.3, 0.3) * t  # up to ~17 deg/s
-            roll = rng.uniform(-0.2, 0.2) + turn_scale * rng.uniform(-0.1, 0.1) * t
-        else:  # lying under the camera: turning in the image (about z), rolling about the long axis (about y)
-            roll = rng.uniform(-sway.offset_rad, sway.offset_rad) + wave(rng, t, sway.turn_rad, sway.period_s)
-            yaw = wave(rng, t, sway.roll_rad, sway.period_s)
-        rel = seq @ _rotation(yaw, roll).transpose(0, 2, 1)
+        rel = seq @ _turning(rng, t, turn_scale, sway).transpose(0, 2, 1)
         if place is None:
-            offset = rng.normal(0, [0.05, 0.05, 0.1])
-            if sway is None:
-                drift = rng.uniform(-0.05, 0.05, 3) * t[:, None]
-            else:
-                drift = np.stack([wave(rng, t, sway.drift_m, sway.period_s) for _ in range(3)], axis=1)
-            root = np.array([0.0, 0.0, depth_m]) + drift_scale * offset + drift_scale * drift
+            root = _pseudo_camera_root(rng, t, depth_m, drift_scale, sway)
             k_all.append(np.repeat(Intrinsics.pseudo(IMAGE_W, IMAGE_H).matrix()[None], len(seq), 0))
         else:
             kmat, root = place(rng, rel, rng.uniform(-0.02, 0.02, 3) * (t - t.mean())[:, None])
