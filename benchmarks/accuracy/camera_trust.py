@@ -6,7 +6,8 @@ Sources (`--source`), each clip one infant, 30 fps, 3 px jitter, 3 % dropped joi
   source every calibration was fitted on (other draws);
 - `syrip-synthetic`: SyRIP's synthetic poses (`benchmarks/lib/pose_sources.py`), each segment turned from key pose to
   key pose 1 s apart with the first key pose's bones, placed before each set-up: a pose source outside every fit,
-  for an independent check only.
+  for an independent check only; `syrip-synthetic-supine`: the same poses turned chest to the camera, the body
+  swaying about one place, as infants are filmed.
 Set-ups: each of `CLINIC_CAMERAS`, the pseudo camera and two set-ups 2.5-3.5 m away in turn; each clip lifted with
 `--temporal smooth` (or `--temporal`'s mode) twice (no camera; `--focal <its focal length>`) and analysed with the
 defaults. Per set-up and way: the share of (frame, pair) symmetry values with a 90 % interval, the share of those
@@ -31,7 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, habits, write_2d
-from benchmarks.lib.pose_sources import eased_source_poses
+from benchmarks.lib.pose_sources import SUPINE, eased_source_poses
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES
 from zedo_cli.analysis.clip.features_3d import PREFIX as PREFIX_3D
 from zedo_cli.analysis.clip.features_3d import features_3d
@@ -40,13 +41,13 @@ from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, symmetry_angl
 from zedo_cli.analysis.uncertainty.calibration import wrap_deg
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
-from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA, CameraSetup
+from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA, CameraSetup, Sway
 from zedo_cli.evaluation.clips.eased import make_sequences
 from zedo_cli.evaluation.metrics import decisive_calls
 from zedo_cli.formats.readers.result_record import ResultPoses
 
 SKELETON = get_skeleton("syrip12")
-SOURCES = ("adult", "syrip-synthetic")
+SOURCES = ("adult", "syrip-synthetic", "syrip-synthetic" + SUPINE)
 CALL_LEVEL = 0.8  # the level of the decisive calls (docs/clinical.md)
 MIN_FEATURE_CASES = 100  # a single `3d_` feature's coverage is reported from this many intervals
 Clip = tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, int]]  # 3D truth (T, 12, 3), 2D, confidence, image size
@@ -202,11 +203,12 @@ def eased_source(args: argparse.Namespace, camera: CameraSetup) -> Iterator[Clip
         centre = np.array([rng.normal(0.0, 0.02), 0.05 + rng.normal(0.0, 0.02), rng.uniform(*camera.depth_m)])
         return kmat, centre + drift
 
+    sway = Sway() if args.source.endswith(SUPINE) else None
     for i in range(args.clips):
         rng = np.random.default_rng([args.seed, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(args.seconds) + 1, transition_s=1.0, fps=FPS,
                              noise_px=JITTER_PX, drop=0.03, gap=0, place=None if camera is PSEUDO_CAMERA else place,
-                             interpolation="segments")  # fmt: skip
+                             interpolation="segments", sway=sway)  # fmt: skip
         yield seq["cam"], seq["xy"], seq["conf"], (camera.width, camera.height)
 
 
