@@ -32,7 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, habits, write_2d
-from benchmarks.lib.pose_sources import SUPINE, eased_source_poses
+from benchmarks.lib.pose_sources import SUPINE, eased_source_poses, source_sway
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES
 from zedo_cli.analysis.clip.features_3d import PREFIX as PREFIX_3D
 from zedo_cli.analysis.clip.features_3d import features_3d
@@ -41,7 +41,7 @@ from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, symmetry_angl
 from zedo_cli.analysis.uncertainty.calibration import wrap_deg
 from zedo_cli.data.skeleton import get_skeleton
 from zedo_cli.evaluation.clips import ClipSettings, adult_infant_clips, infant_bodies_from_syrip, load_adult_library
-from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA, CameraSetup, Sway
+from zedo_cli.evaluation.clips.cameras import CLINIC_CAMERAS, FAR_CAMERAS, PSEUDO_CAMERA, CameraSetup
 from zedo_cli.evaluation.clips.eased import make_sequences
 from zedo_cli.evaluation.metrics import decisive_calls
 from zedo_cli.formats.readers.result_record import ResultPoses
@@ -203,7 +203,7 @@ def eased_source(args: argparse.Namespace, camera: CameraSetup) -> Iterator[Clip
         centre = np.array([rng.normal(0.0, 0.02), 0.05 + rng.normal(0.0, 0.02), rng.uniform(*camera.depth_m)])
         return kmat, centre + drift
 
-    sway = Sway() if args.source.endswith(SUPINE) else None
+    sway = source_sway(args.source)
     for i in range(args.clips):
         rng = np.random.default_rng([args.seed, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(args.seconds) + 1, transition_s=1.0, fps=FPS,

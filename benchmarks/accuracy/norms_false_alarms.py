@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.pose_sources import EASED_SOURCES, SUPINE, SUPINE_SOURCES, eased_source_poses
+from benchmarks.lib.pose_sources import EASED_SOURCES, SUPINE, SUPINE_SOURCES, eased_source_poses, source_sway
 from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.clip.published_features import PREREGISTERED
 from zedo_cli.analysis.norms.calibrated import RELIABILITY_FILE, RELIABLE_ICC, ReliabilityEntry
@@ -62,7 +62,7 @@ from zedo_cli.evaluation.clips import (
     infant_bodies_from_syrip,
     load_adult_library,
 )
-from zedo_cli.evaluation.clips.cameras import Sway, project_points
+from zedo_cli.evaluation.clips.cameras import project_points
 from zedo_cli.evaluation.clips.eased import IMAGE_H, IMAGE_W, make_sequences
 from zedo_cli.evaluation.clips.stillness import hold_still
 from zedo_cli.lifting.camera import Intrinsics
@@ -141,7 +141,7 @@ def eased_clips(args: argparse.Namespace, group: str, truth: list[np.ndarray] | 
         rng = np.random.default_rng([args.seed, offset, i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(seconds) + 1, transition_s=1.0, fps=FPS,
                              noise_px=args.jitter_px, drop=0.03, gap=0, turn_scale=args.turn_scale,
-                             sway=Sway() if args.source.endswith(SUPINE) else None)  # fmt: skip
+                             sway=source_sway(args.source))  # fmt: skip
         xy, conf, rel = seq["xy"], seq["conf"], seq["rel"]
         if held:
             rel = hold_still(seq["rel"], JOINTS, held)

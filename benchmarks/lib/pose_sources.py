@@ -22,7 +22,7 @@ import numpy as np
 
 from zedo_cli.data.datasets import load_npy, load_syrip_3d
 from zedo_cli.data.skeleton import center_on_root, convert_points, get_skeleton
-from zedo_cli.evaluation.clips.cameras import turned_supine
+from zedo_cli.evaluation.clips.cameras import Sway, turned_supine
 
 HWHUP_POSES = "poses3d_hwhup.npy"
 SYNTHETIC_ROWS = slice(300, 1300)
@@ -43,10 +43,16 @@ def synthetic_poses(syrip_dir: str | Path) -> np.ndarray:
 
 def eased_source_poses(syrip_dir: str | Path, source: str) -> np.ndarray:
     """The poses of one of EASED_SOURCES or SUPINE_SOURCES, `(P, 12, 3)`."""
-    if source.endswith(SUPINE) and source.removesuffix(SUPINE) in EASED_SOURCES:
+    if source in SUPINE_SOURCES:
         return turned_supine(eased_source_poses(syrip_dir, source.removesuffix(SUPINE)), get_skeleton("syrip12").joints)
     if source == "syrip-synthetic":
         return synthetic_poses(syrip_dir)
     if source not in EASED_SOURCES:
         raise ValueError(f"unknown pose source {source!r}; choose one of {', '.join(EASED_SOURCES)}")
     return load_syrip_3d(syrip_dir, "test" if source == "syrip-test" else "train").poses
+
+
+def source_sway(source: str) -> Sway | None:
+    """How a source's eased clips place the body: swaying about one place for SUPINE_SOURCES (`make_sequences(sway=)`),
+    else None (turning and drifting at constant rates)."""
+    return Sway() if source in SUPINE_SOURCES else None
