@@ -75,21 +75,43 @@ def elbow_speeds(poses: np.ndarray) -> tuple[float, float]:
     return values["3d_median_vel_angle_LElbow"], values["3d_median_vel_angle_RElbow"]
 
 
+# A side rule: (unary costs (T, 2), separations (T,), near and far solutions (T, 3) each, the parent joint (T, 3),
+# the bone (parent, child)) -> each frame's side (T,), 0 near and 1 far
+SideRule = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, tuple[str, str]], np.ndarray]
+
+
 @contextmanager
-def sides_kept_in_trunk_frame(torso: np.ndarray, cost: float) -> Iterator[None]:
-    """`clip.solve_limbs` choosing each bone's side with `cost` per unit change of its direction in the trunk frame
-    of `torso (T, 4, 3)` between frames, on top of clip mode's cost of changing side."""
-    axes, _ = trunk_axes(torso, clip.TORSO)
+def side_rule(rule: SideRule) -> Iterator[None]:
+    """`clip.solve_limbs` choosing each bone's side by `rule`; it solves `clip.LIMB_BONES` in order, one
+    `ray_solutions` and one `choose_sides` call a bone."""
     solutions, choose = clip.ray_solutions, clip.choose_sides
+    bones = iter(clip.LIMB_BONES)
     last: dict[str, np.ndarray] = {}
 
     def recorded(parent: np.ndarray, ray: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         near, far, reach = solutions(parent, ray, length)
-        last["u"] = np.stack([np.einsum("tij,tj->ti", axes, (s - parent) / length) for s in (near, far)], 1)
+        last.update(near=near, far=far, parent=parent)
         return near, far, reach
 
-    def continuous(unary: np.ndarray, separation: np.ndarray) -> np.ndarray:
-        u = last["u"]
+    def chosen(unary: np.ndarray, separation: np.ndarray) -> np.ndarray:
+        return rule(unary, separation, last["near"], last["far"], last["parent"], next(bones))
+
+    clip.ray_solutions, clip.choose_sides = recorded, chosen
+    try:
+        yield
+    finally:
+        clip.ray_solutions, clip.choose_sides = solutions, choose
+
+
+def sides_kept_in_trunk_frame(torso: np.ndarray, cost: float) -> SideRule:
+    """Clip mode's cost of changing side, plus `cost` per unit change of the bone's direction in the trunk frame of
+    `torso (T, 4, 3)` between frames."""
+    axes, _ = trunk_axes(torso, clip.TORSO)
+
+    def rule(unary: np.ndarray, separation: np.ndarray, near: np.ndarray, far: np.ndarray, parent: np.ndarray,
+             bone: tuple[str, str]) -> np.ndarray:  # fmt: skip
+        length = np.linalg.norm(near - parent, axis=-1, keepdims=True)
+        u = np.stack([np.einsum("tij,tj->ti", axes, (s - parent) / length) for s in (near, far)], 1)
         step = np.nan_to_num(np.linalg.norm(u[:-1, :, None] - u[1:, None, :], axis=-1))  # (T - 1, from, to)
         sep = np.nan_to_num(separation)
         pairwise = cost * step
@@ -99,38 +121,18 @@ def sides_kept_in_trunk_frame(torso: np.ndarray, cost: float) -> Iterator[None]:
         pairwise[~(known[:-1] & known[1:])] = 0.0
         return clip.best_path(np.nan_to_num(unary), pairwise)
 
-    clip.ray_solutions, clip.choose_sides = recorded, continuous
-    try:
-        yield
-    finally:
-        clip.ray_solutions, clip.choose_sides = solutions, choose
+    return rule
 
 
-@contextmanager
-def true_sides(truth: np.ndarray) -> Iterator[None]:
-    """`clip.solve_limbs` putting each joint on the solution nearer its true place `truth (T, 12, 3)`."""
-    solutions, choose = clip.ray_solutions, clip.choose_sides
-    last: dict[str, np.ndarray] = {}
+def true_sides(truth: np.ndarray) -> SideRule:
+    """Each joint on the solution nearer its true place `truth (T, 12, 3)`."""
 
-    def recorded(parent: np.ndarray, ray: np.ndarray, length: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        near, far, reach = solutions(parent, ray, length)
-        last["near"], last["far"] = near, far
-        return near, far, reach
+    def rule(unary: np.ndarray, separation: np.ndarray, near: np.ndarray, far: np.ndarray, parent: np.ndarray,
+             bone: tuple[str, str]) -> np.ndarray:  # fmt: skip
+        child = truth[:, SKELETON.index(bone[1])]
+        return (np.linalg.norm(far - child, axis=-1) < np.linalg.norm(near - child, axis=-1)).astype(np.int8)
 
-    def nearer(unary: np.ndarray, separation: np.ndarray) -> np.ndarray:
-        # the bone is the one whose child's truth these solutions lie nearest
-        gaps = [np.nanmean(np.minimum(np.linalg.norm(last["near"] - truth[:, SKELETON.index(c)], axis=-1),
-                                      np.linalg.norm(last["far"] - truth[:, SKELETON.index(c)], axis=-1)))
-                for _, c in clip.LIMB_BONES]  # fmt: skip
-        child = truth[:, SKELETON.index(clip.LIMB_BONES[int(np.argmin(gaps))][1])]
-        far = np.linalg.norm(last["far"] - child, axis=-1) < np.linalg.norm(last["near"] - child, axis=-1)
-        return far.astype(np.int8)
-
-    clip.ray_solutions, clip.choose_sides = recorded, nearer
-    try:
-        yield
-    finally:
-        clip.ray_solutions, clip.choose_sides = solutions, choose
+    return rule
 
 
 def limbs(track: clip.ClipTrack, skel: clip.TrackSkeleton, torso: np.ndarray) -> np.ndarray:
@@ -163,12 +165,12 @@ def variants(cam: np.ndarray, xy: np.ndarray, conf: np.ndarray, prior, cost: flo
     true_torso = cam[:, TORSO]
     out["clip limbs"] = elbow_speeds(limbs(track, skel, torso))
     out["true torso and lengths"] = elbow_speeds(limbs(track, true_skel, true_torso))
-    with sides_kept_in_trunk_frame(true_torso, cost):
+    with side_rule(sides_kept_in_trunk_frame(true_torso, cost)):
         out["true torso and lengths + sides kept in the trunk frame"] = elbow_speeds(limbs(track, true_skel,
                                                                                             true_torso))  # fmt: skip
-    with sides_kept_in_trunk_frame(torso, cost):
+    with side_rule(sides_kept_in_trunk_frame(torso, cost)):
         out["estimated torso + sides kept in the trunk frame"] = elbow_speeds(limbs(track, skel, torso))
-    with true_sides(cam):
+    with side_rule(true_sides(cam)):
         out["true torso and lengths, true sides"] = elbow_speeds(limbs(track, true_skel, true_torso))
     return out
 

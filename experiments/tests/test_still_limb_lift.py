@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from helpers import synthetic_poses
 
-from experiments.still_limb_lift import JOINTS, held_arm_clip, sides_kept_in_trunk_frame, true_sides
+from experiments.still_limb_lift import JOINTS, held_arm_clip, side_rule, true_sides
 from zedo_cli.evaluation.clips.cameras import turned_supine
 from zedo_cli.evaluation.clips.stillness import trunk_axes
 from zedo_cli.lifting import clip
@@ -24,11 +24,26 @@ def test_the_held_arm_keeps_its_place_in_the_trunk_frame() -> None:
     assert xy.shape == (300, 12, 2) and conf.shape == (300, 12)
 
 
-def test_side_rules_are_put_back() -> None:
+def test_a_side_rule_sees_each_bone_in_turn_and_is_put_back() -> None:
     solutions, choose = clip.ray_solutions, clip.choose_sides
-    torso = np.repeat(synthetic_poses(1, seed=2)[:, [JOINTS.index(n) for n in clip.TORSO]], 5, axis=0)
-    with sides_kept_in_trunk_frame(torso, 10.0):
-        assert clip.choose_sides is not choose
-    with true_sides(np.zeros((5, 12, 3))):
-        assert clip.ray_solutions is not solutions
+    seen = []
+
+    def rule(unary, separation, near, far, parent, bone):  # noqa: ANN001, ANN202
+        seen.append(bone)
+        return np.zeros(len(unary), np.int8)
+
+    with side_rule(rule):
+        assert (clip.ray_solutions, clip.choose_sides) != (solutions, choose)
+        for _ in clip.LIMB_BONES:
+            clip.ray_solutions(np.zeros((3, 3)), np.tile([0.0, 0.0, 1.0], (3, 1)), 0.1)
+            clip.choose_sides(np.zeros((3, 2)), np.zeros(3))
+    assert seen == list(clip.LIMB_BONES)
     assert (clip.ray_solutions, clip.choose_sides) == (solutions, choose)
+
+
+def test_true_sides_picks_the_solution_nearer_the_truth() -> None:
+    truth = np.zeros((2, 12, 3))
+    truth[:, JOINTS.index("left_knee")] = [[0.0, 0.0, 1.0], [0.0, 0.0, 2.0]]
+    near, far = np.tile([0.0, 0.0, 1.1], (2, 1)), np.tile([0.0, 0.0, 1.9], (2, 1))
+    sides = true_sides(truth)(np.zeros((2, 2)), np.zeros(2), near, far, np.zeros((2, 3)), ("left_hip", "left_knee"))
+    assert sides.tolist() == [0, 1]
