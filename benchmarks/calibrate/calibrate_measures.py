@@ -129,7 +129,6 @@ def lift_cases(args: argparse.Namespace) -> None:
     import torch
 
     from benchmarks.lib.folds import fold_priors
-    from zedo_cli.evaluation.clips.eased import make_sequences
     from zedo_cli.lifting.camera import resolve_intrinsics
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.solver import lift
@@ -150,12 +149,28 @@ def lift_cases(args: argparse.Namespace) -> None:
             np.savez(args.cases / f"fold{k}-none-{key}.npz", group=np.arange(len(kp)), **arrays)
             print(f"fold {k} {key}: {int(res.lifted.sum())}/{len(kp)} lifted")
         torch.manual_seed(k)
-        clips = make_sequences(truth.poses, np.random.default_rng(100 + k), **CLIP_SETTINGS)
+        clips = syrip_clips(truth.poses, np.random.default_rng(100 + k), args.syrip_clips)
         for mode in (m for m in ("smooth", "clip") if m in args.temporal_modes):
             res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, cfg, mode=mode, tracks=clips["tracks"])
             arrays = lift_arrays(res, clips["rel"])
             np.savez(args.cases / f"fold{k}-{mode}-clips.npz", group=clips["tracks"], **arrays)
             print(f"fold {k} clips, {mode}: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
+
+
+SYRIP_CLIPS = ("photo", "supine")  # how the SyRIP calibration clips place each key pose (`syrip_clips`)
+
+
+def syrip_clips(poses: np.ndarray, rng: np.random.Generator, placing: str) -> dict[str, np.ndarray]:
+    """The SyRIP calibration clips (CLIP_SETTINGS) of held-out `poses (P, 12, 3)`: "supine", each key pose turned
+    chest to the camera (`cameras.turned_supine`) and the body swaying about one place (`cameras.Sway`), as infants
+    are filmed and as the adult motion's clips lie; "photo", each key pose in its own photo's orientation, the body
+    turning and drifting at constant rates (so tumbling from one photo's view to the next)."""
+    from zedo_cli.evaluation.clips.cameras import Sway, turned_supine
+    from zedo_cli.evaluation.clips.eased import make_sequences
+
+    if placing == "photo":
+        return make_sequences(poses, rng, **CLIP_SETTINGS)
+    return make_sequences(turned_supine(poses, SKELETON.joints), rng, **CLIP_SETTINGS, sway=Sway())
 
 
 def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
@@ -961,6 +976,9 @@ def main() -> int:
         default=list(SOURCES),
         help="--lift: the clip sources lifted (SyRIP poses; the adult motion made infant-like)",
     )
+    ap.add_argument("--syrip-clips", choices=SYRIP_CLIPS, default="photo",
+                    help="--lift: the SyRIP clips' key poses turned chest to the camera, swaying (supine), or each in "
+                    "its photo's orientation, tumbling (photo)")  # fmt: skip
     ap.add_argument("--write", action="store_true", help="write the calibrations for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="calibration file (default: the package's)")
     ap.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD_DEG)

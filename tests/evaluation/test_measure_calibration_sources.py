@@ -49,3 +49,17 @@ def test_cases_are_cut_into_terciles_of_the_lifts_difficulty_within_each_source(
         "adult motion, middle third",
     ]
     assert got[9] == "SyRIP poses, unknown"
+
+
+def test_the_syrip_clips_are_the_shipped_photo_orientation_ones_unless_supine_is_asked_for() -> None:
+    from zedo_cli.evaluation.clips.cameras import trunk_axes
+    from zedo_cli.evaluation.clips.eased import make_sequences
+
+    rng = np.random.default_rng(0)
+    poses = rng.normal(0.0, 0.15, (8, 12, 3))
+    photo = recipe.syrip_clips(poses, np.random.default_rng(3), "photo")
+    shipped = make_sequences(poses, np.random.default_rng(3), **recipe.CLIP_SETTINGS)
+    np.testing.assert_array_equal(photo["xy"], shipped["xy"])
+    supine = recipe.syrip_clips(poses, np.random.default_rng(3), "supine")
+    axes, _ = trunk_axes(supine["cam"], recipe.SKELETON.joints)  # rows: left, up, forward
+    assert np.median(-axes[:, 2, 2]) > 0.9  # the chest faces the camera (-z) in nearly every frame
