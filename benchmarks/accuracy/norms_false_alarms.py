@@ -102,6 +102,7 @@ SOURCE_WORDS = {"adult": "adult motion made infant-like, clinic and pseudo camer
                 **{s + SUPINE: f"{s}'s poses turned chest to the camera, eased 1 s apart, swaying, pseudo camera"
                    for s in EASED_SOURCES}}  # fmt: skip
 KINDS = ("published", "extended", "asymmetry")
+CALIBRATED_KINDS = KINDS[1:]
 GROUP_WORDS = {"typical": "typical 10 s", "long": "typical 60 s", "still_arm": "still left arm",
                "still_leg": "still left leg"}  # fmt: skip
 
@@ -261,6 +262,8 @@ def main() -> int:
     s.add_argument("--reference", type=int, default=20)
     s.add_argument("--draws", type=int, default=10)
     s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--groups", nargs="+", choices=list(GROUP_WORDS), default=list(GROUP_WORDS),
+                   help="the groups of clips compared with each reference (default all)")  # fmt: skip
     args = ap.parse_args()
     commands = {"lift": lift, "true-speeds": true_speeds, "reliability": reliability, "score": score}
     return commands[args.command](args)
@@ -345,10 +348,12 @@ def score(args: argparse.Namespace) -> int:
         epochs = {g: clip_epochs(folder, g) for g in others}
         rng = np.random.default_rng(args.seed)
         hits: dict[str, dict[str, list[list[bool]]]] = {}
+        agreement: dict[str, dict[str, list[tuple[float, int]]]] = {}  # per epoch-compared group and calibrated p
         for _ in range(args.draws):
             drawn = rng.permutation(sorted(typical))
             reference = build_norms([ClipValues(str(i), 0, typical[i]) for i in drawn[: args.reference]], "benchmark")
             tested = {"typical": {i: typical[i] for i in drawn[args.reference :]}, **others}
+            tested = {g: clips for g, clips in tested.items() if g in args.groups}
             for group, clips in tested.items():
                 if not clips:
                     continue
@@ -356,6 +361,10 @@ def score(args: argparse.Namespace) -> int:
                          for name, values in clips.items()]  # fmt: skip
                 for kind in KINDS:
                     hits.setdefault(group, {}).setdefault(kind, []).append([getattr(c, kind).p < 0.05 for c in found])
+                for kind in CALIBRATED_KINDS if epochs.get(group) else ():
+                    agreement.setdefault(group, {}).setdefault(kind, []).extend(
+                        (getattr(c, kind).epoch_agreement, getattr(c, kind).independent_epochs) for c in found
+                    )
         for group, kinds in hits.items():
             cells = []
             for kind in KINDS:
@@ -363,6 +372,10 @@ def score(args: argparse.Namespace) -> int:
                 cells.append(f"{rate:.1%} ({low:.1%}-{high:.1%})")
             clips = len(typical) if group == "typical" else len(others[group])
             print(f"| {source} | {GROUP_WORDS[group]}: {clips} | {cases} | " + " | ".join(cells) + " |")
+        for group, kinds in agreement.items():
+            print(f"  {source}, {GROUP_WORDS[group]} by epochs: " + "; ".join(
+                f"{kind} p, median epoch agreement {np.median([a for a, _ in v]):.2f}, independent epochs "
+                f"{np.median([n for _, n in v]):g} (of {len(v)} cases)" for kind, v in kinds.items()))  # fmt: skip
     return 0
 
 

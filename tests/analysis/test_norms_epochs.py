@@ -15,7 +15,7 @@ from test_norms import EXTENDED, VERSION, _all_reliable, _clip, _reference
 
 from zedo_cli.analysis.analyse import AnalysisSettings, analyse
 from zedo_cli.analysis.compare import compared, epoch_values, features_by_person, length_mismatch
-from zedo_cli.analysis.norms.calibrated import epochs_surprise, leave_one_out_scores
+from zedo_cli.analysis.norms.calibrated import NULL_DRAWS, effective_epochs, epochs_surprise, leave_one_out_scores
 from zedo_cli.analysis.norms.norms import build_norms, compare
 from zedo_cli.analysis.report.clip_report import comparison_block
 from zedo_cli.formats.readers.result import read_result
@@ -39,17 +39,41 @@ def test_an_epochs_features_are_those_of_the_same_frames_analysed_alone(tmp_path
         assert value == pytest.approx(alone[name], nan_ok=True), name
 
 
-def test_the_median_epoch_is_ranked_among_the_reference_clips_scores() -> None:
+def test_epochs_alike_count_as_one_clip_and_are_ranked_among_the_reference_clips_scores() -> None:
     rng = np.random.default_rng(0)
     reference = rng.normal(size=(20, 6))
-    epochs = rng.normal(size=(5, 6))
+    epochs = np.repeat(rng.normal(size=(1, 6)), 5, axis=0)  # five epochs of one infant who never changes
     epochs[:, 0] = np.nan  # a feature no epoch has is left out
     s = epochs_surprise(epochs, reference)
     others = leave_one_out_scores(reference[:, 1:])
     assert s.features == 5 and s.epochs == 5 and s.reference_clips == 20
-    assert s.p == pytest.approx((1 + np.sum(others >= s.score)) / 21)
+    assert s.epoch_agreement == 1.0 and s.independent_epochs == 1
+    assert s.p == pytest.approx(np.mean(others >= s.score), abs=0.02)
     far = epochs_surprise(epochs + 10.0, reference)
-    assert far.p == pytest.approx(1 / 21)
+    assert far.p == pytest.approx(1 / (1 + NULL_DRAWS))
+
+
+def test_epochs_that_vary_as_typical_clips_do_count_as_as_many_independent_clips() -> None:
+    rng = np.random.default_rng(1)
+    reference = rng.normal(size=(40, 60))
+    s = epochs_surprise(rng.normal(size=(6, 60)), reference)
+    assert s.epoch_agreement < 0.2 and s.independent_epochs >= 5
+    assert effective_epochs(6, 0.0) == 6 and effective_epochs(6, 1.0) == 1 and effective_epochs(6, 0.5) == 2
+
+
+@pytest.mark.parametrize("agreement", [0.0, 0.9])
+def test_long_typical_clips_are_called_atypical_about_as_often_as_the_level_says(agreement: float) -> None:
+    """Typical clips of 6 epochs, their epochs independent or alike (an infant's own way of moving): p < 0.05 for
+    1-10 % of them over several references; ranked as single clips, independent epochs were never called."""
+    calls = []
+    for draw in range(6):
+        rng = np.random.default_rng(draw)
+        reference = rng.standard_t(5, size=(20, 30))  # heavy-tailed features, as clip features are
+        for _ in range(25):
+            infant = rng.standard_t(5, size=30) * np.sqrt(agreement)
+            epochs = infant + rng.standard_t(5, size=(6, 30)) * np.sqrt(1 - agreement)
+            calls.append(epochs_surprise(epochs, reference).p < 0.05)
+    assert 0.01 <= np.mean(calls) <= 0.1
 
 
 def test_a_long_typical_clip_is_typical_and_a_long_still_arm_is_not() -> None:

@@ -6,7 +6,8 @@ The clip and the n reference clips are each scored by how far they lie from the 
 score the mean of the squared z over the features. The clip's p is its rank among the n + 1 scores: the share of
 them at least as large as its own. If the clip is a typical infant's clip like the reference's (exchangeable with
 them), p <= a happens with probability at most a, whatever the features' distributions (full conformal
-prediction); with n = 20 the smallest p is 1/21, so p < 0.05 calls one typical clip in 21.
+prediction); with n = 20 the smallest p is 1/21, so p < 0.05 calls one typical clip in 21. A clip much longer
+than the reference's is scored by its median epoch against medians of reference scores (`epochs_surprise`).
 
 Only features that measure the infant reliably take part: those whose test-retest agreement (the same clip lifted
 again with another seed and 1 px more detector noise) is at least `RELIABLE_ICC` in the shipped reliability file,
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -38,6 +40,8 @@ class CalibratedSurprise:
     features: int
     reference_clips: int
     epochs: int = 1  # a clip compared by its epochs (`epochs_surprise`): how many
+    epoch_agreement: float = 1.0  # ... how much they agree (`epoch_agreement`; 1: as one clip)
+    independent_epochs: int = 1  # ... and how many independent epochs they are worth (`effective_epochs`)
 
 
 def _robust_z(row: np.ndarray, others: np.ndarray) -> np.ndarray:
@@ -81,20 +85,48 @@ def calibrated_surprise(clip: np.ndarray, reference: np.ndarray) -> CalibratedSu
 
 def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurprise:
     """A clip longer than the reference's clips, as its epochs `(k, F)` each as long as them: the median of the
-    epochs' scores against the reference `(n, F)`, ranked among the reference clips' own scores (each against the
-    others). A typical clip's median epoch is less extreme than a typical clip, so p < a happens less often than a
-    (docs/movement.md measures it). Features no epoch has are left out."""
+    epochs' scores against the reference `(n, F)`, its p the share of medians of `effective_epochs` scores drawn
+    from the reference clips' own (each against the others) that are at least as large. The epochs of one infant
+    agree with each other more than clips of different infants (`epoch_agreement`); as many independent epochs as
+    their agreement is worth is what the median of a typical clip's epochs varies like (Kish's design effect).
+    Features no epoch has are left out."""
     known = np.isfinite(epochs).any(axis=0)
     ref, rows = reference[:, known], epochs[:, known]
     own_scores = np.array([_score(row, ref) for row in rows], float)
-    own_scores = own_scores[np.isfinite(own_scores)]
-    if not len(own_scores):
+    finite = np.isfinite(own_scores)
+    if not finite.any():
         return CalibratedSurprise(math.nan, math.nan, 0, len(reference), len(epochs))
-    own = float(np.median(own_scores))
+    own = float(np.median(own_scores[finite]))
     others = leave_one_out_scores(ref)
     others = others[np.isfinite(others)]
-    p = float((1 + np.sum(others >= own)) / (1 + len(others)))
-    return CalibratedSurprise(own, p, int(known.sum()), len(reference), len(epochs))
+    agreement = epoch_agreement(rows[finite], ref)
+    independent = effective_epochs(int(finite.sum()), agreement)
+    draws = np.random.default_rng(0).integers(len(others), size=(NULL_DRAWS, independent))
+    null = np.median(others[draws], axis=1)
+    p = float((1 + np.sum(null >= own)) / (1 + NULL_DRAWS))
+    return CalibratedSurprise(own, p, int(known.sum()), len(reference), len(epochs), agreement, independent)
+
+
+NULL_DRAWS = 10000  # medians drawn for an epoch-compared clip's null (a fixed seed: the same clip, the same p)
+
+
+def epoch_agreement(epochs: np.ndarray, reference: np.ndarray) -> float:
+    """How much one clip's epochs `(k, F)` agree beyond what typical clips do, in [0, 1]: one minus the median over
+    the features of the variance of the epochs' robust z against `reference (n, F)` (a feature whose epochs vary as
+    much as typical clips do has variance about 1 there; one whose epochs are alike, about 0). The intraclass
+    correlation of the epochs, estimated from the clip itself."""
+    z = np.array([_robust_z(row, reference) for row in epochs])
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a feature with one finite epoch: no variance
+        variance = np.nanvar(z, axis=0, ddof=1) if len(z) > 1 else np.full(z.shape[1:], np.nan)
+    variance = variance[np.isfinite(variance)]
+    return float(np.clip(1.0 - np.median(variance), 0.0, 1.0)) if len(variance) else 1.0
+
+
+def effective_epochs(epochs: int, agreement: float) -> int:
+    """The number of independent epochs that `epochs` epochs of intraclass correlation `agreement` are worth:
+    Kish's design effect, epochs / (1 + (epochs - 1) agreement), rounded, at least 1."""
+    return max(1, int(round(epochs / (1.0 + (epochs - 1) * agreement))))
 
 
 class ReliabilityEntry(PlainEntry):

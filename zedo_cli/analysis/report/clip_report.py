@@ -196,8 +196,11 @@ def comparison_block(a: Analysis) -> str:
                for n, z in furthest_from_typical(c)]  # fmt: skip
         items = "".join(f"<li>{escape(t)}</li>" for t in far)
         by_epochs = (f" This clip is longer than the reference's: its calibrated p and each feature's z are of its "
-                     f"{cal.epochs} epochs as long as the reference's clips (the median epoch), the published z and p "
-                     "of the whole clip." if cal.epochs > 1 else "")  # fmt: skip
+                     f"{cal.epochs} epochs as long as the reference's clips (the median epoch, against medians of as "
+                     f"many typical clips as its epochs are worth independently: {c.extended.independent_epochs} over "
+                     f"the extended features, {cal.independent_epochs} over the asymmetry), the published z and p of "
+                     "the whole clip."
+                     if cal.epochs > 1 else "")  # fmt: skip
         out.append(f"<p class=meta><b>Compared with typical infants{who}</b>: how surprising this clip is under the "
                    "reference. The published z compares the clip's summed log-likelihood under the reference with "
                    "the typical clips' own sums (negative: less typical), p is its two-sided normal p-value (its false "
