@@ -35,6 +35,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.lib.adult_cases import ADULT_SOURCE, adult_case_clips
+from benchmarks.lib.pose_sources import PLACINGS, placed_poses
 from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, CameraRange, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, all_measures
 from zedo_cli.analysis.pose.joint_angles import CIRCULAR_ANGLES
@@ -157,20 +158,13 @@ def lift_cases(args: argparse.Namespace) -> None:
             print(f"fold {k} clips, {mode}: {int(res.lifted.sum())}/{len(res.lifted)} frames lifted")
 
 
-SYRIP_CLIPS = ("photo", "supine")  # how the SyRIP calibration clips place each key pose (`syrip_clips`)
-
-
 def syrip_clips(poses: np.ndarray, rng: np.random.Generator, placing: str) -> dict[str, np.ndarray]:
-    """The SyRIP calibration clips (CLIP_SETTINGS) of held-out `poses (P, 12, 3)`: "supine", each key pose turned
-    chest to the camera (`cameras.turned_supine`) and the body swaying about one place (`cameras.Sway`), as infants
-    are filmed and as the adult motion's clips lie; "photo", each key pose in its own photo's orientation, the body
-    turning and drifting at constant rates (so tumbling from one photo's view to the next)."""
-    from zedo_cli.evaluation.clips.cameras import Sway, turned_supine
+    """The SyRIP calibration clips (CLIP_SETTINGS) of held-out `poses (P, 12, 3)`, their key poses placed by `placing`
+    (`pose_sources.placed_poses`: "photo", the shipped clips; "supine")."""
     from zedo_cli.evaluation.clips.eased import make_sequences
 
-    if placing == "photo":
-        return make_sequences(poses, rng, **CLIP_SETTINGS)
-    return make_sequences(turned_supine(poses, SKELETON.joints), rng, **CLIP_SETTINGS, sway=Sway())
+    placed, sway = placed_poses(poses, placing)
+    return make_sequences(placed, rng, **CLIP_SETTINGS, sway=sway)
 
 
 def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
@@ -976,7 +970,7 @@ def main() -> int:
         default=list(SOURCES),
         help="--lift: the clip sources lifted (SyRIP poses; the adult motion made infant-like)",
     )
-    ap.add_argument("--syrip-clips", choices=SYRIP_CLIPS, default="photo",
+    ap.add_argument("--syrip-clips", choices=PLACINGS, default="photo",
                     help="--lift: the SyRIP clips' key poses turned chest to the camera, swaying (supine), or each in "
                     "its photo's orientation, tumbling (photo)")  # fmt: skip
     ap.add_argument("--write", action="store_true", help="write the calibrations for the shipped prior")

@@ -36,6 +36,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.lib.adult_cases import ADULT_SOURCE, adult_case_clips
+from benchmarks.lib.pose_sources import PLACINGS, placed_poses
 from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.analysis.clip.published_features import published_features
 from zedo_cli.data.skeleton import get_skeleton
@@ -105,11 +106,12 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
     settings = {**CLIP_SETTINGS, **CASE_CLIPS, **(CAMERA_NOISE if args.cameras else {})}
     place = (lambda rng, rel, drift: place_camera(rng, rel, drift, CAMERAS)) if args.cameras else None
     for k, prior, truth, _ in fold_priors(args.folds, args.weights, args.syrip_dir):
+        poses, sway = placed_poses(truth.poses, args.syrip_clips)
         for motion in CASE_MOTIONS:
             torch.manual_seed(k)
             seed = (700 if args.cameras else 300) + k
-            clips = make_sequences(truth.poses, np.random.default_rng(seed), **settings, place=place,
-                                   interpolation=motion)  # fmt: skip
+            clips = make_sequences(poses, np.random.default_rng(seed), **settings, place=place, interpolation=motion,
+                                   sway=sway)  # fmt: skip
             save_case(folder / f"fold{k}-3d-clips-{motion}.npz", clips, prior, args.temporal)
         if args.adult:
             torch.manual_seed(k)
@@ -465,6 +467,9 @@ def main() -> int:
     ap.add_argument("--cases", type=Path, default=None, help="calibrate: the folds' clip cases' folder")
     ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
     ap.add_argument("--adult", action="store_true", help="--lift: also the adult motion made infant-like")
+    ap.add_argument("--syrip-clips", choices=PLACINGS, default="photo",
+                    help="--lift: the SyRIP clips' key poses each in its photo's orientation, tumbling (photo), or "
+                    "turned chest to the camera, swaying (supine)")  # fmt: skip
     ap.add_argument("--shrinkage", choices=tuple(SHRINKAGE), default="none",
                     help="--cases: estimates shrunk to the calibration clips' median or not")  # fmt: skip
     ap.add_argument("--write", action="store_true", help="--cases: write the calibration for the shipped prior")

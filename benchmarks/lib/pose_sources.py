@@ -56,3 +56,17 @@ def source_sway(source: str) -> Sway | None:
     """How a source's eased clips place the body: swaying about one place for SUPINE_SOURCES (`make_sequences(sway=)`),
     else None (turning and drifting at constant rates)."""
     return Sway() if source in SUPINE_SOURCES else None
+
+
+PLACINGS = ("photo", "supine")  # how a calibration's SyRIP clips place their key poses (`placed_poses`)
+
+
+def placed_poses(poses: np.ndarray, placing: str) -> tuple[np.ndarray, Sway | None]:
+    """Key poses `(P, 12, 3)` as a calibration's SyRIP clips place them, with the `make_sequences(sway=)` to ease them
+    with: "photo", each in its photo's orientation, the body turning and drifting at constant rates (None);
+    "supine", each turned chest to the camera, the body swaying about one place (`Sway()`)."""
+    if placing == "photo":
+        return poses, None
+    if placing != "supine":
+        raise ValueError(f"unknown placing {placing!r}; choose one of {', '.join(PLACINGS)}")
+    return turned_supine(poses, get_skeleton("syrip12").joints), Sway()
