@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.adult_cases import ADULT_SOURCE, adult_case_clips
+from benchmarks.lib.adult_cases import ADULT_CAPTURES, ADULT_SOURCE, ADULT_SOURCE_NAMES, adult_case_clips
 from benchmarks.lib.pose_sources import PLACINGS, placed_poses
 from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, CameraRange, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, all_measures
@@ -71,8 +71,13 @@ SOURCE_NAMES = {"syrip": "SyRIP poses", "adult": "adult motion"}
 
 
 def source_of(kind: np.ndarray) -> np.ndarray:
-    """The clip source `(n,)` of cases of input kinds `kind (n,)`: the adult motion's kinds end in ADULT_SOURCE."""
-    return np.where(np.char.endswith(kind.astype(str), ADULT_SOURCE), SOURCE_NAMES["adult"], SOURCE_NAMES["syrip"])
+    """The clip source `(n,)` of cases of input kinds `kind (n,)`: the adult motion's kinds end in ADULT_SOURCE, or
+    with `--adult-captures` in one of ADULT_CAPTURES' names; the others are SyRIP's poses."""
+    kind = kind.astype(str)
+    out = np.full(kind.shape, SOURCE_NAMES["syrip"], dtype=object)
+    for suffix, name in ADULT_SOURCE_NAMES.items():
+        out[np.char.endswith(kind, suffix)] = name
+    return out.astype(str)
 
 
 def measures(p: np.ndarray) -> dict[str, np.ndarray]:
@@ -176,17 +181,19 @@ def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 
-    torch.manual_seed(k)
-    clips = adult_case_clips(args.syrip_dir, 1300 + k, False, **ADULT_CLIPS)
-    every, stride = slice(None), slice(None, None, ADULT_IMAGE_STRIDE)
-    for mode, keep in ((m, k) for m, k in (("smooth", every), ("none", stride), ("clip", every))
-                       if m in args.temporal_modes):  # fmt: skip
-        res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
-                            tracks=clips["tracks"])  # fmt: skip
-        arrays = lift_arrays(res, clips["rel"][keep], keep)
-        np.savez(args.cases / f"fold{k}-{mode}-{ADULT_SOURCE}.npz", group=clips["tracks"][keep], **arrays)
-        print(f"fold {k} {ADULT_SOURCE} {mode}: {int(res.lifted[keep].sum())}/{len(arrays[next(iter(arrays))])} "
-              "frames lifted", flush=True)  # fmt: skip
+    captures = ADULT_CAPTURES.items() if args.adult_captures else ((ADULT_SOURCE, None),)
+    for name, files in captures:
+        torch.manual_seed(k)
+        clips = adult_case_clips(args.syrip_dir, 1300 + k, False, **ADULT_CLIPS, files=files)
+        every, stride = slice(None), slice(None, None, ADULT_IMAGE_STRIDE)
+        for mode, keep in ((m, k) for m, k in (("smooth", every), ("none", stride), ("clip", every))
+                           if m in args.temporal_modes):  # fmt: skip
+            res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
+                                tracks=clips["tracks"])  # fmt: skip
+            arrays = lift_arrays(res, clips["rel"][keep], keep)
+            np.savez(args.cases / f"fold{k}-{mode}-{name}.npz", group=clips["tracks"][keep], **arrays)
+            print(f"fold {k} {name} {mode}: {int(res.lifted[keep].sum())}/{len(arrays[next(iter(arrays))])} "
+                  "frames lifted", flush=True)  # fmt: skip
 
 
 F1000 = CameraRange(focal_px=(1000.0, 1000.0), depth_m=(0.9, 1.1))  # the target set-up
@@ -865,7 +872,7 @@ def camera_by_source(cases: dict[str, np.ndarray], fold: np.ndarray, kind: np.nd
 
 def print_by_source(title: str, source: str, row: dict[str, Any]) -> None:
     r = row["all"]
-    print(f"\n{title}, {source} left out (fitted on the other source): symmetry 90 % coverage "
+    print(f"\n{title}, {source} left out (fitted on the other sources): symmetry 90 % coverage "
           f"{100 * r['coverage']:.1f} % (pairs {' / '.join(f'{100 * c:.1f}' for c in r['coverage_pairs'])}), decisive "
           f"at 0.8 {100 * r['decisive']:.1f} % ({100 * r['agreement']:.1f} %), joint angles "
           f"{100 * r['angles_coverage'][0]:.1f}-{100 * r['angles_coverage'][1]:.1f} %, MAE {r['mae_raw']:.1f} -> "
@@ -973,6 +980,9 @@ def main() -> int:
     ap.add_argument("--syrip-clips", choices=PLACINGS, default="photo",
                     help="--lift: the SyRIP clips' key poses turned chest to the camera, swaying (supine), or each in "
                     "its photo's orientation, tumbling (photo)")  # fmt: skip
+    ap.add_argument("--adult-captures", action="store_true",
+                    help="--lift: the adult motion as two sources, Bandai-Namco and CMU with DeepMimic "
+                    "(ADULT_CAPTURES, for the table with a source left out; pseudo camera)")  # fmt: skip
     ap.add_argument("--write", action="store_true", help="write the calibrations for the shipped prior")
     ap.add_argument("--out", type=Path, default=None, help="calibration file (default: the package's)")
     ap.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD_DEG)

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.adult_cases import ADULT_SOURCE, adult_case_clips
+from benchmarks.lib.adult_cases import ADULT_CAPTURES, ADULT_SOURCE, ADULT_SOURCE_NAMES, adult_case_clips
 from benchmarks.lib.pose_sources import PLACINGS, placed_poses
 from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.analysis.clip.published_features import published_features
@@ -113,12 +113,13 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
             clips = make_sequences(poses, np.random.default_rng(seed), **settings, place=place, interpolation=motion,
                                    sway=sway)  # fmt: skip
             save_case(folder / f"fold{k}-3d-clips-{motion}.npz", clips, prior, args.temporal)
-        if args.adult:
+        captures = ADULT_CAPTURES.items() if args.adult_captures else ((ADULT_SOURCE, None),)
+        for name, files in captures if args.adult else ():
             torch.manual_seed(k)
             seconds = (CASE_CLIPS["keyposes"] - 1) * float(CLIP_SETTINGS["transition_s"])
             clips = adult_case_clips(args.syrip_dir, (1100 if args.cameras else 900) + k, args.cameras,
-                                     CASE_CLIPS["count"], seconds)  # fmt: skip
-            save_case(folder / f"fold{k}-3d-clips-{ADULT_SOURCE}.npz", clips, prior, args.temporal)
+                                     CASE_CLIPS["count"], seconds, files)  # fmt: skip
+            save_case(folder / f"fold{k}-3d-clips-{name}.npz", clips, prior, args.temporal)
 
 
 def save_case(path: Path, clips: dict[str, np.ndarray], prior: Any, temporal: str) -> None:
@@ -329,9 +330,10 @@ SYRIP_SOURCE = "SyRIP poses"
 
 
 def source_of(motion: np.ndarray) -> np.ndarray:
-    """The clip source of each case's motion: the adult motion, or SyRIP's poses (both motions: they share poses, so
-    they are left out together)."""
-    return np.where(motion == ADULT_SOURCE, "adult motion", SYRIP_SOURCE)
+    """The clip source of each case's motion: the adult motion (or with `--adult-captures` each of its captures,
+    ADULT_SOURCE_NAMES), or SyRIP's poses (both motions: they share poses, so they are left out together)."""
+    names = np.array([ADULT_SOURCE_NAMES.get(str(m), SYRIP_SOURCE) for m in np.ravel(motion)], dtype=object)
+    return names.astype(str).reshape(np.shape(motion))
 
 
 def held_out_by_source(
@@ -467,6 +469,11 @@ def main() -> int:
     ap.add_argument("--cases", type=Path, default=None, help="calibrate: the folds' clip cases' folder")
     ap.add_argument("--lift", action="store_true", help="--cases: lift the clip cases first")
     ap.add_argument("--adult", action="store_true", help="--lift: also the adult motion made infant-like")
+    ap.add_argument(
+        "--adult-captures",
+        action="store_true",
+        help="--lift --adult: the adult motion as two sources, Bandai-Namco and CMU with DeepMimic",
+    )
     ap.add_argument("--syrip-clips", choices=PLACINGS, default="photo",
                     help="--lift: the SyRIP clips' key poses each in its photo's orientation, tumbling (photo), or "
                     "turned chest to the camera, swaying (supine)")  # fmt: skip

@@ -23,6 +23,9 @@ def cases(rng: np.random.Generator, n: int, adult_bias: float) -> tuple[dict[str
 def test_cases_are_named_by_source_from_their_input_kind() -> None:
     kinds = np.array(["gt", "detected", "clips_gt", "near_clips_detected", "adult", "clips_adult"])
     assert list(recipe.source_of(kinds)) == ["SyRIP poses"] * 4 + ["adult motion"] * 2
+    captures = recipe.source_of(np.array(["gt", "bandai", "cmu", "clips"]))
+    assert list(captures) == ["SyRIP poses", "adult motion, Bandai-Namco", "adult motion, CMU and DeepMimic",
+                              "SyRIP poses"]  # fmt: skip
 
 
 def test_a_source_left_out_is_scored_by_the_other_sources_fit_and_a_biased_one_shows_it() -> None:
