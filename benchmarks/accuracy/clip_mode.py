@@ -108,6 +108,12 @@ def too_fast_share(poses: np.ndarray) -> float:
     return 100 * float((speed[known] > 500).mean())
 
 
+def angular_speed_p95(poses: np.ndarray) -> float:
+    """The 95th percentile of the elbows' and knees' interior-angle speed (deg/s) between consecutive frames."""
+    speed = np.abs(np.diff(interior_angles(poses), axis=0)) * FPS
+    return float(np.nanpercentile(speed, 95))
+
+
 def score(truth: np.ndarray, lifted: np.ndarray, reproj: np.ndarray) -> dict[str, float]:
     """Figures of one clip's lift against its camera-frame truth, over frames lifted."""
     ok = np.isfinite(lifted).all((1, 2))
@@ -124,6 +130,8 @@ def score(truth: np.ndarray, lifted: np.ndarray, reproj: np.ndarray) -> dict[str
         "mpjve": 1000 * float(np.linalg.norm(vel[both], axis=-1).mean()),
         "reproj": float(np.nanmean(reproj[ok])),
         "fast": too_fast_share(lifted),
+        "p95": angular_speed_p95(lifted),
+        "p95_true": angular_speed_p95(truth),
     }
 
 
@@ -168,13 +176,14 @@ def main() -> None:
     )
     print(
         "| mode | bone-length CV % | MPJPE mm | elbow/knee MAE deg | MPJVE mm/s | reprojection px | angle steps > 500 "
-        "deg/s % | s/clip |"
+        "deg/s % | elbow/knee speed p95, lifted / true deg/s | s/clip |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for mode in args.modes:
         m = {k: np.mean([r[k] for r in rows[mode]]) for k in rows[mode][0]}
         print(f"| {mode} | {m['cv']:.2f} | {m['mpjpe']:.1f} | {m['angle']:.1f} | {m['mpjve']:.0f} | {m['reproj']:.2f} "
-              f"| {m['fast']:.2f} | {seconds[mode] / args.clips:.1f} |")  # fmt: skip
+              f"| {m['fast']:.2f} | {m['p95']:.0f} / {m['p95_true']:.0f} ({m['p95'] / m['p95_true'] - 1:+.0%}) "
+              f"| {seconds[mode] / args.clips:.1f} |")  # fmt: skip
     if "clip" in args.modes:
         right, counted, flagged = extra["side"]
         print(
