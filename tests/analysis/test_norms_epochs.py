@@ -103,4 +103,6 @@ def test_a_clip_over_twice_the_references_length_says_it_is_compared_by_epochs(t
     (pc,) = a.comparisons
     assert pc.comparison.extended.epochs == 3 and pc.comparison.asymmetry.epochs == 3
     assert note in a.notes
-    assert "of its 3 epochs as long as the reference's clips" in comparison_block(a)
+    block = comparison_block(a)
+    assert "of its 3 epochs as long as the reference's clips" in block
+    assert "compared by its epochs, the smallest p is 0.0001" in block and "smallest p is 0.048" not in block

@@ -18,6 +18,7 @@ import numpy as np
 from ...formats.colours import LEFT_HEX, RIGHT_HEX
 from ..analyse import SYMMETRY_NAMES, Analysis, Row
 from ..compare import furthest_from_typical
+from ..norms.calibrated import NULL_DRAWS
 from ..pose.head import TURN_CALLS
 from ..pose.joint_angles import ANGLE_BASES, SIDES, angle_name
 from .epochs import Epochs, epochs_of
@@ -195,6 +196,11 @@ def comparison_block(a: Analysis) -> str:
         far = [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
                for n, z in furthest_from_typical(c)]  # fmt: skip
         items = "".join(f"<li>{escape(t)}</li>" for t in far)
+        smallest = (
+            f"with {cal.reference_clips} reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}"
+            if cal.epochs == 1
+            else f"compared by its epochs, the smallest p is {1 / (NULL_DRAWS + 1):.1g}"
+        )
         by_epochs = (f" This clip is longer than the reference's: its calibrated p and each feature's z are of its "
                      f"{cal.epochs} epochs as long as the reference's clips (the median epoch, against medians of as "
                      f"many typical clips as its epochs are worth independently: {c.extended.independent_epochs} over "
@@ -207,8 +213,7 @@ def comparison_block(a: Analysis) -> str:
                    "alarms depend on the features' tails and the clips' lengths: docs/movement.md). The calibrated p "
                    "of the extended features and of the left-right asymmetry ranks the clip's distance from the "
                    "reference among the reference clips' own (each from the others): a typical clip gets p &lt; 0.05 "
-                   "at most 1 time in 20 (with "
-                   f"{cal.reference_clips} reference clips the smallest p is {1 / (cal.reference_clips + 1):.3f}). "
+                   f"at most 1 time in 20 ({smallest}). "
                    f"A small p says the movements differ from the reference, not why.{by_epochs}</p>"
                    f"<table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>{scores}</table>"
                    "<p class=meta>Furthest from typical (the largest |z| of single features):</p>"
