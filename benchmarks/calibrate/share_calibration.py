@@ -13,7 +13,10 @@ stated, `--temporal smooth`, then `zedo analyze` with its defaults):
   the clinic cameras and the pseudo camera;
 - `syrip-train`: SyRIP training poses eased 1 s apart before the pseudo camera (the bundled prior was trained on
   these poses: its lifts are in-sample, so this source's errors are the small side);
-- `syrip-test`: the same with Test100's poses: checked, never fitted on.
+- `syrip-train-supine`: the same poses turned chest to the camera, the body swaying about one place (fitted on,
+  left out together with `syrip-train`: the same poses);
+- `syrip-test`, `syrip-synthetic` (and their `-supine` twins): Test100's and the synthetic poses: checked, never
+  fitted on.
 Lengths: 10 s, 60 s and 180 s.
 
     python benchmarks/calibrate/share_calibration.py lift --syrip-dir ../shared/data/syrip --work /tmp/share \
@@ -33,7 +36,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
 from benchmarks.accuracy.norms_false_alarms import FPS, JITTER_PX, SOURCE_WORDS, habits, lift_parser, write_2d
-from benchmarks.lib.pose_sources import eased_source_poses
+from benchmarks.lib.pose_sources import SUPINE, eased_source_poses, source_sway
 from benchmarks.lib.resumable_runs import append_row, read_rows
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, bootstrap_share
 from zedo_cli.analysis.pose.symmetry import DEFAULT_THRESHOLD_DEG, symmetry_angles
@@ -68,7 +71,7 @@ def eased_clips(args: argparse.Namespace, seconds: float, count: int) -> Iterato
     for i in range(count):
         rng = np.random.default_rng([args.seed, int(seconds), i])
         seq = make_sequences(poses, rng, count=1, keyposes=int(seconds) + 1, transition_s=1.0, fps=FPS,
-                             noise_px=JITTER_PX, drop=0.03, gap=0)  # fmt: skip
+                             noise_px=JITTER_PX, drop=0.03, gap=0, sway=source_sway(args.source))  # fmt: skip
         yield seq["cam"], seq["xy"], seq["conf"], (IMAGE_W, IMAGE_H)
 
 
@@ -125,11 +128,15 @@ def main() -> int:
     f = sub.add_parser("fit")
     f.add_argument("--work", type=Path, required=True)
     f.add_argument("--out", type=Path)
+    f.add_argument("--fitted", nargs="+", choices=list(SOURCE_WORDS), default=list(FITTED),
+                   help="the sources the margins are fitted on (default: the shipped file's)")  # fmt: skip
     args = ap.parse_args()
     return {"lift": lift, "fit": fit}[args.command](args)
 
 
-FITTED = ("adult", "syrip-train")  # the sources the shipped margins are fitted on; syrip-test is only checked
+# The sources the shipped margins are fitted on (SyRIP's training poses in their photos' orientations and filmed
+# supine: one pose set, left out together); syrip-test and the synthetic poses are only checked.
+FITTED = ("adult", "syrip-train", "syrip-train-supine")
 
 
 def load_cases(work: Path) -> list[dict]:
@@ -151,15 +158,21 @@ def margins_from(cases: list[dict], level: float) -> dict[tuple[str, float], tup
     return out
 
 
-def coverage_table(cases: list[dict]) -> None:
+def same_poses(a: str, b: str) -> bool:
+    """Whether two sources share their poses (`syrip-train` and `syrip-train-supine` do): left out together."""
+    return a.removesuffix(SUPINE) == b.removesuffix(SUPINE)
+
+
+def coverage_table(cases: list[dict], fitted: tuple[str, ...] = FITTED) -> None:
     """Per source and length: the bootstrap interval's coverage and width, and the widened interval's with margins
-    fitted on the other fitted sources (leave one source out)."""
+    fitted on the `fitted` sources that share no poses with it (leave one source out)."""
     print("| source | clip length | (clip, pair) cases | bootstrap alone: holds | median width | mean error "
           "| with margins from the other sources: holds | median width |")  # fmt: skip
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     default = [c for c in cases if c["threshold_deg"] == DEFAULT_THRESHOLD_DEG]
     for source in SOURCE_WORDS:
-        margins = margins_from([c for c in cases if c["source"] in FITTED and c["source"] != source], LEVEL)
+        margins = margins_from([c for c in cases if c["source"] in fitted and not same_poses(c["source"], source)],
+                               LEVEL)  # fmt: skip
         for seconds in LENGTHS:
             mine = [c for c in default if c["source"] == source and c["seconds"] == seconds]
             if not mine:
@@ -198,16 +211,17 @@ def difficulty_table(cases: list[dict]) -> None:
 
 def fit(args: argparse.Namespace) -> int:
     cases = load_cases(args.work)
-    coverage_table(cases)
+    coverage_table(cases, tuple(args.fitted))
     difficulty_table(cases)
-    fitted = [c for c in cases if c["source"] in FITTED]
+    fitted = [c for c in cases if c["source"] in args.fitted]
     sources = sorted({c["source"] for c in fitted})
     entries = []
     for level in LEVELS:
         for (pair, threshold), (margin, count) in margins_from(fitted, level).items():
             entries.append(ShareMargin(pair=pair, threshold_deg=threshold, level=level, margin=round(margin, 4),
                                        cases=count, sources=[SOURCE_WORDS[s] for s in sources], provenance={
-                    "command": "python benchmarks/calibrate/share_calibration.py fit --work <work> --out <file>",
+                    "command": "python benchmarks/calibrate/share_calibration.py fit --work <work> --out <file>"
+                               + ("" if tuple(args.fitted) == FITTED else f" --fitted {' '.join(args.fitted)}"),
                     "lengths": ", ".join(f"{s:g} s" for s in LENGTHS),
                     "data": "adult motion capture (../shared/data/adult) retargeted to SyRIP training infants; "
                             "SyRIP training poses (../shared/data/syrip, non-commercial terms)"}))  # fmt: skip
