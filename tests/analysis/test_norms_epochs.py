@@ -105,4 +105,11 @@ def test_a_clip_over_twice_the_references_length_says_it_is_compared_by_epochs(t
     assert note in a.notes
     block = comparison_block(a)
     assert "of its 3 epochs as long as the reference's clips" in block
-    assert "compared by its epochs, the smallest p is 0.0001" in block and "smallest p is 0.048" not in block
+    assert "compared by its epochs: about 1 time in 20" in block and "smallest p is 0.0001" in block
+    assert "smallest p is 0.048" not in block
+
+
+def test_epochs_against_a_reference_with_no_score_of_its_own_are_not_called() -> None:
+    rng = np.random.default_rng(2)
+    s = epochs_surprise(rng.normal(size=(3, 4)) + 10.0, rng.normal(size=(2, 4)))  # each clip has one other: no z
+    assert np.isfinite(s.score) and s.p == 1.0

@@ -83,6 +83,9 @@ def calibrated_surprise(clip: np.ndarray, reference: np.ndarray) -> CalibratedSu
     return CalibratedSurprise(own, p, int(known.sum()), len(reference))
 
 
+NULL_DRAWS = 10000  # medians drawn for an epoch-compared clip's null (a fixed seed: the same clip, the same p)
+
+
 def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurprise:
     """A clip longer than the reference's clips, as its epochs `(k, F)` each as long as them: the median of the
     epochs' scores against the reference `(n, F)`, its p the share of medians of `effective_epochs` scores drawn
@@ -101,13 +104,12 @@ def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurp
     others = others[np.isfinite(others)]
     agreement = epoch_agreement(rows[finite], ref)
     independent = effective_epochs(int(finite.sum()), agreement)
+    if not len(others):  # no reference clip has a score: nothing to rank against
+        return CalibratedSurprise(own, 1.0, int(known.sum()), len(reference), len(epochs), agreement, independent)
     draws = np.random.default_rng(0).integers(len(others), size=(NULL_DRAWS, independent))
     null = np.median(others[draws], axis=1)
     p = float((1 + np.sum(null >= own)) / (1 + NULL_DRAWS))
     return CalibratedSurprise(own, p, int(known.sum()), len(reference), len(epochs), agreement, independent)
-
-
-NULL_DRAWS = 10000  # medians drawn for an epoch-compared clip's null (a fixed seed: the same clip, the same p)
 
 
 def epoch_agreement(epochs: np.ndarray, reference: np.ndarray) -> float:
