@@ -114,9 +114,16 @@ def habits(jitter_px: float) -> DetectorHabits:
 Clip2D = tuple[np.ndarray, np.ndarray, tuple[int, int], str]  # 2D (T, 12, 2), confidence (T, 12), image size, camera
 
 
+def clip_count(args: argparse.Namespace, group: str) -> int:
+    """How many clips of `group` to make: `--clips`, else the group's own count. The first clips of a larger count
+    are the clips of a smaller one, so a lifted group is extended, not redrawn."""
+    return getattr(args, "clips", None) or GROUPS[group][1]
+
+
 def adult_clips(args: argparse.Namespace, group: str) -> Iterator[Clip2D]:
     """The group's clips of the adult motion made infant-like (`zedo_cli.evaluation.clips`), in order."""
-    seconds, count, held, offset = GROUPS[group]
+    seconds, _, held, offset = GROUPS[group]
+    count = clip_count(args, group)
     library = load_adult_library(Path(args.syrip_dir).parent / "adult")
     settings = ClipSettings(fps=FPS, habits=habits(args.jitter_px))
     made = adult_infant_clips(library, infant_bodies_from_syrip(args.syrip_dir), seconds, count, args.seed + offset,
@@ -135,7 +142,8 @@ def eased_clips(args: argparse.Namespace, group: str, truth: list[np.ndarray] | 
     """The group's clips of SyRIP poses eased one into the next 1 s apart (`zedo_cli.evaluation.clips.eased`: the
     body turning and drifting about 1 m before the pseudo camera), in order; `truth` gets each clip's true
     root-relative poses (T, 12, 3)."""
-    seconds, count, held, offset = GROUPS[group]
+    seconds, _, held, offset = GROUPS[group]
+    count = clip_count(args, group)
     poses = eased_source_poses(args.syrip_dir, args.source)
     intrinsics = Intrinsics.pseudo(IMAGE_W, IMAGE_H)
     for i in range(count):
@@ -206,7 +214,7 @@ def lift(args: argparse.Namespace) -> int:
         out = folder / f"{group}.jsonl"
         epoch_s = GROUPS["typical"][0] if group == "long" else None  # the references' clips' length
         done = {r["clip"] for r in read_rows(out) if epoch_s is None or "epochs" in r}
-        count = GROUPS[group][1]
+        count = clip_count(args, group)
         for i, (xy, confidence, size, camera) in enumerate(make(args, group)):
             retest = group == "typical" and i < RETEST and f"{i}r" not in done
             if i in done and not retest:
@@ -245,6 +253,8 @@ def main() -> int:
                    help="how the clips are lifted (the documented figures: smooth)")  # fmt: skip
     p.add_argument("--jitter-px", type=float, default=JITTER_PX, help="the detector's jitter (px)")
     p.add_argument("--turn-scale", type=float, default=1.0, help="eased clips: scales the body's turning (0: none)")
+    p.add_argument("--clips", type=int, default=None,
+                   help="clips per group (default: each group's own count); more extends a lifted group")  # fmt: skip
     t = sub.add_parser("true-speeds")
     t.add_argument("--syrip-dir", required=True)
     t.add_argument("--source", choices=[s for s in SOURCES if s != "adult"], default="syrip-train")
