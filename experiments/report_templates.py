@@ -22,6 +22,7 @@ import jinja2
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository root
 from zedo_cli.analysis.analyse import Analysis
 from zedo_cli.analysis.compare import furthest_from_typical
+from zedo_cli.analysis.norms.calibrated import NULL_DRAWS
 from zedo_cli.analysis.report import clip_report
 from zedo_cli.analysis.report.plain_words import describe, has_words
 
@@ -37,10 +38,16 @@ The published z compares the clip's summed log-likelihood under the reference wi
 (negative: less typical), p is its two-sided normal p-value (its false alarms depend on the features' tails and the \
 clips' lengths: docs/movement.md). The calibrated p of the extended features and of the left-right asymmetry ranks \
 the clip's distance from the reference among the reference clips' own (each from the others): a typical clip gets \
-p &lt; 0.05 at most 1 time in 20 (with {{ c.reference_clips }} reference clips the smallest p is \
-{{ "%.3f"|format(1 / (c.reference_clips + 1)) }}). A small p says the movements differ from the reference, not why.\
+p &lt; 0.05 at most 1 time in 20 (\
+{%- if c.epochs == 1 %}with {{ c.reference_clips }} reference clips the smallest p is \
+{{ "%.3f"|format(1 / (c.reference_clips + 1)) }}\
+{%- else %}compared by its epochs: about 1 time in 20, 1-8 % of typical clips in docs/movement.md; the smallest p \
+is {{ "%.1g"|format(1 / (null_draws + 1)) }}{% endif %}). A small p says the movements differ from the reference, \
+not why.\
 {%- if c.epochs > 1 %} This clip is longer than the reference's: its calibrated p and each feature's z are of its \
-{{ c.epochs }} epochs as long as the reference's clips (the median epoch), the published z and p of the whole clip.\
+{{ c.epochs }} epochs as long as the reference's clips (the median epoch, against medians of as many typical clips as \
+its epochs are worth independently: {{ c.independent_extended }} over the extended features, \
+{{ c.independent_asymmetry }} over the asymmetry), the published z and p of the whole clip.\
 {%- endif %}</p><table><tr><th class=l>surprise over</th><th>z</th><th>p</th></tr>\
 <tr><td class=l>published features ({{ c.published.features }})</td><td>{{ "%+.2f"|format(c.published.z) }}</td>\
 <td>{{ "%.3g"|format(c.published.p) }}</td>\
@@ -63,12 +70,14 @@ def comparison_block_from_template(a: Analysis) -> str:
         comparisons.append({
             "who": f" (person {pc.person})" if len(a.comparisons) > 1 else "",
             "published": c.published, "reference_clips": c.asymmetry.reference_clips, "epochs": c.asymmetry.epochs,
+            "independent_extended": c.extended.independent_epochs,
+            "independent_asymmetry": c.asymmetry.independent_epochs,
             "calibrated": (("extended features", c.extended), ("left-right asymmetry", c.asymmetry)),
             "far": [describe(n, z) if has_words(n) else f"{n.replace('_', ' ')}: z = {z:+.1f}"
                     for n, z in furthest_from_typical(c)],
         })  # fmt: skip
-    return _ENV.from_string(TEMPLATE).render(comparisons=comparisons, mismatches=[m[0].upper() + m[1:] for m in
-                                                                                   mismatches])  # fmt: skip
+    return _ENV.from_string(TEMPLATE).render(comparisons=comparisons, null_draws=NULL_DRAWS,
+                                             mismatches=[m[0].upper() + m[1:] for m in mismatches])  # fmt: skip
 
 
 def unescaped_interpolations(source: str) -> int:
