@@ -20,10 +20,11 @@ the camera (`--temporal smooth`), and analysed with the defaults; the clip featu
 - `retest`: the first typical clips again, lifted with another seed and 1 px more jitter: each feature's
   test-retest agreement (ICC(2,1), absolute agreement).
 
-`lift` makes and lifts the clips (one JSON line a clip under `--work`, resumed where it stopped); `true-speeds`
-prints the eased groups' true elbow speeds; `score` draws
-`--draws` references of `--reference` typical clips and compares every other clip with each, printing per group
-how many get p < 0.05 in the published, extended and calibrated comparisons, with a 95 % interval.
+`lift` makes and lifts the clips (one JSON line a clip under `--work`, resumed where it stopped; `--clips N`
+extends a group to N clips); `true-speeds` prints the eased groups' true elbow speeds; `score` draws `--draws`
+references of `--reference` typical clips and compares every other clip of `--groups` with each, printing per group
+how many get p < 0.05 in the published, extended and calibrated comparisons, with a 95 % interval, and for the
+groups compared by epochs how much their epochs agree.
 
     .venv/bin/python benchmarks/accuracy/norms_false_alarms.py lift --syrip-dir ../shared/data/syrip --work /tmp/nfa
     .venv/bin/python benchmarks/accuracy/norms_false_alarms.py score --work /tmp/nfa
