@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.adult_cases import ADULT_CAPTURES, ADULT_SOURCE, ADULT_SOURCE_NAMES, adult_case_clips
+from benchmarks.lib.adult_cases import ADULT_SOURCE, ADULT_SOURCE_NAMES, adult_case_clips, adult_sources
 from benchmarks.lib.pose_sources import PLACINGS, placed_poses
 from benchmarks.lib.settings import CAMERAS, CLIP_SETTINGS, CameraRange, place_camera
 from zedo_cli.analysis.analyse import SYMMETRY_NAMES, all_measures
@@ -181,12 +181,11 @@ def lift_adult_cases(args: argparse.Namespace, k: int, prior: Any) -> None:
     from zedo_cli.lifting.config import DEFAULT_PRESET, get_preset
     from zedo_cli.lifting.temporal import lift_sequence
 
-    captures = ADULT_CAPTURES.items() if args.adult_captures else ((ADULT_SOURCE, None),)
-    for name, files in captures:
+    every, stride = slice(None), slice(None, None, ADULT_IMAGE_STRIDE)
+    for name, files in adult_sources(args.adult_captures):
         torch.manual_seed(k)
         clips = adult_case_clips(args.syrip_dir, 1300 + k, False, **ADULT_CLIPS, files=files)
-        every, stride = slice(None), slice(None, None, ADULT_IMAGE_STRIDE)
-        for mode, keep in ((m, k) for m, k in (("smooth", every), ("none", stride), ("clip", every))
+        for mode, keep in ((m, kept) for m, kept in (("smooth", every), ("none", stride), ("clip", every))
                            if m in args.temporal_modes):  # fmt: skip
             res = lift_sequence(clips["xy"], clips["conf"], clips["k"], prior, get_preset(DEFAULT_PRESET), mode=mode,
                                 tracks=clips["tracks"])  # fmt: skip

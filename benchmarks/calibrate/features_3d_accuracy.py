@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # the repository root
-from benchmarks.lib.adult_cases import ADULT_CAPTURES, ADULT_SOURCE, ADULT_SOURCE_NAMES, adult_case_clips
+from benchmarks.lib.adult_cases import ADULT_SOURCE, ADULT_SOURCE_NAMES, adult_case_clips, adult_sources
 from benchmarks.lib.pose_sources import PLACINGS, placed_poses
 from zedo_cli.analysis.clip.features_3d import features_3d
 from zedo_cli.analysis.clip.published_features import published_features
@@ -113,8 +113,7 @@ def lift_clip_cases(args: argparse.Namespace) -> None:
             clips = make_sequences(poses, np.random.default_rng(seed), **settings, place=place, interpolation=motion,
                                    sway=sway)  # fmt: skip
             save_case(folder / f"fold{k}-3d-clips-{motion}.npz", clips, prior, args.temporal)
-        captures = ADULT_CAPTURES.items() if args.adult_captures else ((ADULT_SOURCE, None),)
-        for name, files in captures if args.adult else ():
+        for name, files in adult_sources(args.adult_captures) if args.adult else ():
             torch.manual_seed(k)
             seconds = (CASE_CLIPS["keyposes"] - 1) * float(CLIP_SETTINGS["transition_s"])
             clips = adult_case_clips(args.syrip_dir, (1100 if args.cameras else 900) + k, args.cameras,
