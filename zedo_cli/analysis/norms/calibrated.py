@@ -65,7 +65,11 @@ def leave_one_out_scores(matrix: np.ndarray) -> np.ndarray:
 
 def _score(row: np.ndarray, others: np.ndarray) -> float:
     """`row`'s mean squared robust z against `others` over its finite z (NaN where it has none)."""
-    z = _robust_z(row, others)
+    return _mean_square(_robust_z(row, others))
+
+
+def _mean_square(z: np.ndarray) -> float:
+    """The mean of the finite z squared (NaN where none is finite): a row's score from its robust z."""
     z = z[np.isfinite(z)]
     return float(np.mean(z**2)) if len(z) else math.nan
 
@@ -95,14 +99,15 @@ def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurp
     Features no epoch has are left out."""
     known = np.isfinite(epochs).any(axis=0)
     ref, rows = reference[:, known], epochs[:, known]
-    own_scores = np.array([_score(row, ref) for row in rows], float)
+    z = np.array([_robust_z(row, ref) for row in rows])  # (k, F): each epoch's, for its score and the agreement
+    own_scores = np.array([_mean_square(row) for row in z], float)
     finite = np.isfinite(own_scores)
     if not finite.any():
         return CalibratedSurprise(math.nan, math.nan, 0, len(reference), len(epochs))
     own = float(np.median(own_scores[finite]))
     others = leave_one_out_scores(ref)
     others = others[np.isfinite(others)]
-    agreement = epoch_agreement(rows[finite], ref)
+    agreement = epoch_agreement(z[finite])
     independent = effective_epochs(int(finite.sum()), agreement)
     if not len(others):  # no reference clip has a score: nothing to rank against
         return CalibratedSurprise(own, 1.0, int(known.sum()), len(reference), len(epochs), agreement, independent)
@@ -112,12 +117,11 @@ def epochs_surprise(epochs: np.ndarray, reference: np.ndarray) -> CalibratedSurp
     return CalibratedSurprise(own, p, int(known.sum()), len(reference), len(epochs), agreement, independent)
 
 
-def epoch_agreement(epochs: np.ndarray, reference: np.ndarray) -> float:
-    """How much one clip's epochs `(k, F)` agree beyond what typical clips do, in [0, 1]: one minus the median over
-    the features of the variance of the epochs' robust z against `reference (n, F)` (a feature whose epochs vary as
-    much as typical clips do has variance about 1 there; one whose epochs are alike, about 0). The intraclass
-    correlation of the epochs, estimated from the clip itself."""
-    z = np.array([_robust_z(row, reference) for row in epochs])
+def epoch_agreement(z: np.ndarray) -> float:
+    """How much one clip's epochs agree beyond what typical clips do, in [0, 1], from their robust z `(k, F)` against
+    the reference: one minus the median over the features of the variance of the epochs' z (a feature whose epochs
+    vary as much as typical clips do has variance about 1 there; one whose epochs are alike, about 0). The
+    intraclass correlation of the epochs, estimated from the clip itself."""
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a feature with one finite epoch: no variance
         variance = np.nanvar(z, axis=0, ddof=1) if len(z) > 1 else np.full(z.shape[1:], np.nan)
